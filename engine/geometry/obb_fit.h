@@ -1,0 +1,32 @@
+// Fitting an oriented bounding box to a model's points.
+//  - Covariance: Gottschalk, Lin & Manocha, "OBBTree" (SIGGRAPH 1996), section 3: the axes are the
+//    eigenvectors of the area-weighted covariance of the convex hull's triangles (Eigen's
+//    symmetric solver); extents by projecting the hull's vertices.
+//  - a tighter fitter (see ObbFitter) so that a scene can choose tightness against fitting time.
+// Every fitter returns a box that contains every input point (to rounding: 1e-9 relative to the
+// points' extent), with orthonormal right-handed axes, and defined results for degenerate input:
+// coplanar points (a zero half extent along the plane normal), collinear points (two zero half
+// extents, the first axis along the line), a single point (all zero), repeated eigenvalues (cube,
+// cylinder: any orthonormal basis of the repeated eigenspace, deterministically chosen).
+#pragma once
+
+#include "engine/geometry/volumes.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+
+enum class ObbFitter {
+  Covariance,  // Gottschalk 1996
+  HullSearch,  // the tighter fitter (see obb_fit.cpp for the method and its cost)
+};
+
+const char* fitterName(ObbFitter f);                      // "covariance", "hull-search"
+std::optional<ObbFitter> parseFitter(const std::string& name);
+
+/// The fitted box of `points` (throws std::invalid_argument when `points` is empty).
+Obb<double> fitObb(const std::vector<Vec3<double>>& points, ObbFitter fitter);
+
+}  // namespace nestwalk

@@ -1,0 +1,10 @@
+// OpenSceneGraph's messages (plugin warnings such as "Obj unable to find material") go to stderr
+// with a prefix, so that a command's stdout holds only its result (JSON, CSV).
+#pragma once
+
+namespace nestwalk {
+
+/// Installs the handler; OSG's level stays WARN unless OSG_NOTIFY_LEVEL says otherwise.
+void routeOsgMessagesToStderr();
+
+}  // namespace nestwalk

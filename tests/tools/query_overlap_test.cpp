@@ -1,0 +1,146 @@
+// `nestwalk query overlap`: verdicts on pairs whose answer is known by construction, at the
+// origin and at UTM magnitudes, and the errors for malformed input.
+#include "tests/tools/run_command.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <vector>
+
+namespace nestwalk::test {
+namespace {
+
+struct Box {
+  Eigen::Vector3d c;
+  Eigen::Matrix3d axes;
+  Eigen::Vector3d e;
+};
+
+Box aabb(const Eigen::Vector3d& c, const Eigen::Vector3d& e) { return {c, Eigen::Matrix3d::Identity(), e}; }
+
+std::string header() {
+  std::string h = "id";
+  for (char p : {'a', 'b'}) {
+    for (const char* f : {"cx", "cy", "cz", "ux", "uy", "uz", "vx", "vy", "vz", "wx", "wy", "wz", "ex", "ey", "ez"})
+      h += std::string(",") + p + f;
+  }
+  return h + "\n";
+}
+
+std::string row(const std::string& id, const Box& a, const Box& b) {
+  std::string r = id;
+  char buf[64];
+  for (const Box* box : {&a, &b}) {
+    for (int k = 0; k < 3; ++k) std::snprintf(buf, sizeof buf, ",%.17g", box->c[k]), r += buf;
+    for (int col = 0; col < 3; ++col)
+      for (int k = 0; k < 3; ++k) std::snprintf(buf, sizeof buf, ",%.17g", box->axes(k, col)), r += buf;
+    for (int k = 0; k < 3; ++k) std::snprintf(buf, sizeof buf, ",%.17g", box->e[k]), r += buf;
+  }
+  return r + "\n";
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string l; std::getline(ss, l);) out.push_back(l);
+  return out;
+}
+
+// Pairs whose verdict follows from their construction: the gap along a known direction.
+std::string knownPairs(const Eigen::Vector3d& origin) {
+  const Eigen::Matrix3d rot45 = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::string csv = header();
+  // 1 m cubes side by side along x: gaps of 1 mm, 0 (touching) and -1 mm.
+  csv += row("aabb_gap_1mm", aabb(origin, {0.5, 0.5, 0.5}), aabb(origin + Eigen::Vector3d(1.001, 0, 0), {0.5, 0.5, 0.5}));
+  csv += row("aabb_touch", aabb(origin, {0.5, 0.5, 0.5}), aabb(origin + Eigen::Vector3d(1.0, 0.2, 0), {0.5, 0.5, 0.5}));
+  csv += row("aabb_gap_y", aabb(origin, {0.5, 0.5, 0.5}), aabb(origin + Eigen::Vector3d(0, 1.26, 0), {0.5, 0.75, 0.5}));
+  // A cube turned 45 degrees about z, whose vertical edge points at an AABB's face: its edge is at
+  // distance sqrt(1/2) from its centre, so its exact AABB already separates a 1 mm gap.
+  const double reach = std::sqrt(0.5);
+  csv += row("obb_vertex_gap_1mm", aabb(origin, {0.5, 0.5, 0.5}),
+             {origin + Eigen::Vector3d(0.5 + reach + 0.001, 0, 0), rot45, {0.5, 0.5, 0.5}});
+  csv += row("obb_vertex_pen_1mm", aabb(origin, {0.5, 0.5, 0.5}),
+             {origin + Eigen::Vector3d(0.5 + reach - 0.001, 0, 0), rot45, {0.5, 0.5, 0.5}});
+  // Two turned cubes face to face along their common face normal n = (1, 1, 0)/sqrt(2): their
+  // AABBs and A's AABB against B overlap, only the OBB-OBB stage separates them (on A's u axis).
+  const Eigen::Vector3d n = Eigen::Vector3d(1, 1, 0).normalized();
+  csv += row("obb_obb_gap_1mm", {origin, rot45, {0.5, 0.5, 0.5}}, {origin + (1.0 + 0.001) * n, rot45, {0.5, 0.5, 0.5}});
+  // A 2 cm pole 30 m tall (an AABB) before the turned cube's face: the pole's nearest edge is
+  // 1 mm from the face plane (its corner reaches 0.01 * sqrt(2) towards the face).
+  csv += row("pole_gap_1mm", {origin, rot45, {0.5, 0.5, 0.5}},
+             aabb(origin + (0.5 + 0.01 * std::sqrt(2.0) + 0.001) * n, {0.01, 0.01, 15}));
+  return csv;
+}
+
+const std::vector<std::string> kExpected = {
+    "id,overlap,stage,axis",           "aabb_gap_1mm,0,aabb-aabb,x",      "aabb_touch,1,aabb-aabb,",
+    "aabb_gap_y,0,aabb-aabb,y",        "obb_vertex_gap_1mm,0,aabb-aabb,x", "obb_vertex_pen_1mm,1,aabb-obb,",
+    "obb_obb_gap_1mm,0,obb-obb,A0",    "pole_gap_1mm,0,aabb-obb,A0",
+};
+
+TEST(QueryOverlap, KnownPairsAtOrigin) {
+  const auto dir = tempFolder();
+  writeText(dir / "pairs.csv", knownPairs(Eigen::Vector3d::Zero()));
+  const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(lines(r.out), kExpected);
+}
+
+TEST(QueryOverlap, KnownPairsAtUtmMagnitudes) {
+  const auto dir = tempFolder();
+  writeText(dir / "pairs.csv", knownPairs({550123.456, 4650789.123, 1234.5}));
+  const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(lines(r.out), kExpected);
+}
+
+TEST(QueryOverlap, MalformedRowNamesTheLine) {
+  const auto dir = tempFolder();
+  std::string csv = knownPairs(Eigen::Vector3d::Zero());
+  csv += "broken,1,2,three\n";
+  writeText(dir / "pairs.csv", csv);
+  const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("pairs.csv:9:"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "") << "no partial output on bad input";
+}
+
+TEST(QueryOverlap, NotANumberNamesLineAndColumn) {
+  const auto dir = tempFolder();
+  std::string csv = header() + row("p", aabb({0, 0, 0}, {1, 1, 1}), aabb({3, 0, 0}, {1, 1, 1}));
+  csv.replace(csv.find(",3,"), 3, ",x3,");
+  writeText(dir / "pairs.csv", csv);
+  const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("pairs.csv:2: column 'bcx': 'x3' is not a number"), std::string::npos) << r.err;
+}
+
+TEST(QueryOverlap, NonOrthonormalAxesAndNegativeExtentsAreRefused) {
+  const auto dir = tempFolder();
+  Box skew = aabb({0, 0, 0}, {1, 1, 1});
+  skew.axes(0, 1) = 0.5;
+  writeText(dir / "skew.csv", header() + row("p", skew, aabb({3, 0, 0}, {1, 1, 1})));
+  CommandResult r = runNestwalk("query overlap '" + (dir / "skew.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("skew.csv:2: the axes of box A are not orthonormal"), std::string::npos) << r.err;
+
+  writeText(dir / "neg.csv", header() + row("p", aabb({0, 0, 0}, {1, 1, 1}), aabb({3, 0, 0}, {1, -1, 1})));
+  r = runNestwalk("query overlap '" + (dir / "neg.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("neg.csv:2: box B has a negative half extent"), std::string::npos) << r.err;
+}
+
+TEST(QueryOverlap, MissingColumnAndMissingFile) {
+  const auto dir = tempFolder();
+  writeText(dir / "cols.csv", "id,acx\n1,2\n");
+  CommandResult r = runNestwalk("query overlap '" + (dir / "cols.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("cols.csv: the header has no column 'acy'"), std::string::npos) << r.err;
+
+  r = runNestwalk("query overlap '" + (dir / "absent.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("absent.csv: cannot open the file"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace nestwalk::test

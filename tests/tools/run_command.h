@@ -1,0 +1,69 @@
+// Runs the nestwalk program as a user would and captures what it printed.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace nestwalk::test {
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string out, err;
+};
+
+inline std::string readText(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline void writeText(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+/// The temporary folder of the running test (not created).
+inline std::filesystem::path testFolderPath() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::filesystem::temp_directory_path() /
+         ("nestwalk-test-" + std::to_string(::getpid()) + "-" + info->test_suite_name() + "-" + info->name());
+}
+
+/// The running test's temporary folder, emptied.
+inline std::filesystem::path tempFolder() {
+  const auto dir = testFolderPath();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// `nestwalk ARGS` (ARGS already shell-quoted where needed), stdout and stderr captured apart.
+inline CommandResult runNestwalk(const std::string& args) {
+  const auto dir = testFolderPath() / "capture";
+  std::filesystem::create_directories(dir);
+  const std::string cmd = std::string("'") + NESTWALK_BINARY + "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
+                          (dir / "err").string() + "'";
+  const int status = std::system(cmd.c_str());
+  CommandResult r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readText(dir / "out");
+  r.err = readText(dir / "err");
+  return r;
+}
+
+/// The shared real data folder, or empty when it is absent (tests then skip and say so).
+inline std::filesystem::path sharedData() {
+  const char* env = std::getenv("NESTWALK_SHARED_DATA");
+  std::filesystem::path p = env ? env : NESTWALK_SHARED_DATA_DIR;
+  return std::filesystem::is_directory(p) ? p : std::filesystem::path();
+}
+
+}  // namespace nestwalk::test

@@ -1,0 +1,14 @@
+// The subcommands of `nestwalk`. Each register function adds one subcommand (with its options and
+// its callback) to the program; each lives in a file of its own.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace nestwalk::tools {
+
+void registerDemo(CLI::App& app);          // nestwalk demo
+void registerQueryVolumes(CLI::App& query);  // nestwalk query volumes MODEL
+void registerQueryOverlap(CLI::App& query);  // nestwalk query overlap PAIRS.csv
+void registerBenchVolumes(CLI::App& bench);  // nestwalk bench volumes [--json]
+
+}  // namespace nestwalk::tools

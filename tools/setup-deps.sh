@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs every package nestwalk needs on Debian 12 (bookworm), with apt-get.
+# Idempotent and quiet: when everything is already installed it prints one line and
+# touches nothing. Run as root, or as a user with sudo.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev                                  # linear algebra, symmetric eigensolver
+  libopenscenegraph-dev openscenegraph           # scene graph, model loading (osgDB plugins)
+  libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering
+  libgdal-dev gdal-bin                           # raster I/O, reprojection
+  libgtest-dev libgmock-dev libbenchmark-dev     # tests and benchmarks
+  libfcl-dev libccd-dev libbullet-dev            # peers for benchmarks and test oracles
+  libembree-dev                                  # ray-casting oracle
+  libcgal-dev libgmp-dev libmpfr-dev             # optimal OBB reference, exact arithmetic
+  libqhull-dev                                   # convex hulls
+  nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "nestwalk: all ${#packages[@]} dependencies are installed."
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+echo "nestwalk: installing ${#missing[@]} package(s): ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "nestwalk: dependencies installed."
