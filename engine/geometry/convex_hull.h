@@ -18,12 +18,13 @@ struct ConvexHull {
 
 /// The convex hull of `points`. Degenerate inputs (coplanar, collinear, repeated points) are
 /// detected with a tolerance relative to the points' extent and get the lower-dimensional hull.
-/// Input order is kept where it matters for determinism: the same points in the same order give
-/// the same hull, bit for bit. Hull vertices keep the input's coordinates exactly.
+/// Deterministic: the same points in the same order give the same hull, bit for bit. Hull vertices
+/// keep the input's coordinates exactly.
 ConvexHull convexHull(const std::vector<Vec3<double>>& points);
 
 /// The convex hull of 2D points (Andrew's monotone chain): indices into `points` in
-/// counter-clockwise order, collinear points dropped. Empty input gives an empty list, one
+/// counter-clockwise order, collinear points dropped (a point within 1e-12 of the points' extent of
+/// the chord of its neighbours counts as collinear). Empty input gives an empty list, one
 /// distinct point a single index, collinear points the two ends.
 std::vector<int> convexHull2d(const std::vector<Eigen::Vector2d>& points);
 

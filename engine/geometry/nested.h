@@ -19,7 +19,7 @@ struct NestedVolume {
   Aabb<T> outer;
   Obb<T> inner;
 
-  /// The nested volume of an OBB alone: the outer box is its exact AABB.
+  /// The nested volume of an OBB alone: the outer box is its AABB (aabbOf).
   static NestedVolume fromObb(const Obb<T>& b) { return {aabbOf(b), b}; }
 };
 
@@ -54,9 +54,10 @@ inline NestedResult testNested(const NestedVolume<T>& viewer, const NestedVolume
   return {s3.overlap, OverlapStage::ObbObb, s3.axis};
 }
 
-/// Two boxes given as OBBs, possibly in map coordinates, each nested in its exact AABB.
-/// The pair is moved to a local frame centred on A (differences of nearby doubles are exact), so
-/// millimetre gaps at UTM magnitudes are decided as at the origin. A box whose axes are exactly the
+/// Two boxes given as OBBs, possibly in map coordinates, each nested in its AABB (aabbOf).
+/// The pair is moved to a local frame centred on A, so millimetre gaps at UTM magnitudes are
+/// decided as at the origin (the shift's rounding, at most half an ulp of |cB - cA|, is covered by
+/// the tests' rounding slack and aabbOf's outward rounding). A box whose axes are exactly the
 /// identity is an AABB: the cascade stops at the first stage that is exact for the pair
 /// (AABB-AABB when both are AABBs, AABB-OBB when one is). When only B is an AABB the roles in
 /// stage 2 are swapped; the reported axis is still named relative to (A, B). The verdict is always

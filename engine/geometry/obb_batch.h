@@ -11,6 +11,10 @@
 // one of three answers: surely separated, surely overlapping, or uncertain (within the float
 // rounding band of touching). Uncertain lanes are re-decided by the scalar double test (sat.h),
 // so the verdicts returned are exactly those of satObbObb<double> on the double originals.
+// (The slacks and their justification are at the top of obb_batch.cpp.)
+//
+// The AVX2 + FMA kernels are chosen at run time where the processor has them; setting the
+// environment variable NESTWALK_SIMD=portable forces the SSE ones (the verdicts are the same).
 #pragma once
 
 #include "engine/geometry/nested.h"
@@ -58,6 +62,7 @@ class ObbPairBatch {
   std::vector<std::pair<Obb<double>, Obb<double>>> pairs_;  // local-frame double originals
   std::vector<ObbBlock> a_, b_;                             // conservative float pairs (A centred)
   std::vector<std::uint8_t> forced_;  // per block: lanes always re-decided in double (odd data)
+  std::vector<std::uint8_t> perm_;    // per block: lanes whose two boxes have signed-permutation axes
 };
 
 /// The equipment's nested volumes, stored for one-vs-many queries against the viewer.
@@ -84,7 +89,7 @@ class NestedBoxSet {
     float center[3];
     float axes[9];  // row-major, as in ObbBlock
     float halfExtents[3];
-    std::uint32_t floatOk;  // 0: the float analysis does not cover the box; always decided in double
+    std::uint32_t flags;  // float analysis applies (else decided in double); signed-permutation axes
   };
 
   std::vector<NestedVolume<double>> boxes_;

@@ -88,16 +88,22 @@ T axesError(const Mat3<T>& axes) {
   return (axes.transpose() * axes - Mat3<T>::Identity()).cwiseAbs().maxCoeff();
 }
 
-/// The nearest right-handed rotation to `m` (polar decomposition through the SVD), for axes
-/// read from text or accumulated through many products.
+/// The nearest right-handed rotation to `m` (polar decomposition through the SVD, computed in
+/// double for either type), for axes read from text or accumulated through many products.
 template <class T>
 Mat3<T> orthonormalized(const Mat3<T>& m);
 
-/// The exact AABB of an OBB: half extents |axes| * e (Ericson, RTCD 4.2.6).
+/// Outward rounding of derived boxes, relative to the magnitudes involved: 8 unit roundoffs cover
+/// the three-term sum |axes| * e (3u), the sum c +- h (u) and the padding itself (u), with margin.
+template <class T> inline constexpr T kOutwardRounding = T(4) * std::numeric_limits<T>::epsilon();
+
+/// The AABB of an OBB: half extents |axes| * e (Ericson, RTCD 4.2.6), rounded outward by
+/// kOutwardRounding so that it contains the OBB despite rounding (it is exact to 1e-15 relative).
 template <class T>
 Aabb<T> aabbOf(const Obb<T>& b) {
   const Vec3<T> h = b.axes.cwiseAbs() * b.halfExtents;
-  return {b.center - h, b.center + h};
+  const Vec3<T> pad = kOutwardRounding<T> * (b.center.cwiseAbs() + h);
+  return {b.center - h - pad, b.center + h + pad};
 }
 
 /// Rigid motion with uniform scale: p -> scale * rotation * p + translation. Under it an OBB stays
@@ -118,7 +124,7 @@ struct Similarity {
     return {rt, T(1) / scale, -(rt * translation) / scale};
   }
   Obb<T> apply(const Obb<T>& b) const { return {apply(b.center), rotation * b.axes, scale * b.halfExtents}; }
-  /// The exact AABB of a transformed AABB (treated as the OBB it becomes).
+  /// The AABB of a transformed AABB (treated as the OBB it becomes; see aabbOf).
   Aabb<T> apply(const Aabb<T>& b) const { return aabbOf(apply(Obb<T>::fromAabb(b))); }
 };
 
