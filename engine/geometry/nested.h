@@ -60,8 +60,9 @@ inline NestedResult testNested(const NestedVolume<T>& viewer, const NestedVolume
 /// the tests' rounding slack and aabbOf's outward rounding). A box whose axes are exactly the
 /// identity is an AABB: the cascade stops at the first stage that is exact for the pair
 /// (AABB-AABB when both are AABBs, AABB-OBB when one is). When only B is an AABB the roles in
-/// stage 2 are swapped; the reported axis is still named relative to (A, B). The verdict is always
-/// the OBB-OBB answer.
+/// stage 2 are swapped; the reported axis is still named relative to (A, B). The verdict is the
+/// OBB-OBB answer except inside the rounding slack (sat.h): an exact earlier stage may separate a
+/// pair that satObbObb's slack would call touching.
 NestedResult testBoxPair(const Obb<double>& a, const Obb<double>& b);
 
 }  // namespace nestwalk
