@@ -8,6 +8,8 @@
 #include "engine/geometry/convex_hull.h"
 
 #include <Eigen/Geometry>
+#include "tests/geometry/test_shapes.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,16 +24,9 @@ using V3 = Vec3<double>;
 
 constexpr double kContainRel = 1e-10;
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  return Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
-}
 
-double diagonal(const std::vector<V3>& pts) {
-  Aabb<double> b;
-  for (const V3& p : pts) b.extend(p);
-  return (b.max - b.min).norm();
-}
+using testshapes::diagonal;
+using testshapes::randomRotation;
 
 // Volume enclosed by the (outward) triangles, by the divergence theorem.
 double enclosedVolume(const ConvexHull& h) {

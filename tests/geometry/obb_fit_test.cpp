@@ -10,6 +10,8 @@
 #include "engine/geometry/obb_fit.h"
 
 #include <Eigen/Geometry>
+#include "tests/geometry/test_shapes.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -31,16 +33,9 @@ constexpr double kContainRel = 1e-9;
 constexpr double kExactRel = 1e-9;
 constexpr ObbFitter kFitters[] = {ObbFitter::Covariance, ObbFitter::HullSearch};
 
-M3 randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  return Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
-}
 
-double diagonal(const std::vector<V3>& pts) {
-  Aabb<double> b;
-  for (const V3& p : pts) b.extend(p);
-  return (b.max - b.min).norm();
-}
+using testshapes::diagonal;
+using testshapes::randomRotation;
 
 // The box contract: orthonormal right-handed axes, non-negative half extents, every point inside.
 void expectValidBox(const Obb<double>& box, const std::vector<V3>& pts) {

@@ -12,6 +12,7 @@
 // compile definition NESTWALK_SHARED_DATA_DIR; the model tests skip when the folder is absent.
 
 #include "engine/geometry/obb_fit.h"
+#include "tests/geometry/test_shapes.h"
 #include "engine/scene/model_geometry.h"
 
 #include <CGAL/Aff_transformation_3.h>
@@ -132,10 +133,7 @@ INSTANTIATE_TEST_SUITE_P(SharedModels, ObbFitCgalModels,
                            return s;
                          });
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  return Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
-}
+using testshapes::randomRotation;
 
 TEST(ObbFitCgalSynthetic, RotatedBoxesWithNoise) {
   // Corners of a rotated box plus points inside and slightly outside it (noise 1% of the
