@@ -15,13 +15,17 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "nestwalk 0.1.0");
 
   nestwalk::tools::registerDemo(app);
+  nestwalk::tools::registerImportTerrain(app);
+  nestwalk::tools::registerMakeTerrain(app);
   CLI::App* query = app.add_subcommand("query", "Answer one question about a model, terrain or boxes");
   query->require_subcommand(1);
   nestwalk::tools::registerQueryVolumes(*query);
   nestwalk::tools::registerQueryOverlap(*query);
+  nestwalk::tools::registerQueryGround(*query);
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks against peer libraries, printed as a table");
   bench->require_subcommand(1);
   nestwalk::tools::registerBenchVolumes(*bench);
+  nestwalk::tools::registerBenchTerrain(*bench);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,105 @@
+// The terrain as the engine sees it: a regular grid of heights sampled at pixel centres, in a
+// projected map frame, triangulated by one fixed rule that every query and every mesh shares.
+//
+// Frames (see DESIGN.md): map coordinates are double (UTM reaches 1e7 m); the heightfield keeps a
+// local origin (map coordinates of sample (0, 0)) and does its geometry in the local frame
+//   local = map - origin,  sample (col, row) at local (col * dx, -row * dy)   (row 0 is the north row)
+// Heights are metres, float as stored (Float32), widened to double in every computation.
+//
+// Triangulation rule: the cell between samples (c, r), (c+1, r), (c, r+1), (c+1, r+1) is split along
+// the diagonal from (c, r) to (c+1, r+1) (north-west to south-east) into
+//   upper triangle: (c, r), (c+1, r), (c+1, r+1)    lower triangle: (c, r), (c+1, r+1), (c, r+1)
+// Holes: a triangle exists only when its three samples are valid (not nodata, finite). The surface
+// is the closed union of the existing triangles, plus every grid edge whose two samples are valid and
+// every valid sample (so a query exactly on a valid edge or sample next to a hole still has ground).
+// "Grid edge" means every edge of the triangulation: east-west, north-south and the cell diagonals;
+// i.e. a point has ground iff the smallest closed simplex (sample, edge, triangle) containing it has
+// valid samples only. "Exactly on" a grid line means: the coordinate equals the line's position as
+// samplePosition() computes it (originX + col * dx, originY - row * dy), to the last bit.
+// Outside the grid's sample hull (beyond the outermost sample centres) there is no ground.
+// A heightfield has at least 2 x 2 samples.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// A ray hit: the parameter t along the ray (point = origin + t * direction), the hit point in map
+/// coordinates and the triangle (cell and which half: 0 upper, 1 lower).
+struct RayHit {
+  double t = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // map frame
+  std::int32_t col = -1, row = -1;
+  std::int8_t half = -1;
+};
+
+class Heightfield {
+ public:
+  /// heights: cols * rows values, row-major, row 0 = north. originX/Y: map coordinates of the centre
+  /// of sample (0, 0). dx, dy > 0: sample spacing east and south, metres. noData: the sentinel (NaN
+  /// and infinities are always holes). Throws std::invalid_argument on inconsistent sizes.
+  Heightfield(int cols, int rows, std::vector<float> heights, double originX, double originY, double dx, double dy,
+              std::optional<float> noData = std::nullopt, std::string crsWkt = {});
+
+  int cols() const { return cols_; }
+  int rows() const { return rows_; }
+  double dx() const { return dx_; }
+  double dy() const { return dy_; }
+  Eigen::Vector2d origin() const { return {originX_, originY_}; }
+  const std::string& crsWkt() const { return crsWkt_; }
+  std::optional<float> noData() const { return noData_; }
+
+  /// The stored sample (may be the nodata value or NaN).
+  float sample(int col, int row) const { return heights_[std::size_t(row) * std::size_t(cols_) + std::size_t(col)]; }
+  bool valid(int col, int row) const;
+  /// Map coordinates of sample (col, row).
+  Eigen::Vector2d samplePosition(int col, int row) const { return {originX_ + col * dx_, originY_ - row * dy_}; }
+
+  /// Ground height at map (x, y): the vertical ray, O(1). nullopt where there is no surface.
+  std::optional<double> groundHeight(double x, double y) const;
+
+  /// The first hit of the ray origin + t * direction, t in [tMin, tMax] (map frame, direction need
+  /// not be unit). Exact against the triangulated surface and watertight: rays through vertices and
+  /// along edges do not slip through. nullopt when the ray misses (holes, beyond the edge).
+  /// Two-sided: a ray starting below the surface returns the first crossing with t >= tMin.
+  /// Measure-zero parts are ignored: a ray meeting the surface only at an isolated valid edge or
+  /// sample next to holes (no existing triangle there), or lying in a triangle's plane (grazing a flat
+  /// triangle) does not hit that part; it still hits the neighbouring triangles' edges it crosses.
+  /// Likewise a ray that touches the surface only at a point of its outer boundary (raster edge, hole
+  /// border) may miss by rounding; crossings in the interior of the surface never slip through.
+  /// Method: a min-max pyramid over the cells, traversed front to back, and the watertight
+  /// ray/triangle test of Woop, Benthin & Wald (JCGT 2013) in double in the local frame.
+  std::optional<RayHit> intersectRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tMin = 0.0,
+                                     double tMax = std::numeric_limits<double>::infinity()) const;
+
+  /// Lowest and highest valid sample (nullopt when every sample is a hole).
+  std::optional<std::pair<float, float>> heightRange() const;
+  /// Fraction of samples that are holes.
+  double noDataFraction() const;
+
+ private:
+  int cols_, rows_;
+  std::vector<float> heights_;
+  double originX_, originY_, dx_, dy_;
+  std::optional<float> noData_;
+  std::string crsWkt_;
+  float noDataCompare_;  // *noData_, or NaN (never equal) when there is no sentinel
+  double xLast_, yLast_;  // map x of the last column, map y of the last row
+  double invDx_, invDy_;
+  const float* clean_ = nullptr;  // heights with holes as NaN, owned by *accel_ (shared, so copies stay valid)
+  // Ground near a hole: the smallest closed simplex containing the point decides (see above).
+  static std::optional<double> groundHeightNearHole(int c, int r, double fx, double fy, double h00, double h10,
+                                                    double h01, double h11);
+  // Acceleration data for intersectRay (built in the constructor) live in the .cpp's structures.
+  struct RayAccel;
+  std::shared_ptr<const RayAccel> accel_;
+};
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,408 @@
+#include "terrain/terrain_import.h"
+
+#include "engine/core/input_error.h"
+#include "terrain/dem_reader.h"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_alg.h>
+#include <gdal_utils.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+#include <unistd.h>
+
+namespace nestwalk::terrain {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A file removed when it goes unless released.
+struct TempFile {
+  std::string path;
+  explicit TempFile(std::string p) : path(std::move(p)) {}
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    if (!path.empty()) {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
+  }
+};
+
+/// A NULL-terminated argv for GDAL's utility option parsers.
+struct Argv {
+  std::vector<std::string> args;
+  std::vector<char*> ptrs;
+  char** get() {
+    ptrs.clear();
+    for (auto& a : args) ptrs.push_back(a.data());
+    ptrs.push_back(nullptr);
+    return ptrs.data();
+  }
+};
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+/// Scaled progress for one stage of the pipeline (nullptr when progress is off).
+struct StageProgress {
+  void* data = nullptr;
+  StageProgress(bool on, double from, double to) {
+    if (on) data = GDALCreateScaledProgress(from, to, GDALTermProgress, nullptr);
+  }
+  ~StageProgress() {
+    if (data) GDALDestroyScaledProgress(data);
+  }
+  GDALProgressFunc fn() const { return data ? GDALScaledProgress : nullptr; }
+  void report(double fraction) const {
+    if (data) GDALScaledProgress(fraction, nullptr, data);
+  }
+};
+
+/// Temporary names beside OUT (same folder: the final rename stays on one file system).
+std::string tempBeside(const std::string& out, const char* tag) {
+  const fs::path p(out);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  return (dir / ("." + p.filename().string() + "." + tag + "-" + std::to_string(::getpid()) + ".tif")).string();
+}
+
+void checkOutput(const std::string& in, const std::string& out, bool overwrite) {
+  std::error_code ec;
+  if (!in.empty() && fs::exists(out, ec) && fs::equivalent(in, out, ec))
+    throw InputError(out + ": the output is the input file; choose another OUT");
+  if (fs::exists(out, ec)) {
+    if (fs::is_directory(out, ec)) throw InputError(out + ": is a folder; OUT must be a file name");
+    if (!overwrite) throw InputError(out + ": already exists (use --overwrite to replace it)");
+  }
+  const fs::path p(out);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec)) throw InputError(out + ": the folder " + dir.string() + " does not exist");
+}
+
+/// Writes the staging dataset as the terrain COG to a temporary file and renames it to `out`.
+void writeCogFrom(GDALDatasetH staging, const std::string& out, const StageProgress& progress) {
+  GDALDriverH cog = GDALGetDriverByName("COG");
+  if (!cog) throw std::runtime_error("GDAL has no COG driver");
+  TempFile tmp(tempBeside(out, "tmp"));
+  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "BLOCKSIZE=512", "OVERVIEWS=AUTO",
+                           "OVERVIEW_RESAMPLING=AVERAGE", "BIGTIFF=IF_SAFER", "NUM_THREADS=ALL_CPUS", nullptr};
+  CPLErrorReset();
+  GDALDatasetH ds = GDALCreateCopy(cog, tmp.path.c_str(), staging, FALSE, const_cast<char**>(options),
+                                   progress.fn(), progress.data);
+  if (!ds) throw InputError(out + ": cannot write the terrain file: " + lastGdalError());
+  CPLErrorReset();
+  GDALClose(ds);
+  if (CPLGetLastErrorType() == CE_Failure)
+    throw InputError(out + ": cannot write the terrain file: " + lastGdalError());
+  std::error_code ec;
+  fs::rename(tmp.path, out, ec);
+  if (ec) throw InputError(out + ": cannot rename the finished file into place: " + ec.message());
+  tmp.path.clear();
+}
+
+GDALDatasetH createStaging(const std::string& path, int cols, int rows) {
+  GDALDriverH gtiff = GDALGetDriverByName("GTiff");
+  const char* options[] = {"TILED=YES", "BLOCKXSIZE=512", "BLOCKYSIZE=512", "COMPRESS=ZSTD", "ZSTD_LEVEL=1",
+                           "BIGTIFF=IF_SAFER", nullptr};
+  GDALDatasetH ds = GDALCreate(gtiff, path.c_str(), cols, rows, 1, GDT_Float32, const_cast<char**>(options));
+  if (!ds) {
+    // ZSTD may be missing from the build: fall back to DEFLATE.
+    const char* fallback[] = {"TILED=YES", "BLOCKXSIZE=512", "BLOCKYSIZE=512", "COMPRESS=DEFLATE", "ZLEVEL=1",
+                              "BIGTIFF=IF_SAFER", nullptr};
+    ds = GDALCreate(gtiff, path.c_str(), cols, rows, 1, GDT_Float32, const_cast<char**>(fallback));
+  }
+  if (!ds) throw InputError(path + ": cannot create the staging file: " + lastGdalError());
+  GDALSetRasterNoDataValue(GDALGetRasterBand(ds, 1), kTerrainNoData);
+  return ds;
+}
+
+struct Stats {
+  std::size_t valid = 0, total = 0;
+  float lo = std::numeric_limits<float>::infinity(), hi = -std::numeric_limits<float>::infinity();
+};
+
+/// Height range and nodata count of band 1 of a staging file, block row by block row.
+Stats scanStaging(GDALDatasetH ds, const std::string& name) {
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  const int cols = GDALGetRasterXSize(ds), rows = GDALGetRasterYSize(ds);
+  std::vector<float> strip;
+  Stats s;
+  for (int r0 = 0; r0 < rows; r0 += 512) {
+    const int n = std::min(512, rows - r0);
+    strip.resize(std::size_t(n) * std::size_t(cols));
+    if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float32, 0, 0) != CE_None)
+      throw InputError(name + ": cannot read back the staging file: " + lastGdalError());
+    for (float v : strip) {
+      if (v == kTerrainNoData || !std::isfinite(v)) continue;
+      ++s.valid;
+      s.lo = std::min(s.lo, v);
+      s.hi = std::max(s.hi, v);
+    }
+    s.total += strip.size();
+  }
+  return s;
+}
+
+}  // namespace
+
+ImportSummary importTerrain(const std::string& in, const std::string& out, const ImportOptions& options) {
+  initGdal();
+  ImportSummary summary;
+  GdalDataset owned = openRaster(in);
+  auto* src = static_cast<GDALDatasetH>(owned.get());
+  checkBand(src, options.band, in);
+  checkOutput(in, out, options.overwrite);
+  if (!(options.verticalScale != 0.0 && std::isfinite(options.verticalScale)))
+    throw InputError("--vertical-scale must be finite and non-zero");
+  if (options.resolution && !(*options.resolution > 0.0 && std::isfinite(*options.resolution)))
+    throw InputError("--resolution must be a positive number");
+  if (options.window) {
+    const auto& w = *options.window;
+    if (!(w[0] < w[2] && w[1] < w[3]))
+      throw InputError("--window must be MINX MINY MAXX MAXY with MINX < MAXX and MINY < MAXY");
+  }
+
+  const RasterFrame frame = rasterFrame(src);
+  // Resampling is needed for a new CRS or resolution and for a rotated grid; a grid stored south-up
+  // or east-to-west only needs its rows or columns reordered: nearest neighbour, sample-exact.
+  const bool resample = !options.targetCrs.empty() || options.resolution.has_value() || frame.rotated;
+  const bool warp = resample || frame.flipRows || frame.flipColumns;
+  if (!frame.georeferenced) {
+    if (warp || options.window)
+      throw InputError(in + ": no georeferencing, so it cannot be cropped to map coordinates, resampled or reprojected");
+    summary.warnings.push_back(in + ": no georeferencing; the terrain is written in pixel units (cell size 1)");
+  }
+  if (frame.rotated) summary.warnings.push_back(in + ": rotated or sheared geotransform; warped north-up");
+  if (!options.targetCrs.empty()) {
+    if (crsWkt(src).empty()) throw InputError(in + ": has no CRS, so it cannot be reprojected to " + options.targetCrs);
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+    const bool ok = OSRSetFromUserInput(srs, options.targetCrs.c_str()) == OGRERR_NONE;
+    OSRDestroySpatialReference(srs);
+    if (!ok) throw InputError("--crs " + options.targetCrs + ": not a CRS GDAL knows");
+  }
+
+  // 1. Scan the input band: readable, finite, not all nodata. Without the warper the one pass of
+  // stage 3 sees the input's samples as they are and checks them itself (one read of IN, not two).
+  const double passFrom = warp ? 0.25 : 0.0;
+  if (warp) {
+    const StageProgress scanProgress(options.progress, 0.0, 0.25);
+    GDALRasterBandH band = GDALGetRasterBand(src, options.band);
+    int hasNoData = 0;
+    const double noData = GDALGetRasterNoDataValue(band, &hasNoData);
+    const bool noDataIsNan = hasNoData && std::isnan(noData);
+    const int cols = GDALGetRasterXSize(src), rows = GDALGetRasterYSize(src);
+    int bx = 0, by = 0;
+    GDALGetBlockSize(band, &bx, &by);
+    const int stripRows = std::max(std::max(by, 1), int(std::min<long>(rows, (1L << 22) / cols)));
+    std::vector<double> strip;
+    std::size_t valid = 0;
+    for (int r0 = 0; r0 < rows; r0 += stripRows) {
+      const int n = std::min(stripRows, rows - r0);
+      strip.resize(std::size_t(n) * std::size_t(cols));
+      CPLErrorReset();
+      if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
+        throw InputError(in + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
+      for (std::size_t i = 0; i < strip.size(); ++i) {
+        const double v = strip[i];
+        if (hasNoData && (v == noData || (noDataIsNan && std::isnan(v)))) continue;
+        if (!std::isfinite(v))
+          throw InputError(in + ": NaN or infinite sample at column " + std::to_string(i % std::size_t(cols)) +
+                           ", row " + std::to_string(r0 + int(i / std::size_t(cols))) + " (band " +
+                           std::to_string(options.band) + " declares no such nodata value)");
+        ++valid;
+      }
+      scanProgress.report(double(r0 + n) / rows);
+    }
+    if (valid == 0) throw InputError(in + ": every sample is nodata (no ground at all)");
+  }
+
+  // 2. The virtual chain: band (and crop) through gdal_translate, then the warper when needed.
+  Argv tArgs;
+  tArgs.args = {"-of", "VRT", "-b", std::to_string(options.band)};
+  if (options.window && !warp) {
+    const auto& w = *options.window;
+    tArgs.args.insert(tArgs.args.end(), {"-projwin", num(w[0]), num(w[3]), num(w[2]), num(w[1])});
+  }
+  GDALTranslateOptions* tOpts = GDALTranslateOptionsNew(tArgs.get(), nullptr);
+  CPLErrorReset();
+  int usageError = 0;
+  GdalDataset translated(GDALTranslate("", src, tOpts, &usageError));
+  GDALTranslateOptionsFree(tOpts);
+  if (!translated) {
+    if (options.window)
+      throw InputError(in + ": the crop window does not fit the raster (" + lastGdalError() + ")");
+    throw InputError(in + ": cannot build the import chain: " + lastGdalError());
+  }
+  GdalDataset warped;
+  GDALDatasetH chain = static_cast<GDALDatasetH>(translated.get());
+  if (warp) {
+    Argv wArgs;
+    wArgs.args = {"-of", "VRT", "-r", resample ? "bilinear" : "near", "-ot", "Float32", "-dstnodata", num(kTerrainNoData)};
+    if (!options.targetCrs.empty()) wArgs.args.insert(wArgs.args.end(), {"-t_srs", options.targetCrs});
+    if (options.resolution) wArgs.args.insert(wArgs.args.end(), {"-tr", num(*options.resolution), num(*options.resolution)});
+    if (!resample) {
+      // Only reordering: the same grid, north-up (the window snapped outward to whole samples).
+      const double* g = frame.geoTransform;
+      const int sc = GDALGetRasterXSize(src), sr = GDALGetRasterYSize(src);
+      const double dx = std::abs(g[1]), dy = std::abs(g[5]);
+      double x0 = std::min(g[0], g[0] + sc * g[1]), x1 = std::max(g[0], g[0] + sc * g[1]);
+      double y0 = std::min(g[3], g[3] + sr * g[5]), y1 = std::max(g[3], g[3] + sr * g[5]);
+      if (options.window) {
+        const auto& w = *options.window;
+        const double nx0 = x0 + std::floor((w[0] - x0) / dx) * dx, nx1 = x0 + std::ceil((w[2] - x0) / dx) * dx;
+        const double ny0 = y0 + std::floor((w[1] - y0) / dy) * dy, ny1 = y0 + std::ceil((w[3] - y0) / dy) * dy;
+        x0 = std::max(x0, nx0), x1 = std::min(x1, nx1), y0 = std::max(y0, ny0), y1 = std::min(y1, ny1);
+        if (!(x1 - x0 >= 0.5 * dx && y1 - y0 >= 0.5 * dy))
+          throw InputError(in + ": the crop window does not overlap the raster");
+      }
+      wArgs.args.insert(wArgs.args.end(), {"-tr", num(dx), num(dy), "-te", num(x0), num(y0), num(x1), num(y1)});
+    } else if (options.window) {
+      const auto& w = *options.window;
+      wArgs.args.insert(wArgs.args.end(), {"-te", num(w[0]), num(w[1]), num(w[2]), num(w[3])});
+    }
+    GDALWarpAppOptions* wOpts = GDALWarpAppOptionsNew(wArgs.get(), nullptr);
+    GDALDatasetH srcs[1] = {chain};
+    CPLErrorReset();
+    warped.reset(GDALWarp("", nullptr, 1, srcs, wOpts, &usageError));
+    GDALWarpAppOptionsFree(wOpts);
+    if (!warped) throw InputError(in + ": cannot warp the raster: " + lastGdalError());
+    chain = static_cast<GDALDatasetH>(warped.get());
+  }
+
+  // 3. One pass: the staging GeoTIFF, heights scaled, nodata mapped to kTerrainNoData.
+  const int cols = GDALGetRasterXSize(chain), rows = GDALGetRasterYSize(chain);
+  if (cols < 1 || rows < 1) throw InputError(in + ": the crop window holds no sample");
+  TempFile stagingFile(tempBeside(out, "staging"));
+  GdalDataset staging(createStaging(stagingFile.path, cols, rows));
+  auto* st = static_cast<GDALDatasetH>(staging.get());
+  double gt[6];
+  if (frame.georeferenced && GDALGetGeoTransform(chain, gt) == CE_None) GDALSetGeoTransform(st, gt);
+  const std::string wkt = crsWkt(chain);
+  if (!wkt.empty()) GDALSetProjection(st, wkt.c_str());
+  Stats stats;
+  {
+    const StageProgress passProgress(options.progress, passFrom, options.fillNoData ? 0.5 : 0.6);
+    GDALRasterBandH band = GDALGetRasterBand(chain, 1);
+    GDALRasterBandH outBand = GDALGetRasterBand(st, 1);
+    int hasNoData = 0;
+    const double noData = GDALGetRasterNoDataValue(band, &hasNoData);
+    const bool noDataIsNan = hasNoData && std::isnan(noData);
+    std::vector<double> strip;
+    std::vector<float> outStrip;
+    for (int r0 = 0; r0 < rows; r0 += 512) {
+      const int n = std::min(512, rows - r0);
+      strip.resize(std::size_t(n) * std::size_t(cols));
+      outStrip.resize(strip.size());
+      CPLErrorReset();
+      if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
+        throw InputError(in + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
+      for (std::size_t i = 0; i < strip.size(); ++i) {
+        const double v = strip[i];
+        float h = kTerrainNoData;
+        const bool hole = hasNoData && (v == noData || (noDataIsNan && std::isnan(v)));
+        if (!warp && !hole && !std::isfinite(v))
+          throw InputError(in + ": NaN or infinite sample at column " + std::to_string(i % std::size_t(cols)) +
+                           ", row " + std::to_string(r0 + int(i / std::size_t(cols))) +
+                           (options.window ? " of the crop window" : "") + " (band " + std::to_string(options.band) +
+                           " declares no such nodata value)");
+        if (!hole && std::isfinite(v)) {
+          const float scaled = float(v * options.verticalScale);
+          if (std::isfinite(scaled) && scaled != kTerrainNoData) {
+            h = scaled;
+            ++stats.valid;
+            stats.lo = std::min(stats.lo, h);
+            stats.hi = std::max(stats.hi, h);
+          }
+        }
+        outStrip[i] = h;
+      }
+      stats.total += strip.size();
+      if (GDALRasterIO(outBand, GF_Write, 0, r0, cols, n, outStrip.data(), cols, n, GDT_Float32, 0, 0) != CE_None)
+        throw InputError(out + ": cannot write the staging file: " + lastGdalError());
+      passProgress.report(double(r0 + n) / rows);
+    }
+  }
+  if (stats.valid == 0)
+    throw InputError(in + ": every sample " + (options.window ? "inside the crop window " : "") + "is nodata");
+  if (options.fillNoData && stats.valid < stats.total) {
+    const StageProgress fillProgress(options.progress, 0.5, 0.6);
+    CPLErrorReset();
+    if (GDALFillNodata(GDALGetRasterBand(st, 1), nullptr, options.fillDistance, 0, 0, nullptr, fillProgress.fn(),
+                       fillProgress.data) != CE_None)
+      throw InputError(in + ": filling nodata failed: " + lastGdalError());
+    GDALFlushCache(st);
+    stats = scanStaging(st, stagingFile.path);
+  }
+  GDALFlushCache(st);
+
+  // 4. The COG, through a temporary file renamed at the end.
+  {
+    const StageProgress cogProgress(options.progress, 0.6, 1.0);
+    writeCogFrom(st, out, cogProgress);
+  }
+
+  summary.cols = cols;
+  summary.rows = rows;
+  summary.georeferenced = frame.georeferenced;
+  if (frame.georeferenced && GDALGetGeoTransform(st, gt) == CE_None) {
+    summary.dx = std::abs(gt[1]);
+    summary.dy = std::abs(gt[5]);
+  } else {
+    summary.dx = summary.dy = 1.0;
+  }
+  summary.crsName = crsName(wkt);
+  summary.minHeight = stats.lo;
+  summary.maxHeight = stats.hi;
+  summary.noDataFraction = stats.total ? 1.0 - double(stats.valid) / double(stats.total) : 0.0;
+  return summary;
+}
+
+void writeTerrainCog(const std::string& out, int cols, int rows, const std::vector<float>& heights, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite) {
+  initGdal();
+  if (cols < 1 || rows < 1 || heights.size() != std::size_t(cols) * std::size_t(rows))
+    throw std::invalid_argument("writeTerrainCog: heights do not match cols x rows");
+  checkOutput({}, out, overwrite);
+  TempFile stagingFile(tempBeside(out, "staging"));
+  GdalDataset staging(createStaging(stagingFile.path, cols, rows));
+  auto* st = static_cast<GDALDatasetH>(staging.get());
+  double gt[6] = {originX - 0.5 * dx, dx, 0, originY + 0.5 * dy, 0, -dy};
+  GDALSetGeoTransform(st, gt);
+  if (!crs.empty()) {
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+    if (OSRSetFromUserInput(srs, crs.c_str()) != OGRERR_NONE) {
+      OSRDestroySpatialReference(srs);
+      throw InputError(crs + ": not a CRS GDAL knows");
+    }
+    char* wkt = nullptr;
+    OSRExportToWkt(srs, &wkt);
+    GDALSetProjection(st, wkt);
+    CPLFree(wkt);
+    OSRDestroySpatialReference(srs);
+  }
+  std::vector<float> row(std::size_t(cols), 0.0f);
+  GDALRasterBandH band = GDALGetRasterBand(st, 1);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const float h = heights[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
+      row[std::size_t(c)] = std::isfinite(h) ? h : kTerrainNoData;
+    }
+    if (GDALRasterIO(band, GF_Write, 0, r, cols, 1, row.data(), cols, 1, GDT_Float32, 0, 0) != CE_None)
+      throw InputError(out + ": cannot write the staging file: " + lastGdalError());
+  }
+  GDALFlushCache(st);
+  writeCogFrom(st, out, StageProgress(false, 0, 1));
+}
+
+}  // namespace nestwalk::terrain

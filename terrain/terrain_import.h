@@ -1,0 +1,67 @@
+// The terrain import pipeline behind `nestwalk import-terrain IN OUT`: any raster GDAL reads becomes
+// the engine's terrain format, a Cloud-Optimized GeoTIFF of Float32 heights in metres (tiled 512 x
+// 512, DEFLATE with the floating-point predictor, overviews, the CRS; nodata = kTerrainNoData).
+//
+// Stages, all streaming block by block so memory stays bounded whatever the raster's size:
+//   1. IN is opened read-only and its samples checked: unreadable data (truncated file), NaN or
+//      infinite samples (unless NaN is the declared nodata) and an all-nodata band are refused.
+//      When warping, IN's band is scanned first; otherwise the pass of stage 3 checks as it copies.
+//   2. A virtual chain: gdal_translate to VRT (band choice; crop when not warping), then, when a
+//      target CRS or resolution is asked for, or the geotransform is rotated/sheared, GDAL's warper
+//      (bilinear, to a north-up grid) as a warped VRT, cropped to the window there. A grid stored
+//      south-up or east-to-west goes through the warper with nearest neighbour (sample-exact), so
+//      every terrain file is north-up.
+//   3. One pass over the chain writes a tiled staging GeoTIFF (vertical scale applied, nodata mapped
+//      to kTerrainNoData), then GDALFillNodata fills holes when asked.
+//   4. The COG driver's CreateCopy writes the result to a temporary file in OUT's folder, which is
+//      renamed to OUT at the end. OUT is replaced only with `overwrite`; IN is never written to.
+// Every problem is an InputError naming the file; on any failure OUT is left as it was.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// The nodata value of every terrain file nestwalk writes.
+inline constexpr float kTerrainNoData = -32768.0f;
+
+struct ImportOptions {
+  int band = 1;
+  /// Crop window in map coordinates of the output CRS: minX, minY, maxX, maxY.
+  std::optional<std::array<double, 4>> window;
+  /// Output cell size (square cells) in the output CRS's units; unset: keep the input's.
+  std::optional<double> resolution;
+  /// Output CRS, anything GDAL's SetFromUserInput accepts ("EPSG:32651", WKT, PROJ); empty: keep.
+  std::string targetCrs;
+  /// Fill nodata holes by interpolation (GDALFillNodata) up to fillDistance pixels from valid data.
+  bool fillNoData = false;
+  double fillDistance = 100.0;
+  /// Heights are multiplied by this (0.3048 for feet).
+  double verticalScale = 1.0;
+  bool overwrite = false;
+  /// GDAL's terminal progress bar on stderr.
+  bool progress = false;
+};
+
+struct ImportSummary {
+  int cols = 0, rows = 0;
+  double dx = 0, dy = 0;
+  bool georeferenced = false;
+  std::string crsName;  // "none" when the output has no CRS
+  float minHeight = 0, maxHeight = 0;
+  double noDataFraction = 0;
+  std::vector<std::string> warnings;
+};
+
+/// Imports `in` to `out` (see above).
+ImportSummary importTerrain(const std::string& in, const std::string& out, const ImportOptions& options);
+
+/// Writes a north-up Float32 grid (row 0 north, heights row-major, NaN = hole) as the terrain COG,
+/// through the same temporary-file-and-rename path. originX/Y: centre of sample (0, 0).
+void writeTerrainCog(const std::string& out, int cols, int rows, const std::vector<float>& heights, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite);
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,132 @@
+// `nestwalk make-terrain`: deterministic from the seed, written in EPSG:32651 as the terrain COG,
+// and the benches measured from the generated grid (through `query ground` along a profile across
+// the dump's long side): berms about 10 m apart, faces about 35 degrees.
+#include "tests/tools/run_command.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace nestwalk::test {
+namespace {
+
+namespace fs = std::filesystem;
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::vector<std::optional<double>> zColumn(const std::string& csv) {
+  std::vector<std::optional<double>> z;
+  std::stringstream ss(csv);
+  std::string line;
+  std::getline(ss, line);
+  while (std::getline(ss, line)) {
+    const std::string f = line.substr(line.rfind(',') + 1);
+    z.push_back(f.empty() ? std::nullopt : std::optional<double>(std::stod(f)));
+  }
+  return z;
+}
+
+std::string gridPoints(double e0, double n0, double step, int n) {
+  std::string s = "x,y\n";
+  char buf[96];
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) std::snprintf(buf, sizeof buf, "%.6f,%.6f\n", e0 + i * step, n0 + j * step), s += buf;
+  return s;
+}
+
+TEST(MakeTerrain, DeterministicFromTheSeedInUtm51N) {
+  const auto dir = tempFolder();
+  for (const char* name : {"a.tif", "b.tif"}) {
+    const auto r = runNestwalk("make-terrain " + quoted(dir / name) + " --seed 7 --size 400");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("EPSG:32651"), std::string::npos) << r.out;
+  }
+  ASSERT_EQ(runNestwalk("make-terrain " + quoted(dir / "c.tif") + " --seed 8 --size 400").exitCode, 0);
+  writeText(dir / "p.csv", gridPoints(549801.3, 4649801.7, 9.7, 41));
+  auto query = [&](const char* name) {
+    const auto r = runNestwalk("query ground " + quoted(dir / name) + " --points " + quoted(dir / "p.csv"));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return r.out;
+  };
+  const std::string a = query("a.tif"), b = query("b.tif"), c = query("c.tif");
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  for (const auto& z : zColumn(a)) EXPECT_TRUE(z.has_value());  // ground everywhere inside the area
+  // An existing OUT is kept without --overwrite.
+  const auto again = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --seed 9 --size 400");
+  EXPECT_EQ(again.exitCode, 1);
+  EXPECT_NE(again.err.find("already exists"), std::string::npos);
+  EXPECT_EQ(query("a.tif"), a);
+  // GDAL's own view of the file, where its tools are installed.
+  if (std::system("gdalinfo --version >/dev/null 2>&1") == 0) {
+    ASSERT_EQ(std::system(("gdalinfo -json " + quoted(dir / "a.tif") + " >" + quoted(dir / "info.json")).c_str()), 0);
+    const auto j = nlohmann::json::parse(readText(dir / "info.json"));
+    EXPECT_NE(j["coordinateSystem"]["wkt"].get<std::string>().find("ID[\"EPSG\",32651]"), std::string::npos);
+    EXPECT_EQ(j["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    EXPECT_EQ(j["bands"][0]["type"], "Float32");
+    EXPECT_EQ(j["size"][0], 400);
+    EXPECT_NEAR(j["geoTransform"][0].get<double>(), 549800.0, 1e-6);
+    EXPECT_NEAR(j["geoTransform"][3].get<double>(), 4650200.0, 1e-6);
+  }
+}
+
+TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
+  const auto dir = tempFolder();
+  const fs::path out = dir / "dump.tif";
+  const auto r = runNestwalk("make-terrain " + quoted(out) + " --seed 3");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  double ce = 0, cn = 0, az = 0;
+  const auto at = r.out.find("centre ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, "centre %lf %lf, long axis azimuth %lf", &ce, &cn, &az), 3) << r.out;
+  // A profile from the centre across the long side away from the ramp (azimuth az + 90).
+  const double a = (az + 90.0) * M_PI / 180.0, step = 0.25;
+  const int n = 1000;  // 250 m
+  std::string csv = "x,y\n";
+  char buf[96];
+  for (int i = 0; i < n; ++i)
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f\n", ce + i * step * std::sin(a), cn + i * step * std::cos(a)), csv += buf;
+  writeText(dir / "profile.csv", csv);
+  const auto q = runNestwalk("query ground " + quoted(out) + " --points " + quoted(dir / "profile.csv"));
+  ASSERT_EQ(q.exitCode, 0) << q.err;
+  const auto zs = zColumn(q.out);
+  ASSERT_EQ(zs.size(), std::size_t(n));
+  std::vector<double> z;
+  for (const auto& v : zs) z.push_back(*v);
+  // Slope over a 2 m baseline (the grid has 1 m cells and centimetre roughness).
+  const int w = 8;
+  auto slopeDeg = [&](int i) { return std::atan(std::abs(z[i + w] - z[i]) / (w * step)) * 180.0 / M_PI; };
+  std::vector<double> flats, faces;  // flat levels (median z), face slopes (fitted)
+  int i = 0;
+  while (i + w < n) {
+    const bool steep = slopeDeg(i) > 20.0, flat = slopeDeg(i) < 4.0;
+    int j = i;
+    while (j + w < n && (steep ? slopeDeg(j) > 20.0 : flat ? slopeDeg(j) < 4.0 : false)) ++j;
+    if (steep && (j - i) * step > 6.0) {
+      // The face between its toe and crest, trimmed by 1.5 m at each end: rise over run.
+      const int t = int(1.5 / step), s0 = i + t, s1 = j + w - t;
+      faces.push_back(std::atan(std::abs(z[s1] - z[s0]) / ((s1 - s0) * step)) * 180.0 / M_PI);
+    }
+    if (flat && (j - i) * step > 3.0) {
+      std::vector<double> seg(z.begin() + i, z.begin() + j + w);
+      std::nth_element(seg.begin(), seg.begin() + seg.size() / 2, seg.end());
+      flats.push_back(seg[seg.size() / 2]);
+    }
+    i = std::max(j, i + 1);
+  }
+  std::printf("[ dump     ] flats:");
+  for (double f : flats) std::printf(" %.2f", f);
+  std::printf("\n[ dump     ] faces (deg):");
+  for (double f : faces) std::printf(" %.2f", f);
+  std::printf("\n");
+  // From the top: the top and three berms (flats 10 m apart), four faces, then the natural ground.
+  ASSERT_GE(flats.size(), 4u);
+  ASSERT_GE(faces.size(), 4u);
+  for (std::size_t k = 0; k + 1 < 4; ++k) EXPECT_NEAR(flats[k] - flats[k + 1], 10.0, 0.3) << k;
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(faces[k], 35.0, 1.5) << k;
+}
+
+}  // namespace
+}  // namespace nestwalk::test

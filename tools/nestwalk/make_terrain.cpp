@@ -1,0 +1,59 @@
+// nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--overwrite]: generates the
+// bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the engine's terrain format (the
+// same Cloud-Optimized GeoTIFF as import-terrain), in UTM zone 51N (EPSG:32651).
+#include "engine/core/input_error.h"
+#include "terrain/dem_reader.h"
+#include "terrain/mining_dump.h"
+#include "terrain/terrain_import.h"
+#include "tools/nestwalk/commands.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace nestwalk::tools {
+namespace {
+
+struct MakeTerrainArgs {
+  std::string out;
+  terrain::MiningDumpParams params;
+  bool overwrite = false;
+};
+
+void runMakeTerrain(const MakeTerrainArgs& args) {
+  if (!(args.params.size >= 16 * args.params.cell && args.params.cell > 0))
+    throw InputError("--size must be at least 16 cells and --cell positive");
+  const terrain::MiningDump dump = terrain::generateMiningDump(args.params);
+  terrain::writeTerrainCog(args.out, dump.cols, dump.rows, dump.heights, dump.originX, dump.originY, dump.cell,
+                           dump.cell, terrain::kMiningDumpCrs, args.overwrite);
+  float lo = dump.heights[0], hi = dump.heights[0];
+  for (float h : dump.heights) lo = std::min(lo, h), hi = std::max(hi, h);
+  const auto& L = dump.layout;
+  std::printf("generated %s (seed %llu)\n", args.out.c_str(), static_cast<unsigned long long>(args.params.seed));
+  std::printf("  size:         %d x %d samples\n", dump.cols, dump.rows);
+  std::printf("  cell size:    %.10g x %.10g (CRS units)\n", dump.cell, dump.cell);
+  std::printf("  CRS:          WGS 84 / UTM zone 51N (EPSG:32651)\n");
+  std::printf("  height range: %.3f .. %.3f m\n", double(lo), double(hi));
+  std::printf("  nodata:       0.0000 %%\n");
+  std::printf("  dump:         centre %.3f %.3f, long axis azimuth %.6f deg, ramp on the azimuth %.6f deg side\n",
+              L.centreE, L.centreN, L.azimuthDeg, std::fmod(L.azimuthDeg + 270.0, 360.0));
+  std::printf("  benches:      toe at %.3f m, top at %.3f m, bench height %.3f m, face slope %.3f deg\n",
+              L.baseHeight, L.topHeight, args.params.benchHeight, args.params.faceSlopeDeg);
+}
+
+}  // namespace
+
+void registerMakeTerrain(CLI::App& app) {
+  auto args = std::make_shared<MakeTerrainArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "make-terrain",
+      "Generate the bundled mining-dump DEM (terraced benches, haul ramp, pits, ditches) in UTM 51N as a terrain COG");
+  cmd->add_option("OUT", args->out, "Output terrain file (.tif); replaced only with --overwrite")->required();
+  cmd->add_option("--seed", args->params.seed, "Random seed (same seed, same heights)")->default_val(1);
+  cmd->add_option("--size", args->params.size, "Side of the square area, metres")->default_val(1000.0);
+  cmd->add_option("--cell", args->params.cell, "Cell size, metres")->default_val(1.0);
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT");
+  cmd->callback([args] { runMakeTerrain(*args); });
+}
+
+}  // namespace nestwalk::tools
