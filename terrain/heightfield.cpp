@@ -9,7 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <stdexcept>
+
+#if defined(__linux__)
+#endif
 
 namespace nestwalk::terrain {
 
@@ -29,20 +34,6 @@ constexpr double kNodePadRelative = 1e-9;
 /// at most 3 ulps of u, 3 * 2^-53 * u < 7e-7 for grids below 2^31 cells. Inside the band the check
 /// is exact (a comparison with the line's position), so the band only decides when to look.
 constexpr double kSnapBand = 1e-6;
-
-/// One axis of groundHeight's snapping, in the coordinate s increasing with the index (x, or -y):
-/// if s equals s0 + n * ds (samplePosition's arithmetic) for the nearest line n, the fraction becomes
-/// exactly 0 (cell n) or exactly 1 (cell n - 1 when n is the last line); otherwise it is clamped to
-/// [0, 1] (a rounding past the last line stays on the last cell).
-inline void snapToLine(double s, double s0, double ds, int count, int& cell, double& f) {
-  const int n = f < 0.5 ? cell : cell + 1;
-  if (n <= count - 1 && s0 + n * ds == s) {  // for -y: -(originY - n dy) == -y, the same test
-    cell = std::min(n, count - 2);
-    f = double(n - cell);
-  } else {
-    f = std::min(std::max(f, 0.0), 1.0);
-  }
-}
 
 }  // namespace
 
@@ -152,51 +143,75 @@ bool Heightfield::valid(int col, int row) const {
   return std::isfinite(h) && h != noDataCompare_;
 }
 
-std::optional<double> Heightfield::groundHeight(double x, double y) const {
-  // Beyond the outermost sample lines (positions as samplePosition() computes them), or NaN: none.
-  if (!(x >= originX_ && x <= xLast_ && y <= originY_ && y >= yLast_)) return std::nullopt;
-  // Cell and fraction: u = (x - originX) / dx. x - originX is exact (Sterbenz) near the grid at UTM
-  // magnitudes; the scaling rounds, so a query exactly on a grid line may land a rounding off the
-  // integer. Within kSnapBand of a line, snap to it when x equals the line's position computed as
-  // samplePosition() computes it, so that samples and grid edges are hit exactly.
-  const double u = (x - originX_) * invDx_, v = (originY_ - y) * invDy_;
-  int c = std::min(int(u), cols_ - 2), r = std::min(int(v), rows_ - 2);
-  double fx = u - c, fy = v - r;
-  if (fx < kSnapBand || fx > 1.0 - kSnapBand) [[unlikely]]
-    snapToLine(x, originX_, dx_, cols_, c, fx);
-  if (fy < kSnapBand || fy > 1.0 - kSnapBand) [[unlikely]]
-    snapToLine(-y, -originY_, dy_, rows_, r, fy);
-  const float* H = clean_ + std::size_t(r) * std::size_t(cols_) + std::size_t(c);
-  const double h00 = H[0], h10 = H[1], h01 = H[cols_], h11 = H[cols_ + 1];
-  // Upper triangle (c,r),(c+1,r),(c+1,r+1) where fx >= fy; lower (c,r),(c+1,r+1),(c,r+1) where fy >= fx.
-  // Written so that fy == 0 / fx == 0 gives the plain edge interpolation h00 + f (h1 - h00), and
-  // fx == 1 / fy == 1 gives h10 + fy (h11 - h10) / h01 + fx (h11 - h01) (h00 + (h10 - h00) == h10
-  // exactly for float samples widened to double).
-  const double h = fx >= fy ? h00 + fx * (h10 - h00) + fy * (h11 - h10) : h00 + fy * (h01 - h00) + fx * (h11 - h01);
-  if (!std::isnan(h)) return h;
-  return groundHeightNearHole(c, r, fx, fy, h00, h10, h01, h11);
+// groundHeight()'s fast path is inline (heightfield_inline.h); near grid lines and holes it comes here.
+
+namespace {
+
+/// One axis of groundHeight's snapping, in the coordinate s increasing with the index (x, or -y):
+/// if s equals s0 + n * ds (samplePosition's arithmetic) for the nearest line n, the fraction becomes
+/// exactly 0 (cell n) or exactly 1 (cell n - 1 when n is the last line); otherwise it is clamped to
+/// [0, 1] (a rounding past the last line stays on the last cell).
+inline void snapToLine(double s, double s0, double ds, int count, int& cell, double& f) {
+  const int n = f < 0.5 ? cell : cell + 1;
+  if (n <= count - 1 && s0 + n * ds == s) {  // for -y: -(originY - n dy) == -y, the same test
+    cell = std::min(n, count - 2);
+    f = double(n - cell);
+  } else {
+    f = std::min(std::max(f, 0.0), 1.0);
+  }
 }
 
-std::optional<double> Heightfield::groundHeightNearHole(int, int, double fx, double fy, double h00, double h10,
-                                                        double h01, double h11) {
+}  // namespace
+
+double Heightfield::groundHeightNearHoleOrNaN(double fx, double fy, double h00, double h10, double h01, double h11) {
   // Some sample of the containing triangle is a hole: the point has ground only if the smallest
   // closed simplex containing it (sample, edge, triangle) has valid samples only.
+  constexpr double none = std::numeric_limits<double>::quiet_NaN();
   const bool vx = fx == 0.0 || fx == 1.0, vy = fy == 0.0 || fy == 1.0;
-  auto ok = [](double a) { return !std::isnan(a); };
-  if (vx && vy) {  // at a sample
-    const double s = fx == 0.0 ? (fy == 0.0 ? h00 : h01) : (fy == 0.0 ? h10 : h11);
-    return ok(s) ? std::optional<double>(s) : std::nullopt;
-  }
-  auto edge = [&](double a, double b, double f) -> std::optional<double> {
-    if (ok(a) && ok(b)) return a + f * (b - a);
-    return std::nullopt;
+  if (vx && vy)  // at a sample (NaN when it is a hole)
+    return fx == 0.0 ? (fy == 0.0 ? h00 : h01) : (fy == 0.0 ? h10 : h11);
+  auto edge = [&](double a, double b, double f) -> double {
+    if (!std::isnan(a) && !std::isnan(b)) return a + f * (b - a);
+    return none;
   };
   if (fx == fy) return edge(h00, h11, fx);  // diagonal
   if (fy == 0.0) return edge(h00, h10, fx);  // north edge
   if (fy == 1.0) return edge(h01, h11, fx);  // south edge
   if (fx == 0.0) return edge(h00, h01, fy);  // west edge
   if (fx == 1.0) return edge(h10, h11, fy);  // east edge
-  return std::nullopt;                       // interior of a triangle with a hole
+  return none;                               // interior of a triangle with a hole
+}
+
+double Heightfield::groundHeightFull(double x, double y) const {
+  static_assert(kSnapBand_ == kSnapBand, "heightfield.h and heightfield.cpp disagree on the snap band");
+  double h = std::numeric_limits<double>::quiet_NaN();
+  // Beyond the outermost sample lines (positions as samplePosition() computes them), or NaN: none.
+  if (x >= originX_ && x <= xLast_ && y <= originY_ && y >= yLast_) [[likely]] {
+    // Cell and fraction: u = (x - originX) / dx. x - originX is exact (Sterbenz) near the grid at UTM
+    // magnitudes; the scaling rounds, so a query exactly on a grid line may land a rounding off the
+    // integer. Within kSnapBand_ of a line, snap to it when x equals the line's position computed as
+    // samplePosition() computes it, so that samples and grid edges are hit exactly.
+    const double u = (x - originX_) * invDx_, v = (originY_ - y) * invDy_;
+    int c = std::min(int(u), cols_ - 2), r = std::min(int(v), rows_ - 2);
+    double fx = u - c, fy = v - r;
+    if (fx < kSnapBand_ || fx > 1.0 - kSnapBand_) [[unlikely]]
+      snapToLine(x, originX_, dx_, cols_, c, fx);
+    if (fy < kSnapBand_ || fy > 1.0 - kSnapBand_) [[unlikely]]
+      snapToLine(-y, -originY_, dy_, rows_, r, fy);
+    const float* H = clean_ + std::size_t(r) * std::size_t(cols_) + std::size_t(c);
+    // Upper triangle (c,r),(c+1,r),(c+1,r+1) where fx >= fy: h00 + fx (h10 - h00) + fy (h11 - h10);
+    // lower (c,r),(c+1,r+1),(c,r+1) where fy > fx: h00 + fy (h01 - h00) + fx (h11 - h01). Both are
+    // h00 + p (b - h00) + q (h11 - b) with p = max(fx, fy), q = min(fx, fy) and b the third corner:
+    // the same operations, without a branch. fy == 0 / fx == 0 gives the plain edge interpolation
+    // h00 + f (h1 - h00), and fx == 1 / fy == 1 gives h10 + fy (h11 - h10) / h01 + fx (h11 - h01)
+    // (h00 + (h10 - h00) == h10 exactly for float samples widened to double).
+    const double p = std::max(fx, fy), q = std::min(fx, fy);
+    const std::ptrdiff_t third = 1 + std::ptrdiff_t(fx < fy) * std::ptrdiff_t(cols_ - 1);  // (c+1,r) or (c,r+1)
+    const double h00 = H[0], h11 = H[cols_ + 1], b = H[third];
+    h = h00 + p * (b - h00) + q * (h11 - b);
+    if (std::isnan(h)) h = groundHeightNearHoleOrNaN(fx, fy, h00, H[1], H[cols_], h11);
+  }
+  return h;
 }
 
 namespace {
@@ -230,6 +245,21 @@ inline double woopTest(const ShearedVertex& A, const ShearedVertex& B, const She
   if (det == 0.0) return std::numeric_limits<double>::quiet_NaN();  // ray in the triangle's plane, or degenerate
   const double T = U * A.z + V * B.z + W * C.z;
   return T / det;
+}
+
+/// The pyramid level whose nodes (2^k x 2^k cells) the oblique traversal walks before the cells.
+constexpr int kBlockLevel = 3;
+
+/// Whether cell (x1, y1), triangle half1 comes after (x2, y2), half2 in the front-to-back quadtree
+/// order (coordinates already flipped along the ray's negative axes): Morton order with the y bit
+/// above the x bit at each level, then the half.
+inline bool laterInQuadtreeOrder(std::uint32_t x1, std::uint32_t y1, int half1, std::uint32_t x2, std::uint32_t y2,
+                                 int half2) {
+  const std::uint32_t ex = x1 ^ x2, ey = y1 ^ y2;
+  if (ex == 0 && ey == 0) return half1 > half2;
+  auto lessMsb = [](std::uint32_t a, std::uint32_t b) { return a < b && a < (a ^ b); };
+  if (ey != 0 && !lessMsb(ey, ex)) return y1 > y2;
+  return x1 > x2;
 }
 
 /// Slab interval of the ray over [lo, hi] on one axis (closed); empty when ta > tb.
@@ -346,51 +376,133 @@ std::optional<RayHit> Heightfield::intersectRay(const Eigen::Vector3d& origin, c
                             std::max(std::abs(double(root.range[0])), std::abs(double(root.range[1])))) +
         1e-300;
     const double oz = o[2], dz = d[2];
-    // The node's t-interval over its padded footprint, clipped to [tMin, tBest], and whether the ray's
-    // height over it meets the node's padded height range.
-    auto nodeInterval = [&](int level, int i, int j, double& na) -> bool {
-      const RayAccel::Level& L = A.levels[std::size_t(level)];
-      const float* rg = L.range.data() + 2 * L.index(i, j);
-      const double lo = rg[0], hi = rg[1];
-      if (!(lo <= hi)) return false;  // no valid sample in the node
-      const int c0 = i << level, c1 = std::min((i + 1) << level, A.cellsX);
-      const int r0 = j << level, r1 = std::min((j + 1) << level, A.cellsY);
-      double xa, xb, ya, yb;
-      slab(o[0], inv[0], c0 * dx_ - padXY, c1 * dx_ + padXY, xa, xb);
-      slab(o[1], inv[1], r0 * dy_ - padXY, r1 * dy_ + padXY, ya, yb);
-      na = std::max(std::max(xa, ya), tMin);
-      const double nb = std::min(std::min(xb, yb), tBest);
-      if (!(na <= nb)) return false;
-      const double za = oz + na * dz, zb = oz + nb * dz;
-      return !(std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ);
-    };
-
-    struct Entry {
-      int level, i, j;
-      double tEnter;
-    };
-    Entry stack[4 * 40];
-    int sp = 0;
-    const int top = int(A.levels.size()) - 1;
-    stack[sp++] = {top, 0, 0, ta};
-    // Children front to back: the near corner first, the far corner last (a monotone path cannot
-    // enter both others except at their common corner, so their order is free). Pushed back to front.
+    // Traversal: the blocks of pyramid level kBlockLevel (rows of blocks in the ray's y order, the
+    // blocks of a row in its x order), then the cells of each block whose node test passes, the same
+    // way; a cell's height range comes straight from its samples. Every node test is the pyramid's
+    // (same padded footprint and height range), so every cell that can hold a hit at or before the
+    // best so far is tested. Equal parameters are resolved as the quadtree's front-to-back order
+    // would (the last tested there wins): see laterInQuadtreeOrder.
+    const int K = std::min(kBlockLevel, int(A.levels.size()) - 1);
+    const RayAccel::Level& BL = A.levels[std::size_t(K)];
+    const bool finX = std::isfinite(inv[0]), finY = std::isfinite(inv[1]);
     const int sx = d[0] >= 0.0 ? 0 : 1, sy = d[1] >= 0.0 ? 0 : 1;
-    const int order[4][2] = {{1 - sx, 1 - sy}, {sx, 1 - sy}, {1 - sx, sy}, {sx, sy}};
-    while (sp > 0) {
-      const Entry e = stack[--sp];
-      if (e.tEnter > tBest) continue;
-      if (e.level == 0) {
-        testCell(e.i, e.j);
+    const std::uint32_t mx = sx ? ~0u : 0u, my = sy ? ~0u : 0u;
+    auto take = [&](double t, int c, int r, int half) {
+      if (!(t >= tMin)) return;
+      if (t < tBest || (t == tBest && (!found || laterInQuadtreeOrder(std::uint32_t(c) ^ mx, std::uint32_t(r) ^ my, half,
+                                                                        std::uint32_t(best.col) ^ mx,
+                                                                        std::uint32_t(best.row) ^ my, best.half)))) {
+        tBest = t;
+        best.col = c, best.row = r, best.half = std::int8_t(half);
+        found = true;
+      }
+    };
+    auto testCellOrdered = [&](int c, int r, double h00, double h10, double h01, double h11) {
+      if (std::isnan(h00) || std::isnan(h11)) return;  // both triangles need the diagonal
+      const double X0 = c * dx_, X1 = (c + 1) * dx_, Y0 = r * dy_, Y1 = (r + 1) * dy_;
+      const ShearedVertex s00 = shear(W, X0, Y0, h00), s11 = shear(W, X1, Y1, h11);
+      if (!std::isnan(h10)) take(woopTest(s00, shear(W, X1, Y0, h10), s11), c, r, 0);
+      if (!std::isnan(h01)) take(woopTest(s00, s11, shear(W, X0, Y1, h01)), c, r, 1);
+    };
+    // Conservative index range [lo, hi] (clamped to [0, n - 1]) of the intervals of width w covering
+    // the positions p0, p1 widened by slack, plus one on each side; the whole range when not finite.
+    auto indexRange = [](double p0, double p1, double slack, double w, int n, int& lo, int& hi) {
+      const double a = (std::min(p0, p1) - slack) / w, b = (std::max(p0, p1) + slack) / w;
+      if (!(std::isfinite(a) && std::isfinite(b))) {
+        lo = 0, hi = n - 1;
+        return;
+      }
+      lo = int(std::max(std::floor(std::max(a, -2.0)) - 1.0, 0.0));
+      hi = int(std::min(std::floor(std::min(b, double(n) + 2.0)) + 1.0, double(n - 1)));
+    };
+    const double slack = padXY + 1e-12 * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
+    const int B = 1 << K;
+    const double bw = dx_ * B, bh = dy_ * B;
+    int j0, j1;
+    indexRange(o[1] + ta * d[1], o[1] + tb * d[1], slack, bh, BL.ny, j0, j1);
+    const int jn = j1 - j0 + 1;
+    for (int jk = 0; jk < jn; ++jk) {
+      const int j = sy ? j1 - jk : j0 + jk;
+      const int br0 = j << K, br1 = std::min((j + 1) << K, A.cellsY);
+      double bya, byb;
+      slab(o[1], inv[1], br0 * dy_ - padXY, br1 * dy_ + padXY, bya, byb);
+      const double ra = std::max(bya, ta), rb = std::min(byb, tBest);
+      if (!(ra <= rb)) {
+        if (finY && ra > tBest) break;  // later rows start later still
         continue;
       }
-      const int cl = e.level - 1;
-      const RayAccel::Level& C = A.levels[std::size_t(cl)];
-      for (const auto& oc : order) {
-        const int ci = 2 * e.i + oc[0], cj = 2 * e.j + oc[1];
-        if (ci >= C.nx || cj >= C.ny) continue;
-        double na;
-        if (nodeInterval(cl, ci, cj, na)) stack[sp++] = {cl, ci, cj, na};
+      int i0, i1;
+      indexRange(o[0] + ra * d[0], o[0] + rb * d[0], slack, bw, BL.nx, i0, i1);
+      const int in = i1 - i0 + 1;
+      for (int ik = 0; ik < in; ++ik) {
+        const int i = sx ? i1 - ik : i0 + ik;
+        const int bc0 = i << K, bc1 = std::min((i + 1) << K, A.cellsX);
+        double bxa, bxb;
+        slab(o[0], inv[0], bc0 * dx_ - padXY, bc1 * dx_ + padXY, bxa, bxb);
+        const double na = std::max(std::max(bxa, bya), tMin);
+        const double nb = std::min(std::min(bxb, byb), tBest);
+        if (!(na <= nb)) {
+          if (finX && na > tBest) break;  // later blocks of the row start later still
+          continue;
+        }
+        {
+          const float* rg = BL.range.data() + 2 * BL.index(i, j);
+          const double lo = rg[0], hi = rg[1];
+          if (!(lo <= hi)) continue;
+          const double za = oz + na * dz, zb = oz + nb * dz;
+          if (std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ) continue;
+        }
+        // The cells of the block.
+        int r0, r1;
+        indexRange(o[1] + na * d[1], o[1] + nb * d[1], slack, dy_, A.cellsY, r0, r1);
+        r0 = std::max(r0, br0), r1 = std::min(r1, br1 - 1);
+        {
+          // Fetch the sample rows the cells below read, all at once (the loads are the cost here).
+          int pc0, pc1;
+          indexRange(o[0] + na * d[0], o[0] + nb * d[0], slack, dx_, A.cellsX, pc0, pc1);
+          pc0 = std::max(pc0, bc0), pc1 = std::min(pc1, bc1 - 1);
+          for (int r = r0; r <= r1 + 1; ++r) {
+            const float* rowP = H + std::size_t(r) * stride;
+            __builtin_prefetch(rowP + pc0);
+            __builtin_prefetch(rowP + pc1 + 1);
+          }
+        }
+        for (int rk = 0, rn = r1 - r0 + 1; rk < rn; ++rk) {
+          const int r = sy ? r1 - rk : r0 + rk;
+          double cya, cyb;
+          slab(o[1], inv[1], r * dy_ - padXY, (r + 1) * dy_ + padXY, cya, cyb);
+          const double cra = std::max(cya, na), crb = std::min(cyb, tBest);
+          if (!(cra <= crb)) {
+            if (finY && cra > tBest) break;
+            continue;
+          }
+          int c0, c1;
+          indexRange(o[0] + cra * d[0], o[0] + crb * d[0], slack, dx_, A.cellsX, c0, c1);
+          c0 = std::max(c0, bc0), c1 = std::min(c1, bc1 - 1);
+          const float* rowP = H + std::size_t(r) * stride;
+          for (int ck = 0, cn = c1 - c0 + 1; ck < cn; ++ck) {
+            const int c = sx ? c1 - ck : c0 + ck;
+            double cxa, cxb;
+            slab(o[0], inv[0], c * dx_ - padXY, (c + 1) * dx_ + padXY, cxa, cxb);
+            const double ca = std::max(std::max(cxa, cya), tMin);
+            const double cb = std::min(std::min(cxb, cyb), tBest);
+            if (!(ca <= cb)) {
+              if (finX && ca > tBest) break;
+              continue;
+            }
+            const float* P = rowP + c;
+            const float f00 = P[0], f10 = P[1], f01 = P[cols_], f11 = P[cols_ + 1];
+            // min / max of the samples, or NaN when one is a hole (then the test passes; the triangle tests sort it out).
+            // (nan0 is 0, or NaN when some sample is a hole: the sum of four floats in double is exact
+            // enough not to overflow.)
+            const double sum = (double(f00) + double(f10)) + (double(f01) + double(f11)), nan0 = sum - sum;
+            const double lo = double(std::min(std::min(f00, f10), std::min(f01, f11))) + nan0;
+            const double hi = double(std::max(std::max(f00, f10), std::max(f01, f11))) + nan0;
+            const double za = oz + ca * dz, zb = oz + cb * dz;
+            if (std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ) continue;
+            testCellOrdered(c, r, f00, f10, f01, f11);
+          }
+        }
       }
     }
   }

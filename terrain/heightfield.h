@@ -94,12 +94,19 @@ class Heightfield {
   double xLast_, yLast_;  // map x of the last column, map y of the last row
   double invDx_, invDy_;
   const float* clean_ = nullptr;  // heights with holes as NaN, owned by *accel_ (shared, so copies stay valid)
-  // Ground near a hole: the smallest closed simplex containing the point decides (see above).
-  static std::optional<double> groundHeightNearHole(int c, int r, double fx, double fy, double h00, double h10,
-                                                    double h01, double h11);
+  // groundHeight() in full (snapping to grid lines, holes), NaN where there is no ground (a ground
+  // height is never NaN); the inline groundHeight() (heightfield_inline.h) calls it near grid lines
+  // and holes. Ground near a hole: the smallest closed simplex containing the point decides.
+  [[gnu::cold]] double groundHeightFull(double x, double y) const;
+  static double groundHeightNearHoleOrNaN(double fx, double fy, double h00, double h10, double h01, double h11);
+  /// Half-width, in cell units, of the band around a grid line in which groundHeight() checks whether
+  /// the query lies exactly on the line (see heightfield.cpp).
+  static constexpr double kSnapBand_ = 1e-6;
   // Acceleration data for intersectRay (built in the constructor) live in the .cpp's structures.
   struct RayAccel;
   std::shared_ptr<const RayAccel> accel_;
 };
 
 }  // namespace nestwalk::terrain
+
+#include "terrain/heightfield_inline.h"  // IWYU pragma: export

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -37,9 +38,26 @@ inline std::filesystem::path testFolderPath() {
          ("nestwalk-test-" + std::to_string(::getpid()) + "-" + info->test_suite_name() + "-" + info->name());
 }
 
+/// Removes the tests' temporary folders when the program ends, unless a test failed (then they
+/// stay for inspection; the failure message names them).
+struct TempFolderCleanup {
+  std::vector<std::filesystem::path> folders;
+  ~TempFolderCleanup() {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ignored;
+    for (const auto& f : folders) std::filesystem::remove_all(f, ignored);
+  }
+};
+
+inline TempFolderCleanup& temporaryFolders() {
+  static TempFolderCleanup cleanup;
+  return cleanup;
+}
+
 /// The running test's temporary folder, emptied.
 inline std::filesystem::path tempFolder() {
   const auto dir = testFolderPath();
+  temporaryFolders().folders.push_back(dir);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -47,6 +65,7 @@ inline std::filesystem::path tempFolder() {
 
 /// `nestwalk ARGS` (ARGS already shell-quoted where needed), stdout and stderr captured apart.
 inline CommandResult runNestwalk(const std::string& args) {
+  temporaryFolders().folders.push_back(testFolderPath());
   const auto dir = testFolderPath() / "capture";
   std::filesystem::create_directories(dir);
   const std::string cmd = std::string("'") + NESTWALK_BINARY + "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
