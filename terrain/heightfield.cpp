@@ -13,6 +13,8 @@
 #include <new>
 #include <stdexcept>
 
+#include <sys/mman.h>
+
 #if defined(__linux__)
 #endif
 
@@ -35,12 +37,46 @@ constexpr double kNodePadRelative = 1e-9;
 /// is exact (a comparison with the line's position), so the band only decides when to look.
 constexpr double kSnapBand = 1e-6;
 
+/// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
+/// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
+/// do not miss the TLB on nearly every access (random groundHeight on a 2049^2 grid, kernel THP mode
+/// "madvise", noisy 2-core runs: 67-84 ns with the hint, 85-97 ns without).
+template <class T>
+struct LargePageAllocator {
+  using value_type = T;
+  static constexpr std::size_t kHuge = std::size_t(2) << 20;
+  LargePageAllocator() = default;
+  template <class U>
+  LargePageAllocator(const LargePageAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < kHuge) return std::allocator<T>().allocate(n);
+    const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
+    void* p = std::aligned_alloc(kHuge, rounded);
+    if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure only costs speed
+#endif
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) < kHuge)
+      std::allocator<T>().deallocate(p, n);
+    else
+      std::free(p);
+  }
+  template <class U>
+  bool operator==(const LargePageAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+
 }  // namespace
 
 struct Heightfield::RayAccel {
   int cellsX = 0, cellsY = 0;
   /// Heights with every hole replaced by NaN (so that one NaN test on a result covers three samples).
-  std::vector<float> clean;
+  std::vector<float, LargePageAllocator<float>> clean;
   /// Pyramid levels: level 0 = cells, level k node (i, j) covers cells [i 2^k, (i+1) 2^k) x [j 2^k, ...).
   /// Each node stores {min, max} of the valid samples at its cells' corners ({+inf, -inf} if none).
   /// Layout: 2 x 2 blocks of nodes (the four children of one parent) stored together, 32 bytes, so
