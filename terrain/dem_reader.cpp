@@ -1,6 +1,7 @@
 #include "terrain/dem_reader.h"
 
 #include "engine/core/input_error.h"
+#include "terrain/gdal_util.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -129,9 +130,7 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
                                "0.5, y = -(r + 0.5))");
 
   GDALRasterBandH band = GDALGetRasterBand(ds, options.band);
-  int hasNoData = 0;
-  const double noData = GDALGetRasterNoDataValue(band, &hasNoData);
-  const bool noDataIsNan = hasNoData && std::isnan(noData);
+  const BandNoData noData = bandNoData(band);
   const int cols = GDALGetRasterXSize(ds), rows = GDALGetRasterYSize(ds);
   if (cols < 2 || rows < 2)
     throw InputError(path + ": " + std::to_string(cols) + " x " + std::to_string(rows) +
@@ -143,10 +142,7 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
   std::size_t valid = 0;
   for (int r0 = 0; r0 < rows; r0 += stripRows) {
     const int n = std::min(stripRows, rows - r0);
-    strip.resize(std::size_t(n) * std::size_t(cols));
-    CPLErrorReset();
-    if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
-      throw InputError(path + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
+    readRowsFloat64(band, r0, cols, n, strip, path);
     for (int i = 0; i < n; ++i) {
       const int srcRow = r0 + i;
       const int dstRow = frame.flipRows ? rows - 1 - srcRow : srcRow;
@@ -154,7 +150,7 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
         const double v = strip[std::size_t(i) * std::size_t(cols) + std::size_t(c)];
         const int dstCol = frame.flipColumns ? cols - 1 - c : c;
         float h = std::numeric_limits<float>::quiet_NaN();
-        if (hasNoData && (v == noData || (noDataIsNan && std::isnan(v)))) {
+        if (noData.hole(v)) {
           // a hole
         } else if (!std::isfinite(v)) {
           throw InputError(path + ": NaN or infinite sample at column " + std::to_string(c) + ", row " +
@@ -170,7 +166,7 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
   }
   if (valid == 0) throw InputError(path + ": every sample is nodata (no ground at all)");
   std::optional<float> nd;
-  if (hasNoData) nd = float(noData);
+  if (noData.has) nd = float(noData.value);
   return Heightfield(cols, rows, std::move(heights), frame.originX, frame.originY, frame.dx, frame.dy, nd,
                      frame.georeferenced ? crsWkt(ds) : std::string());
 }

@@ -2,6 +2,7 @@
 
 #include "engine/core/input_error.h"
 #include "terrain/dem_reader.h"
+#include "terrain/gdal_util.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -198,9 +199,7 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
   if (warp) {
     const StageProgress scanProgress(options.progress, 0.0, 0.25);
     GDALRasterBandH band = GDALGetRasterBand(src, options.band);
-    int hasNoData = 0;
-    const double noData = GDALGetRasterNoDataValue(band, &hasNoData);
-    const bool noDataIsNan = hasNoData && std::isnan(noData);
+    const BandNoData noData = bandNoData(band);
     const int cols = GDALGetRasterXSize(src), rows = GDALGetRasterYSize(src);
     int bx = 0, by = 0;
     GDALGetBlockSize(band, &bx, &by);
@@ -209,13 +208,10 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
     std::size_t valid = 0;
     for (int r0 = 0; r0 < rows; r0 += stripRows) {
       const int n = std::min(stripRows, rows - r0);
-      strip.resize(std::size_t(n) * std::size_t(cols));
-      CPLErrorReset();
-      if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
-        throw InputError(in + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
+      readRowsFloat64(band, r0, cols, n, strip, in);
       for (std::size_t i = 0; i < strip.size(); ++i) {
         const double v = strip[i];
-        if (hasNoData && (v == noData || (noDataIsNan && std::isnan(v)))) continue;
+        if (noData.hole(v)) continue;
         if (!std::isfinite(v))
           throw InputError(in + ": NaN or infinite sample at column " + std::to_string(i % std::size_t(cols)) +
                            ", row " + std::to_string(r0 + int(i / std::size_t(cols))) + " (band " +
@@ -295,22 +291,17 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
     const StageProgress passProgress(options.progress, passFrom, options.fillNoData ? 0.5 : 0.6);
     GDALRasterBandH band = GDALGetRasterBand(chain, 1);
     GDALRasterBandH outBand = GDALGetRasterBand(st, 1);
-    int hasNoData = 0;
-    const double noData = GDALGetRasterNoDataValue(band, &hasNoData);
-    const bool noDataIsNan = hasNoData && std::isnan(noData);
+    const BandNoData noData = bandNoData(band);
     std::vector<double> strip;
     std::vector<float> outStrip;
     for (int r0 = 0; r0 < rows; r0 += 512) {
       const int n = std::min(512, rows - r0);
-      strip.resize(std::size_t(n) * std::size_t(cols));
+      readRowsFloat64(band, r0, cols, n, strip, in);
       outStrip.resize(strip.size());
-      CPLErrorReset();
-      if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
-        throw InputError(in + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
       for (std::size_t i = 0; i < strip.size(); ++i) {
         const double v = strip[i];
         float h = kTerrainNoData;
-        const bool hole = hasNoData && (v == noData || (noDataIsNan && std::isnan(v)));
+        const bool hole = noData.hole(v);
         if (!warp && !hole && !std::isfinite(v))
           throw InputError(in + ": NaN or infinite sample at column " + std::to_string(i % std::size_t(cols)) +
                            ", row " + std::to_string(r0 + int(i / std::size_t(cols))) +

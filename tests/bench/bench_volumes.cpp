@@ -5,28 +5,16 @@
 // stderr), --pairs=N.
 #include "tools/bench/volume_bench.h"
 
-#include <benchmark/benchmark.h>
+#include "tests/bench/bench_main.h"
 
 #include <cstdio>
 #include <cstdlib>
-#include <iostream>
 #include <string>
 
 int main(int argc, char** argv) {
   nestwalk::bench::VolumeBenchOptions opts;
-  // The benchmarks carry their own minimum time (it would override the flag): take the flag's value.
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--benchmark_min_time=", 0) == 0) opts.minTimeSeconds = std::strtod(a.c_str() + 21, nullptr);
-  }
-  benchmark::Initialize(&argc, argv);
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") {
-      opts.quick = true;
-    } else if (a == "--json") {
-      opts.json = true;
-    } else if (a.rfind("--pairs=", 0) == 0) {
+  auto ownFlag = [&opts](const std::string& a) {
+    if (a.rfind("--pairs=", 0) == 0) {
       opts.pairs = std::strtoull(a.c_str() + 8, nullptr, 10);
       if (opts.pairs == 0) {
         std::fprintf(stderr, "bench_volumes: bad %s\n", a.c_str());
@@ -36,11 +24,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_volumes: unknown argument %s (own flags: --quick --json --pairs=N)\n", a.c_str());
       return 1;
     }
-  }
-  opts.filter = benchmark::GetBenchmarkFilter();
-  opts.googleBenchmarkOutput = opts.json ? &std::cerr : &std::cout;
-  const int rc = nestwalk::bench::runVolumeBench(opts, std::cout);
-  if (!opts.json) std::cout.flush();
-  benchmark::Shutdown();
-  return rc;
+    return 0;
+  };
+  return nestwalk::bench::benchMain(argc, argv, opts, ownFlag, nestwalk::bench::runVolumeBench);
 }

@@ -5,6 +5,7 @@
 #include "engine/core/input_error.h"
 #include "terrain/dem_reader.h"
 #include "terrain/terrain_import.h"
+#include "tests/terrain/gdal_test_util.h"
 #include "tests/tools/run_command.h"
 
 #include <cpl_conv.h>
@@ -74,13 +75,8 @@ void writeTiff(const fs::path& path, int cols, int rows, const std::vector<doubl
     CPLFree(wkt);
     OSRDestroySpatialReference(srs);
   }
-  for (int b = 1; b <= bands; ++b) {
-    GDALRasterBandH band = GDALGetRasterBand(ds, b);
-    if (noData) GDALSetRasterNoDataValue(band, *noData);
-    std::vector<double> v = values;
-    for (auto& x : v) x += 1000.0 * (b - 1);
-    ASSERT_EQ(GDALRasterIO(band, GF_Write, 0, 0, cols, rows, v.data(), cols, rows, GDT_Float64, 0, 0), CE_None);
-  }
+  writeBands(ds, cols, rows, values, noData, bands);
+  if (::testing::Test::HasFatalFailure()) return;
   GDALClose(ds);
 }
 

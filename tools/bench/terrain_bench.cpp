@@ -11,6 +11,8 @@
 // counted once per benchmark outside the timed loop.
 #include "tools/bench/terrain_bench.h"
 
+#include "tools/bench/bench_runner.h"
+
 #include "terrain/heightfield.h"
 #include "terrain/terrain_mesh.h"
 
@@ -65,25 +67,7 @@ Config& config() {
   return c;
 }
 
-class Rng {  // splitmix64 (Steele, Lea & Flood 2014)
- public:
-  explicit Rng(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-  double uniform(double a, double b) { return a + (b - a) * uniform(); }
-  double gaussian() {
-    const double u1 = 1.0 - uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-
- private:
-  std::uint64_t s_;
-};
+using Rng = SplitMix64;  // splitmix64 (bench_runner.h)
 
 std::uint64_t hash2(std::int64_t x, std::int64_t y, std::uint64_t seed) {
   Rng r(seed ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full));
@@ -605,45 +589,8 @@ void registerSet(const SetSpec& spec) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// Collecting reporter and the table.
+// The table (the collecting reporter is in bench_runner.h).
 
-class Collector : public benchmark::BenchmarkReporter {
- public:
-  explicit Collector(benchmark::BenchmarkReporter* forward) : forward_(forward) {}
-  bool ReportContext(const Context& context) override {
-    if (forward_) forward_->ReportContext(context);
-    return true;
-  }
-  void ReportRuns(const std::vector<Run>& runs) override {
-    if (forward_) forward_->ReportRuns(runs);
-    for (const Run& r : runs) {
-      if (r.run_type != Run::RT_Iteration) continue;
-      const std::string& name = r.run_name.function_name;
-      if (r.error_occurred) {
-        errors[name] = r.error_message;
-        continue;
-      }
-      const auto it = r.counters.find("items_per_second");
-      if (it != r.counters.end() && it->second.value > 0) samples[name].push_back(1e9 / it->second.value);
-    }
-  }
-  void Finalize() override {
-    if (forward_) forward_->Finalize();
-  }
-  double ns(const std::string& name) const {
-    const auto it = samples.find(name);
-    if (it == samples.end() || it->second.empty()) return kNaN;
-    std::vector<double> v = it->second;
-    std::sort(v.begin(), v.end());
-    const std::size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-  }
-  std::map<std::string, std::vector<double>> samples;
-  std::map<std::string, std::string> errors;
-
- private:
-  benchmark::BenchmarkReporter* forward_;
-};
 
 constexpr int kPeers = 4;
 constexpr const char* kPeerMethods[kPeers] = {"direct_lookup", "embree", "bullet", "osg_kdtree"};
@@ -678,34 +625,13 @@ const Facts* factsOf(const std::string& bench) {
   return it == facts().end() ? nullptr : &it->second;
 }
 
-std::string fmt(double v, int prec = 2) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(prec) << v;
-  return s.str();
-}
 std::string fmtSci(double v) {
   if (std::isnan(v)) return "-";
   std::ostringstream s;
   s << std::setprecision(3) << v;
   return s.str();
 }
-Json numOrNull(double v) { return std::isnan(v) ? Json(nullptr) : Json(v); }
 
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string s = line.substr(colon + 1);
-        s.erase(0, s.find_first_not_of(" \t"));
-        return s;
-      }
-    }
-  return "unknown";
-}
 
 }  // namespace
 
@@ -719,10 +645,7 @@ void registerTerrainBenchmarks(const TerrainBenchOptions& opts) {
   c.minTime = opts.minTimeSeconds > 0 ? opts.minTimeSeconds : (opts.quick ? 0.02 : 0.5);
   if (registered().empty())
     for (const auto& s : kSets) registerSet(s);
-  for (auto* b : registered()) {
-    b->Unit(benchmark::kMillisecond)->MinTime(c.minTime);
-    if (opts.repetitions > 0) b->Repetitions(opts.repetitions);
-  }
+  configureBenchmarks(registered(), c.minTime, opts.repetitions);
 }
 
 int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
@@ -736,17 +659,10 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
   } release;
   facts().clear();
   const Config cfg = config();
-  std::string spec = opts.filter;
-  if (spec.empty() || spec == "all" || spec == ".") spec = "^terrain/";
+  const std::string spec = benchmarkSpec(opts.filter, "^terrain/");
 
-  benchmark::BenchmarkReporter* forward = nullptr;
-  if (opts.googleBenchmarkOutput) {
-    forward = benchmark::CreateDefaultDisplayReporter();
-    forward->SetOutputStream(opts.googleBenchmarkOutput);
-    forward->SetErrorStream(opts.googleBenchmarkOutput);
-  }
-  Collector collector(forward);
-  const std::size_t matched = benchmark::RunSpecifiedBenchmarks(&collector, spec);
+  Collector collector;
+  const std::size_t matched = runBenchmarks(spec, opts.googleBenchmarkOutput, collector);
   if (matched == 0) {
     out << "nestwalk bench terrain: no benchmark matches '" << spec << "'\n";
     return 1;
@@ -794,11 +710,6 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
 
   // The targets: ground height within 1.2x of the direct lookup and >= 15x faster than
   // Embree; oblique rays no slower than Embree.
-  struct Target {
-    std::string name, what;
-    double value;
-    bool met;
-  };
   std::vector<Target> targets;
   for (const Row& r : rows) {
     if (r.name.rfind("ground_height/", 0) == 0 && !std::isnan(r.nestwalk)) {
@@ -818,8 +729,7 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
     }
   }
 
-  std::size_t repetitions = 0;
-  for (const auto& [k, v] : collector.samples) repetitions = std::max(repetitions, v.size());
+  const std::size_t repetitions = collector.repetitions();
   const std::size_t triangles = 2 * std::size_t(terrain.n - 1) * std::size_t(terrain.n - 1);
   const int rc = collector.errors.empty() ? 0 : 1;
 
@@ -882,13 +792,8 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
       lod.push_back({{"level", l.level}, {"step", l.step}, {"tiles", l.tiles}, {"triangles", l.triangles},
                      {"max_error_m", l.maxError}});
     j["lod_levels"] = lod;
-    Json t = Json::array();
-    for (const Target& x : targets)
-      t.push_back({{"name", x.name}, {"target", x.what}, {"value", x.value}, {"met", x.met}});
-    j["targets"] = t;
-    Json errs = Json::object();
-    for (const auto& [k, v] : collector.errors) errs[k] = v;
-    if (!errs.empty()) j["errors"] = errs;
+    j["targets"] = targetsJson(targets);
+    addErrors(j, collector);
     out << j.dump(2) << "\n";
     return rc;
   }
@@ -945,12 +850,7 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
       }
     out << "\n";
   }
-  if (!targets.empty()) {
-    out << "\ntargets:\n";
-    for (const Target& x : targets)
-      out << "  " << std::left << std::setw(40) << x.name << std::setw(28) << x.what << std::right << std::setw(8)
-          << fmt(x.value) << "  " << (x.met ? "met" : "NOT met") << "\n";
-  }
+  printTargets(out, targets, 40, 28);
   out << "\nterrain mesh levels (tiles of 128 cells; error = exact max vertical error vs full resolution, "
       << fmt(terrain.lodSeconds, 2) << " s to compute):\n";
   out << "  level   step   tiles    triangles   max error (m)\n";

@@ -9,6 +9,8 @@
 // outside the timed loop.
 #include "tools/bench/volume_bench.h"
 
+#include "tools/bench/bench_runner.h"
+
 #include "engine/geometry/nested.h"
 #include "engine/geometry/obb_batch.h"
 #include "engine/geometry/sat.h"
@@ -62,22 +64,10 @@ Config& config() {
   return c;
 }
 
-/// splitmix64 (Steele, Lea & Flood 2014) with explicit transforms: identical sequences everywhere.
-class Rng {
+/// splitmix64 (bench_runner.h) with random directions and rotations.
+class Rng : public SplitMix64 {
  public:
-  explicit Rng(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double uniform(double a, double b) { return a + (b - a) * uniform(); }
-  double gaussian() {  // Box-Muller
-    const double u1 = 1.0 - uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
+  using SplitMix64::SplitMix64;
   Vec3<double> direction() {
     for (;;) {
       const Vec3<double> g(gaussian(), gaussian(), gaussian());
@@ -95,9 +85,6 @@ class Rng {
       }
     }
   }
-
- private:
-  std::uint64_t s_;
 };
 
 // Box sizes: half extents log-uniform in [0.1, 2] (poles, panels and blocks of equipment, metres).
@@ -709,49 +696,8 @@ void registerQueryBenchmarks(const QuerySetSpec& spec) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// Collecting reporter and the table.
+// The table (the collecting reporter is in bench_runner.h).
 
-class Collector : public benchmark::BenchmarkReporter {
- public:
-  explicit Collector(benchmark::BenchmarkReporter* forward) : forward_(forward) {}
-
-  bool ReportContext(const Context& context) override {
-    if (forward_) forward_->ReportContext(context);
-    return true;
-  }
-  void ReportRuns(const std::vector<Run>& runs) override {
-    if (forward_) forward_->ReportRuns(runs);
-    for (const Run& r : runs) {
-      if (r.run_type != Run::RT_Iteration) continue;
-      const std::string& name = r.run_name.function_name;
-      if (r.error_occurred) {
-        errors[name] = r.error_message;
-        continue;
-      }
-      const auto it = r.counters.find("items_per_second");
-      if (it != r.counters.end() && it->second.value > 0) samples[name].push_back(1e9 / it->second.value);
-    }
-  }
-  void Finalize() override {
-    if (forward_) forward_->Finalize();
-  }
-
-  /// ns/op of a benchmark (median over repetitions), NaN when it did not run.
-  double ns(const std::string& name) const {
-    const auto it = samples.find(name);
-    if (it == samples.end() || it->second.empty()) return kNaN;
-    std::vector<double> v = it->second;
-    std::sort(v.begin(), v.end());
-    const std::size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-  }
-
-  std::map<std::string, std::vector<double>> samples;
-  std::map<std::string, std::string> errors;
-
- private:
-  benchmark::BenchmarkReporter* forward_;
-};
 
 struct RowDef {
   const char* key;
@@ -829,21 +775,6 @@ bool anyMeasured(const Row& r) {
 // ------------------------------------------------------------------------------------------------
 // Machine and build information.
 
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string s = line.substr(colon + 1);
-        s.erase(0, s.find_first_not_of(" \t"));
-        return s;
-      }
-    }
-  }
-  return "unknown";
-}
 
 Json machineJson(std::size_t pairs, std::size_t stored, double minTime, bool quick,
                  std::size_t repetitions) {
@@ -936,14 +867,7 @@ std::string isaLine(const Json& m) {
   return s.str();
 }
 
-std::string fmt(double v, int prec = 2) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(prec) << v;
-  return s.str();
-}
 
-Json numOrNull(double v) { return std::isnan(v) ? Json(nullptr) : Json(v); }
 
 }  // namespace
 
@@ -958,10 +882,7 @@ void registerVolumeBenchmarks(const VolumeBenchOptions& opts) {
     for (const auto& s : kPairSets) registerPairBenchmarks(s);
     for (const auto& s : kQuerySets) registerQueryBenchmarks(s);
   }
-  for (auto* b : registered()) {
-    b->Unit(benchmark::kMillisecond)->MinTime(c.minTime);
-    if (opts.repetitions > 0) b->Repetitions(opts.repetitions);
-  }
+  configureBenchmarks(registered(), c.minTime, opts.repetitions);
 }
 
 int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
@@ -969,17 +890,10 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
   facts().clear();
   const Config cfg = config();
 
-  std::string spec = opts.filter;
-  if (spec.empty() || spec == "all" || spec == ".") spec = "^volumes/";
+  const std::string spec = benchmarkSpec(opts.filter, "^volumes/");
 
-  benchmark::BenchmarkReporter* forward = nullptr;
-  if (opts.googleBenchmarkOutput) {
-    forward = benchmark::CreateDefaultDisplayReporter();
-    forward->SetOutputStream(opts.googleBenchmarkOutput);
-    forward->SetErrorStream(opts.googleBenchmarkOutput);
-  }
-  Collector collector(forward);
-  const std::size_t matched = benchmark::RunSpecifiedBenchmarks(&collector, spec);
+  Collector collector;
+  const std::size_t matched = runBenchmarks(spec, opts.googleBenchmarkOutput, collector);
   // Free the data sets (up to a few GB at 1M pairs).
   currentPairSet().reset();
   currentQuerySet().reset();
@@ -1001,16 +915,10 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
       if (anyMeasured(r)) rows.push_back(r);
     }
 
-  std::size_t repetitions = 0;
-  for (const auto& [k, v] : collector.samples) repetitions = std::max(repetitions, v.size());
+  const std::size_t repetitions = collector.repetitions();
   const Json machine = machineJson(cfg.pairs, cfg.stored, cfg.minTime, opts.quick, repetitions);
 
   // Targets of the issue: OBB-OBB batch >= 6x faster than FCL; query <= 3 ns per stored box at 1%.
-  struct Target {
-    std::string name, what;
-    double value;
-    bool met;
-  };
   std::vector<Target> targets;
   for (const Row& r : rows) {
     if (r.name.rfind("obb_obb_batch/", 0) == 0 && !std::isnan(r.nestwalk) && !std::isnan(r.peer[0])) {
@@ -1049,13 +957,8 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
     }
     j["benchmarks"] = list;
     j["machine"] = machine;
-    Json t = Json::array();
-    for (const Target& x : targets)
-      t.push_back({{"name", x.name}, {"target", x.what}, {"value", x.value}, {"met", x.met}});
-    j["targets"] = t;
-    Json errs = Json::object();
-    for (const auto& [k, v] : collector.errors) errs[k] = v;
-    if (!errs.empty()) j["errors"] = errs;
+    j["targets"] = targetsJson(targets);
+    addErrors(j, collector);
     out << j.dump(2) << "\n";
     return collector.errors.empty() ? 0 : 1;
   }
@@ -1105,12 +1008,7 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
     if (!std::isnan(r.hitFraction)) out << "; final hits " << fmt(100 * r.hitFraction, 3) << "%";
     out << "\n";
   }
-  if (!targets.empty()) {
-    out << "\ntargets:\n";
-    for (const Target& x : targets)
-      out << "  " << std::left << std::setw(32) << x.name << std::setw(26) << x.what << std::right << std::setw(8)
-          << fmt(x.value) << "  " << (x.met ? "met" : "NOT met") << "\n";
-  }
+  printTargets(out, targets, 32, 26);
   for (const auto& [k, v] : collector.errors) out << "error: " << k << ": " << v << "\n";
   return collector.errors.empty() ? 0 : 1;
 }

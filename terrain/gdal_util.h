@@ -1,0 +1,28 @@
+// Small GDAL helpers shared by the DEM reader and the terrain import.
+#pragma once
+
+#include <gdal.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// A band's nodata value; a NaN nodata value marks every NaN sample as a hole.
+struct BandNoData {
+  bool has = false;
+  double value = 0;
+  bool isNan = false;
+  /// Whether sample `v` is a hole (nodata).
+  bool hole(double v) const { return has && (v == value || (isNan && std::isnan(v))); }
+};
+
+BandNoData bandNoData(GDALRasterBandH band);
+
+/// Reads rows r0 .. r0 + n - 1 (all `cols` columns) of `band` as doubles into `strip` (resized to
+/// n * cols). InputError naming `name` when GDAL cannot read them.
+void readRowsFloat64(GDALRasterBandH band, int r0, int cols, int n, std::vector<double>& strip,
+                     const std::string& name);
+
+}  // namespace nestwalk::terrain
