@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerDemo(app);
   nestwalk::tools::registerImportTerrain(app);
   nestwalk::tools::registerMakeTerrain(app);
+  nestwalk::tools::registerMakeScene(app);
+  nestwalk::tools::registerExport(app);
+  nestwalk::tools::registerRun(app);
   CLI::App* query = app.add_subcommand("query", "Answer one question about a model, terrain or boxes");
   query->require_subcommand(1);
   nestwalk::tools::registerQueryVolumes(*query);
@@ -26,6 +29,7 @@ int main(int argc, char** argv) {
   bench->require_subcommand(1);
   nestwalk::tools::registerBenchVolumes(*bench);
   nestwalk::tools::registerBenchTerrain(*bench);
+  nestwalk::tools::registerBenchWalker(*bench);
 
   try {
     app.parse(argc, argv);

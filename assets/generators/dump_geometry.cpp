@@ -1,0 +1,56 @@
+#include "assets/generators/dump_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nestwalk::assets {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+}  // namespace
+
+DumpGeometry dumpGeometry(const terrain::MiningDumpParams& p, const terrain::MiningDumpLayout& L) {
+  // The same formulas as terrain/mining_dump.cpp (kept in step by tests/assets).
+  DumpGeometry g;
+  g.layout = L;
+  g.benchHeight = p.benchHeight;
+  g.bermWidth = p.bermWidth;
+  g.benches = int(std::lround((L.topHeight - L.baseHeight) / p.benchHeight));
+  g.faceRun = p.benchHeight / std::tan(p.faceSlopeDeg * kDeg);
+  g.period = g.faceRun + p.bermWidth;
+  g.cornerRadius = std::min(0.3 * L.halfWidth, 60.0);
+  const double topHalfWidth = L.halfWidth - (g.benches - 1) * g.period - g.faceRun;
+  const double topHalfLength = L.halfLength - (g.benches - 1) * g.period - g.faceRun;
+  g.rampV = -0.6 * std::max(topHalfWidth, 5.0);
+  g.rampHalfWidth = 10.0;
+  g.rampStart = -L.halfLength - 40.0;
+  g.rampEnd = 0.3 * std::max(topHalfLength, 0.0);
+  g.rampGrade = (L.topHeight - L.baseHeight) / (g.rampEnd - g.rampStart);
+  return g;
+}
+
+Eigen::Vector2d DumpGeometry::uAxis() const {
+  return {std::sin(layout.azimuthDeg * kDeg), std::cos(layout.azimuthDeg * kDeg)};
+}
+Eigen::Vector2d DumpGeometry::vAxis() const {
+  return {std::cos(layout.azimuthDeg * kDeg), -std::sin(layout.azimuthDeg * kDeg)};
+}
+Eigen::Vector2d DumpGeometry::toMap(double u, double v) const {
+  return Eigen::Vector2d(layout.centreE, layout.centreN) + u * uAxis() + v * vAxis();
+}
+Eigen::Vector2d DumpGeometry::toDump(const Eigen::Vector2d& m) const {
+  const Eigen::Vector2d d = m - Eigen::Vector2d(layout.centreE, layout.centreN);
+  return {d.dot(uAxis()), d.dot(vAxis())};
+}
+double DumpGeometry::rampHeight(double u) const {
+  return layout.baseHeight + rampGrade * std::clamp(u - rampStart, 0.0, rampEnd - rampStart);
+}
+
+double headingOf(const Eigen::Vector2d& d) {
+  double h = std::atan2(d.x(), d.y()) / kDeg;
+  if (h < 0) h += 360.0;
+  if (h >= 360.0) h -= 360.0;
+  return h;
+}
+
+}  // namespace nestwalk::assets

@@ -1,0 +1,446 @@
+#include "assets/generators/scene_generator.h"
+
+#include "engine/core/input_error.h"
+#include "terrain/heightfield.h"
+#include "terrain/terrain_import.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <system_error>
+#include <unistd.h>
+
+namespace nestwalk::assets {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+// Placement.
+constexpr double kCornerMargin = 5.0;         // metres kept from where a berm starts to bend
+constexpr double kStationLoggerOffset = -1.5;  // metres along the berm from the mast
+constexpr double kStationPanelOffset = 2.2;
+constexpr double kBarrierLength = 3.0;        // one jersey barrier, end to end in a line
+constexpr double kContainerPitch = 2.44 + 1.2;  // container width plus a 1.2 m aisle
+constexpr std::uint64_t kPlacementSeedSalt = 0x5CE7E5EEDull;  // keeps placement apart from the terrain's draws
+
+// Scripts. The viewer is the scene's default (scene_file.h): body half extents 0.25 m forward and
+// sideways; the walker stops kStopDistance (0.5 mm) short of a contact.
+constexpr double kBodyHalfForward = 0.25;
+constexpr double kStopDistance = 0.5e-3;
+constexpr double kPatrolApproach = 40.0;   // metres of lane walked before the station
+constexpr double kPatrolOvershoot = 20.0;  // the goto aims this far past the mast
+constexpr double kPatrolRetreat = 25.0;    // metres walked back after turning
+constexpr double kPatrolSpeed = 1.4;       // m/s, walking
+constexpr double kRampRunIn = 12.0;        // metres of flat top before the ramp's head
+constexpr double kRampToeRunOut = 3.0;     // the descent ends this far up the ramp from its toe
+constexpr double kRampSpeed = 3.0;         // m/s: a brisk walk down 350 m
+constexpr double kFlightBeyond = 40.0;     // metres beyond the dump's ends
+constexpr double kFlightSpeed = 40.0;      // m/s
+constexpr double kFlightClearance = 5.0;   // metres, body bottom above the ground
+
+double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+double uniform(std::mt19937_64& rng, double lo, double hi) { return lo + (hi - lo) * uniform(rng); }
+/// x rounded to thousandths (millimetres, millidegrees): the nearest double to the decimal, so the
+/// JSON shows it exactly.
+double roundMilli(double x) { return std::round(x * 1000.0) / 1000.0; }
+
+/// A placed footprint: centre, unit axes (model x, model y in map axes), half sizes.
+struct Rect {
+  Eigen::Vector2d c, ax, ay;
+  double hx = 0, hy = 0;
+  std::string group;
+};
+
+bool rectsOverlap(const Rect& a, const Rect& b, double inflate) {
+  const Eigen::Vector2d d = b.c - a.c;
+  for (const Eigen::Vector2d& n : {a.ax, a.ay, b.ax, b.ay}) {
+    const double ra = (a.hx + inflate) * std::abs(a.ax.dot(n)) + (a.hy + inflate) * std::abs(a.ay.dot(n));
+    const double rb = (b.hx + inflate) * std::abs(b.ax.dot(n)) + (b.hy + inflate) * std::abs(b.ay.dot(n));
+    if (std::abs(d.dot(n)) > ra + rb) return false;
+  }
+  return true;
+}
+
+class Placer {
+ public:
+  Placer(const terrain::Heightfield& hf, const DumpGeometry& g) : hf_(hf), g_(g) {
+    for (ModelKind m : kAllModels) bounds_[std::size_t(m)] = modelBounds(m);
+  }
+
+  Placement piece(ModelKind m, const std::string& group, const std::string& part, const Eigen::Vector2d& at,
+                  double headingDeg, int bench, bool useOnly = false) const {
+    Placement p;
+    p.name = group + "/" + part;
+    p.group = group;
+    p.model = m;
+    p.position = Eigen::Vector2d(roundMilli(at.x()), roundMilli(at.y()));
+    p.headingDeg = roundMilli(headingDeg);
+    if (p.headingDeg >= 360.0) p.headingDeg -= 360.0;
+    p.useOnly = useOnly;
+    p.bench = bench;
+    p.level = g_.bermLevel(bench);
+    return p;
+  }
+
+  Rect footprint(const Placement& p) const {
+    const Aabb<double>& b = bounds_[std::size_t(p.model)];
+    Rect r;
+    r.ay = Eigen::Vector2d(std::sin(p.headingDeg * kDeg), std::cos(p.headingDeg * kDeg));  // model +y
+    r.ax = Eigen::Vector2d(r.ay.y(), -r.ay.x());                                           // model +x
+    const Eigen::Vector3d c = b.center(), h = b.halfExtents();
+    r.c = p.position + c.x() * r.ax + c.y() * r.ay;
+    r.hx = h.x();
+    r.hy = h.y();
+    r.group = p.group;
+    return r;
+  }
+
+  /// Places the pieces (one group) when every one stands on flat berm, off the ramp, clear of
+  /// other groups; all or nothing.
+  bool tryGroup(const std::vector<Placement>& pieces) {
+    std::vector<Rect> rects;
+    for (const Placement& p : pieces) {
+      const Rect r = footprint(p);
+      const std::array<Eigen::Vector2d, 5> pts = {r.c, r.c + r.hx * r.ax + r.hy * r.ay, r.c + r.hx * r.ax - r.hy * r.ay,
+                                                  r.c - r.hx * r.ax + r.hy * r.ay, r.c - r.hx * r.ax - r.hy * r.ay};
+      for (const Eigen::Vector2d& q : pts) {
+        const std::optional<double> z = hf_.groundHeight(q.x(), q.y());
+        if (!z || std::abs(*z - p.level) > kFlatTolerance) return false;
+        const Eigen::Vector2d uv = g_.toDump(q);
+        if (std::abs(uv.y() - g_.rampV) < g_.rampHalfWidth + kRampMargin && uv.x() < g_.rampEnd + kRampHeadClear)
+          return false;
+      }
+      for (const Rect& o : rects_)
+        if (o.group != r.group && rectsOverlap(o, r, 0.5 * kGroupGap)) return false;
+      rects.push_back(r);
+    }
+    placed_.insert(placed_.end(), pieces.begin(), pieces.end());
+    rects_.insert(rects_.end(), rects.begin(), rects.end());
+    return true;
+  }
+
+  const Aabb<double>& bounds(ModelKind m) const { return bounds_[std::size_t(m)]; }
+  std::vector<Placement>& placed() { return placed_; }
+
+ private:
+  const terrain::Heightfield& hf_;
+  const DumpGeometry& g_;
+  std::array<Aabb<double>, kAllModels.size()> bounds_;
+  std::vector<Placement> placed_;
+  std::vector<Rect> rects_;
+};
+
+/// One straight side of a berm, in the dump frame: the point `l` metres along it at inset s.
+struct Side {
+  int index;  // 0: v > 0 long side, 1: v < 0 long side, 2: u > 0 end, 3: u < 0 end
+  Eigen::Vector2d point(const DumpGeometry& g, double s, double l) const {
+    const double a = g.layout.halfLength - s, b = g.layout.halfWidth - s;
+    switch (index) {
+      case 0: return {-l, b};
+      case 1: return {l, -b};
+      case 2: return {a, l};
+      default: return {-a, -l};
+    }
+  }
+  Eigen::Vector2d tangent() const {  // dump frame; the model's +x when it faces outwards
+    switch (index) {
+      case 0: return {-1, 0};
+      case 1: return {1, 0};
+      case 2: return {0, 1};
+      default: return {0, -1};
+    }
+  }
+  Eigen::Vector2d outward() const {
+    switch (index) {
+      case 0: return {0, 1};
+      case 1: return {0, -1};
+      case 2: return {1, 0};
+      default: return {-1, 0};
+    }
+  }
+  /// Half length of the straight part usable at insets up to sInner.
+  double halfLength(const DumpGeometry& g, double sInner) const {
+    const double half = index < 2 ? g.layout.halfLength : g.layout.halfWidth;
+    return half - std::max(g.cornerRadius, sInner) - kCornerMargin;
+  }
+};
+
+Eigen::Vector2d mapDirection(const DumpGeometry& g, const Eigen::Vector2d& dumpDir) {
+  return dumpDir.x() * g.uAxis() + dumpDir.y() * g.vAxis();
+}
+
+std::string benchName(int k) { return "bench" + std::to_string(k); }
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", x);
+  return buf;
+}
+std::string xy(const Eigen::Vector2d& p) { return fmt(p.x()) + " " + fmt(p.y()); }
+
+}  // namespace
+
+GeneratedScene generateScene(std::uint64_t seed) {
+  GeneratedScene out;
+  out.seed = seed;
+  out.params.seed = seed;
+  out.dump = terrain::generateMiningDump(out.params);
+  const DumpGeometry g = dumpGeometry(out.params, out.dump.layout);
+  out.geometry = g;
+  const terrain::Heightfield hf(out.dump.cols, out.dump.rows, out.dump.heights, out.dump.originX, out.dump.originY,
+                                out.dump.cell, out.dump.cell);
+  Placer placer(hf, g);
+  std::mt19937_64 rng(seed ^ kPlacementSeedSalt);
+  std::map<std::string, int> counters;  // "<bench>/<what>" -> next index
+  auto nextGroup = [&](int k, const std::string& what) {
+    return benchName(k) + "/" + what + std::to_string(counters[benchName(k) + "/" + what]);
+  };
+  auto commit = [&](int k, const std::string& what) { ++counters[benchName(k) + "/" + what]; };
+
+  const int top = g.benches;
+  auto station = [&](int k, const Side& side, double l, double mastW) {
+    const double s0 = g.crestInset(k);
+    const double out_ = headingOf(mapDirection(g, side.outward()));
+    auto at = [&](double w, double ll) { return g.toMap(side.point(g, s0 + w, ll).x(), side.point(g, s0 + w, ll).y()); };
+    const std::string grp = nextGroup(k, "station");
+    const std::vector<Placement> pieces = {
+        placer.piece(ModelKind::WeatherStation, grp, "mast", at(mastW, l), out_, k),
+        placer.piece(ModelKind::LoggerBox, grp, "logger", at(kInnerLineW, l + kStationLoggerOffset), out_, k),
+        placer.piece(ModelKind::SolarPanel, grp, "panel", at(kInnerLineW, l + kStationPanelOffset), out_, k)};
+    if (!placer.tryGroup(pieces)) return std::string();
+    commit(k, "station");
+    return grp;
+  };
+
+  // 1. The patrol's station: its mast on bench 2's lane (the v > 0 long side, clear of the ramp).
+  const int patrolBench = std::min(2, std::max(1, top - 1));
+  const Side patrolSide{0};
+  const double patrolFirstL = uniform(rng, -40.0, 40.0);
+  double patrolL = patrolFirstL;
+  for (int tries = 0; tries < 30 && out.points.patrolStation.empty(); ++tries) {
+    patrolL = patrolFirstL + 7.0 * tries;
+    out.points.patrolStation = station(patrolBench, patrolSide, patrolL, kLaneW);
+  }
+  if (out.points.patrolStation.empty()) throw std::runtime_error("make-scene: no flat place for the patrol's station");
+
+  // 2. The top: a container yard, two pickups, a station in the middle.
+  const double topHalfLength = g.layout.halfLength - g.crestInset(top);
+  const double topHalfWidth = g.layout.halfWidth - g.crestInset(top);
+  const double alongU = headingOf(g.uAxis()), againstU = headingOf(-g.uAxis());
+  double yardU = -0.35 * topHalfLength + uniform(rng, -10.0, 10.0);
+  const double yardV = 0.2 * topHalfWidth + uniform(rng, -5.0, 5.0);
+  bool yard = false;
+  for (int tries = 0; tries < 20 && !yard; ++tries, yardU += 5.0) {
+    const std::string grp = nextGroup(top, "yard");
+    std::vector<Placement> pieces;
+    for (int i = 0; i < 3; ++i)
+      pieces.push_back(placer.piece(ModelKind::Container20ft, grp, "container" + std::to_string(i),
+                                    g.toMap(yardU, yardV + (i - 1) * kContainerPitch), alongU, top));
+    if ((yard = placer.tryGroup(pieces))) commit(top, "yard");
+  }
+  struct Spot { double u, v, heading; };
+  for (const Spot& s : {Spot{g.rampEnd + 25.0, g.rampV + g.rampHalfWidth + kRampMargin + 4.0, againstU},
+                        Spot{yardU + 12.0, yardV - 9.0, alongU}}) {
+    for (int tries = 0; tries < 20; ++tries) {
+      const std::string grp = nextGroup(top, "vehicle");
+      if (placer.tryGroup({placer.piece(ModelKind::Pickup, grp, "pickup", g.toMap(s.u + 5.0 * tries, s.v), s.heading, top)})) {
+        commit(top, "vehicle");
+        break;
+      }
+    }
+  }
+  for (int tries = 0; tries < 20; ++tries) {
+    // Facing along +u: the model's +x is the dump's +v, where the logger and the panel stand.
+    const std::string grp = nextGroup(top, "station");
+    const Eigen::Vector2d m = g.toMap(0.5 * topHalfLength + 5.0 * tries, 0.0);
+    if (placer.tryGroup({placer.piece(ModelKind::WeatherStation, grp, "mast", m, alongU, top),
+                         placer.piece(ModelKind::LoggerBox, grp, "logger", m + kStationLoggerOffset * g.vAxis(), alongU, top),
+                         placer.piece(ModelKind::SolarPanel, grp, "panel", m + kStationPanelOffset * g.vAxis(), alongU, top)})) {
+      commit(top, "station");
+      break;
+    }
+  }
+
+  // 3. Every berm and the top's edge: stations, piezometers and poles on the inner line, fences at the crest.
+  for (int k = 1; k <= top; ++k) {
+    const double s0 = g.crestInset(k);
+    for (int i = 0; i < 4; ++i) {
+      const Side side{i};
+      const double half = side.halfLength(g, s0 + g.bermWidth);
+      if (half < 20.0) continue;
+      auto at = [&](double w, double l) {
+        const Eigen::Vector2d p = side.point(g, s0 + w, l);
+        return g.toMap(p.x(), p.y());
+      };
+      const double outwards = headingOf(mapDirection(g, side.outward()));
+      const double along = headingOf(mapDirection(g, side.tangent()));
+      for (double l = -half + uniform(rng, 10.0, 60.0); l < half - 5.0; l += uniform(rng, 90.0, 160.0))
+        station(k, side, l, kInnerLineW);
+      for (double l = -half + uniform(rng, 5.0, 40.0); l < half; l += uniform(rng, 50.0, 90.0)) {
+        const std::string grp = nextGroup(k, "piezometer");
+        if (placer.tryGroup({placer.piece(ModelKind::Piezometer, grp, "piezometer", at(kInnerLineW, l), outwards, k)}))
+          commit(k, "piezometer");
+      }
+      for (double l = -half + uniform(rng, 0.0, 20.0); l < half; l += uniform(rng, 22.0, 38.0)) {
+        const std::string grp = nextGroup(k, "pole");
+        if (placer.tryGroup({placer.piece(ModelKind::SensorPole, grp, "pole", at(kInnerLineW, l), outwards, k)}))
+          commit(k, "pole");
+      }
+      double l = -half + uniform(rng, 0.0, 15.0);
+      for (;;) {
+        const int n = 4 + int(uniform(rng) * 5.0);
+        if (l + n * kBarrierLength > half) break;
+        const std::string grp = nextGroup(k, "fence");
+        std::vector<Placement> pieces;
+        for (int j = 0; j < n; ++j)
+          pieces.push_back(placer.piece(ModelKind::JerseyBarrier, grp, "barrier" + std::to_string(j),
+                                        at(kFenceLineW, l + (j + 0.5) * kBarrierLength), along, k, true));
+        if (placer.tryGroup(pieces)) {
+          commit(k, "fence");
+          l += n * kBarrierLength + uniform(rng, 20.0, 60.0);
+        } else {
+          l += 6.0;
+        }
+      }
+    }
+  }
+  out.equipment = std::move(placer.placed());
+
+  // 4. Scripts.
+  ScriptPoints& P = out.points;
+  {
+    const double s = g.crestInset(patrolBench) + kLaneW;
+    const double l = patrolL;
+    auto lane = [&](double ll) {
+      const Eigen::Vector2d p = patrolSide.point(g, s, ll);
+      return g.toMap(p.x(), p.y());
+    };
+    const double approachSide = -placer.bounds(ModelKind::WeatherStation).min.x();  // the mast's -x reach
+    P.patrolMast = lane(l);
+    P.patrolStart = lane(l - kPatrolApproach);
+    P.patrolTarget = lane(l + kPatrolOvershoot);
+    P.patrolBlockedAt = lane(l - approachSide - kBodyHalfForward - kStopDistance);
+    P.patrolEnd = lane(l - approachSide - kBodyHalfForward - kPatrolRetreat);
+    P.patrolHeading = roundMilli(headingOf(mapDirection(g, patrolSide.tangent())));
+  }
+  P.rampTop = g.toMap(g.rampEnd + kRampRunIn, g.rampV);
+  P.rampToe = g.toMap(g.rampStart + kRampToeRunOut, g.rampV);
+  P.rampHeading = roundMilli(againstU);
+  const double flightV = yardV;
+  P.flightStart = g.toMap(-g.layout.halfLength - kFlightBeyond, flightV);
+  P.flightOverYard = g.toMap(yardU, flightV);
+  P.flightEnd = g.toMap(g.layout.halfLength + kFlightBeyond, flightV);
+  P.flightHeading = roundMilli(alongU);
+
+  const std::string header = "# Generated by `nestwalk make-scene` (seed " + std::to_string(seed) +
+                             ") for the scene beside this folder; map coordinates, EPSG:32651.\n";
+  out.scripts.emplace_back(
+      "bench_patrol.txt",
+      header + "# A patrol along the walking lane of " + benchName(patrolBench) + " (level " +
+          fmt(g.bermLevel(patrolBench)) + " m), " + fmt(kLaneW) + " m inside the crest. The mast of " +
+          P.patrolStation + " stands on the lane at " + xy(P.patrolMast) +
+          ": its inner box reaches the lane's centre line, so the body (half extents 0.25 m forward and sideways)\n"
+          "# stops about " + fmt(-placer.bounds(ModelKind::WeatherStation).min.x() + kBodyHalfForward) +
+          " m short of the mast's axis. Then it turns back along the lane, which is free.\n"
+          "mode walk\nspeed " + fmt(kPatrolSpeed) + "\nstart " + xy(P.patrolStart) + " heading " + fmt(P.patrolHeading) +
+          "\nexpect ground within 0.01\ngoto " + xy(P.patrolTarget) + "\nexpect blocked by " + P.patrolStation +
+          "\nexpect position " + xy(P.patrolBlockedAt) + " within 1\nexpect ground within 0.01\nturn 180\nmove " +
+          fmt(kPatrolRetreat) + "\nexpect free\nexpect ground within 0.01\nexpect position " + xy(P.patrolEnd) +
+          " within 1\n");
+  out.scripts.emplace_back(
+      "ramp_descent.txt",
+      header + "# Down the haul ramp (" + fmt(g.rampGrade * 100.0) + " % grade, " + fmt(2 * g.rampHalfWidth) +
+          " m wide) on its centre line, from the top (" + fmt(g.layout.topHeight) + " m) to its toe (" +
+          fmt(g.rampHeight(g.rampStart + kRampToeRunOut)) + " m).\n"
+          "mode walk\nspeed " + fmt(kRampSpeed) + "\nstart " + xy(P.rampTop) + " heading " + fmt(P.rampHeading) +
+          "\nexpect ground within 0.01\ngoto " + xy(P.rampToe) + "\nexpect free\nexpect position " + xy(P.rampToe) +
+          " within 1\nexpect ground within 0.01\n");
+  out.scripts.emplace_back(
+      "low_flight.txt",
+      header + "# A low flight along the dump's long axis over the container yard on the top, at least " +
+          fmt(kFlightClearance) + " m above the ground (the tallest equipment is 3 m).\n"
+          "mode fly\nclearance " + fmt(kFlightClearance) + "\nspeed " + fmt(kFlightSpeed) + "\nstart " +
+          xy(P.flightStart) + " heading " + fmt(P.flightHeading) + "\nexpect clearance at least " +
+          fmt(kFlightClearance) + "\ngoto " + xy(P.flightOverYard) + "\nexpect clearance at least " +
+          fmt(kFlightClearance) + "\ngoto " + xy(P.flightEnd) + "\nexpect clearance at least " +
+          fmt(kFlightClearance) + "\nexpect free\n");
+
+  // 5. scene.json.
+  nlohmann::ordered_json j;
+  j["terrain"] = "terrain.tif";
+  nlohmann::ordered_json eq = nlohmann::ordered_json::array();
+  for (const Placement& p : out.equipment) {
+    nlohmann::ordered_json e;
+    e["name"] = p.name;
+    e["model"] = "models/" + modelFileName(p.model);
+    e["position"] = {p.position.x(), p.position.y()};
+    e["heading"] = p.headingDeg;
+    e["group"] = p.group;
+    e["use_only"] = p.useOnly;
+    e["kind"] = modelKindLabel(p.model);
+    eq.push_back(std::move(e));
+  }
+  j["equipment"] = std::move(eq);
+  j["viewer"] = {{"eye_height", 1.7}, {"body_half_extents", {0.25, 0.25, 0.9}}, {"max_step", 0.3},
+                 {"max_slope_deg", 30}, {"speed", 1.4}, {"fly_clearance", 2.0}};
+  j["method"] = {{"volumes", "nested"}, {"hierarchy", "auto"}, {"degree", 8},
+                 {"split_axis", "longest"}, {"split_point", "median"}, {"fitter", "hull-search"}};
+  out.sceneJson = j.dump(1) + "\n";
+  return out;
+}
+
+void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite) {
+  fs::path out = fs::path(dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();
+  if (out.empty()) throw InputError("make-scene: empty output folder name");
+  std::error_code ec;
+  if (fs::exists(out, ec) && !overwrite)
+    throw InputError(out.string() + ": already exists (use --overwrite to replace it)");
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  fs::create_directories(parent, ec);
+  const std::string tag = std::to_string(::getpid());
+  const fs::path tmp = parent / ("." + out.filename().string() + ".tmp-" + tag);
+  fs::remove_all(tmp, ec);
+  try {
+    fs::create_directories(tmp / "models");
+    fs::create_directories(tmp / "scripts");
+    const terrain::MiningDump& d = scene.dump;
+    terrain::writeTerrainCog((tmp / "terrain.tif").string(), d.cols, d.rows, d.heights, d.originX, d.originY, d.cell,
+                             d.cell, terrain::kMiningDumpCrs, false);
+    for (ModelKind m : kAllModels) writeModel(m, (tmp / "models" / modelFileName(m)).string());
+    auto writeText = [](const fs::path& p, const std::string& text) {
+      std::ofstream f(p, std::ios::binary);
+      f << text;
+      if (!f.flush()) throw InputError(p.string() + ": cannot write");
+    };
+    writeText(tmp / "scene.json", scene.sceneJson);
+    for (const auto& [name, text] : scene.scripts) writeText(tmp / "scripts" / name, text);
+    if (fs::exists(out)) {
+      const fs::path old = parent / ("." + out.filename().string() + ".old-" + tag);
+      fs::remove_all(old, ec);
+      fs::rename(out, old);
+      fs::rename(tmp, out);
+      fs::remove_all(old, ec);
+    } else {
+      fs::rename(tmp, out);
+    }
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(tmp, ec);
+    throw InputError(out.string() + ": " + e.what());
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+}  // namespace nestwalk::assets

@@ -1,0 +1,120 @@
+// A loaded scene: the terrain, the models (loaded and fitted once per file), the instances with
+// their world volumes, and the collision units the broad phase is built over.
+//
+// Frames: map (the terrain's CRS, double) and local = map - origin, where every volume lives.
+// Collision units: each instance that is not `use_only` is a unit of its own; the `use_only`
+// instances of a group form one unit together (volumes fitted to all their points), named after
+// the group. The set of units does not depend on the hierarchy, so every hierarchy sees the same
+// contacts.
+#pragma once
+
+#include "engine/geometry/nested.h"
+#include "engine/scene/scene_file.h"
+#include "terrain/heightfield.h"
+
+#include <osg/Node>
+#include <osg/ref_ptr>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+
+struct SceneModel {
+  std::string path;
+  osg::ref_ptr<osg::Node> node;           // loaded once, shared by every instance
+  std::vector<Vec3<double>> hullPoints;   // model frame: the convex hull's vertices
+  std::size_t triangles = 0;
+  Aabb<double> aabb;                      // model frame
+  Obb<double> obb;                        // model frame, fitted once with the scene's fitter
+};
+
+/// The attitude of an instance: model frame -> map axes, R = Rz(-heading) * Rx(pitch) * Ry(roll)
+/// (angles in degrees; Rk(a) the right-handed rotation by a about axis k). The model's own axes are
+/// taken as +y forward, +x right, +z up; map axes are +x east, +y north, +z up. So heading is
+/// clockwise from north seen from above (heading 90 turns the model's +y forward into +x east),
+/// pitch turns about the right axis with nose up positive, roll about the forward axis with the
+/// right side down positive; the rotations apply roll first, heading last. Multiples of 90 degrees
+/// give exact 0 and +-1 entries.
+Mat3<double> attitudeRotation(double headingDeg, double pitchDeg, double rollDeg);
+
+struct SceneInstance {
+  std::uint32_t spec = 0;                 // index into SceneSpec::equipment (equal to this instance's index)
+  std::uint32_t model = 0;                // index into Scene::models
+  Similarity<double> toLocal;             // model frame -> local frame: rotation attitudeRotation(heading,
+                                          // pitch, roll), scale, translation = map position - origin (z: the
+                                          // ground height at (x, y) when the file gives none)
+  NestedVolume<double> volume;            // local frame: outer = exact AABB of the transformed hull points,
+                                          // rounded outward by kOutwardRounding (volumes.h) times the
+                                          // magnitudes involved (|translation| + scale * max |p|) so that
+                                          // it contains them despite rounding; inner = the
+                                          // model's OBB transformed (exact up to rounding). The outer box
+                                          // need not contain the inner one.
+  std::uint32_t unit = 0;                 // the collision unit it belongs to
+};
+
+struct CollisionUnit {
+  std::string name;                       // instance name, or the group path for a use_only unit
+  std::string group;                      // group path for the template hierarchy (a use_only unit: its
+                                          // members' group, i.e. its own name)
+  std::string kind;                       // the instance's kind; a use_only unit: its members' common
+                                          // kind, empty when they differ
+  NestedVolume<double> volume;            // local frame; a use_only unit: outer = outward-rounded exact
+                                          // AABB and inner = fitObb (scene's fitter) of all members'
+                                          // transformed hull points
+  std::vector<std::uint32_t> instances;   // members, indices into Scene::instances
+};
+
+struct Scene {
+  SceneSpec spec;
+  std::shared_ptr<const terrain::Heightfield> terrain;  // map frame
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // map point of the local origin
+  std::vector<SceneModel> models;         // in order of first use in the file
+  std::vector<SceneInstance> instances;   // file order, one per SceneSpec::equipment entry
+  std::vector<CollisionUnit> units;       // file order; a use_only group's unit where its first member is
+
+  Eigen::Vector3d toLocal(const Eigen::Vector3d& map) const { return map - origin; }
+  Eigen::Vector3d toMap(const Eigen::Vector3d& local) const { return local + origin; }
+  std::vector<Aabb<double>> unitBoxes() const;           // units' outer AABBs, for BoxTree
+  std::vector<std::string> unitGroups() const;           // units' group paths, for BoxTree
+  int findUnit(const std::string& name) const;           // -1 when absent
+};
+
+struct SceneLoadOptions {
+  // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
+  // a scene at its UTM position and moved near the map origin and compare.
+  Eigen::Vector3d mapShift = Eigen::Vector3d::Zero();
+};
+
+// Loads the terrain (readDem), every model once (osgDB), fits volumes, places instances (z from
+// the ground where the file gives none) and forms the units. The default origin is the centre of
+// the terrain's sample extent (x, y) at z 0. Throws InputError naming the scene file: a bad terrain
+// (readDem's message), unreadable models (listed together), a model without vertices (named), the
+// instances with no ground under them (listed together). Model volumes: aabb = bounds of all the
+// model's vertices, hullPoints = convexHull's vertices, obb = fitObb(hullPoints, method.fitter).
+// With mapShift, the heightfield is rebuilt with the same samples and its origin moved (heights
+// move by mapShift.z, rounded to float; holes stay holes).
+Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options = {});
+Scene loadScene(const std::string& path, const SceneLoadOptions& options = {});
+
+struct SceneGraphOptions {
+  bool terrain = true;
+  bool equipment = true;
+  bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
+  int terrainTileCells = 128;
+};
+
+// The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
+// double) over
+//  - "terrain": a MatrixTransform moving the TerrainMesh frame (metres from sample (0, 0)) to the
+//    local frame, over one LOD per tile (TerrainMesh::makeLod);
+//  - "equipment": one MatrixTransform per instance (toLocal as a double matrix), named after the
+//    instance, over its model's node (the same node pointer for every instance of a model);
+//  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,
+//    lighting off, local frame.
+// For drawing and `nestwalk export`; the walker never touches it. terrainTileCells: a power of two.
+osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {});
+
+}  // namespace nestwalk

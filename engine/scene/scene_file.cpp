@@ -1,0 +1,392 @@
+// Reading a scene file (scene_file.h): JSON through nlohmann_json, then every field checked by hand
+// so that each error names the file and the field path ("equipment[12].scale").
+#include "engine/scene/scene_file.h"
+
+#include "engine/core/input_error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace nestwalk {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+/// Branching factors the broad phase supports (box_tree.h).
+constexpr int kAllowedDegrees[] = {2, 4, 8};
+
+std::string joinField(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+std::string indexField(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
+
+/// Tracks the path of the value being parsed so that a key repeated in one object (which
+/// nlohmann_json would silently resolve to its last value) is reported with its field path.
+class DuplicateKeyTracker {
+ public:
+  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+        startElement();
+        stack_.push_back({true, {}, {}, -1});
+        break;
+      case Json::parse_event_t::array_start:
+        startElement();
+        stack_.push_back({false, {}, {}, -1});
+        break;
+      case Json::parse_event_t::key: {
+        Frame& top = stack_.back();
+        const std::string key = parsed.get<std::string>();
+        if (!top.keys.insert(key).second && firstDuplicate_.empty())
+          firstDuplicate_ = joinField(path(stack_.size() - 1), key);
+        top.key = key;
+        break;
+      }
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        stack_.pop_back();
+        break;
+      case Json::parse_event_t::value:
+        startElement();
+        break;
+    }
+    return true;
+  }
+  /// The field path of the first repeated key, empty when there was none.
+  const std::string& firstDuplicate() const { return firstDuplicate_; }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;  // object: the key whose value is being parsed
+    long index;       // array: the element being parsed
+  };
+  void startElement() {
+    if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+  }
+  std::string path(std::size_t frames) const {
+    std::string p;
+    for (std::size_t i = 0; i < frames; ++i) {
+      const Frame& f = stack_[i];
+      p = f.object ? joinField(p, f.key) : indexField(p, std::size_t(f.index));
+    }
+    return p;
+  }
+  std::vector<Frame> stack_;
+  std::string firstDuplicate_;
+};
+
+/// Field-by-field checks of a parsed scene; every failure throws InputError "FILE: FIELD: problem".
+class SceneReader {
+ public:
+  SceneReader(std::string file, fs::path folder) : file_(std::move(file)), folder_(std::move(folder)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+    throw InputError(file_ + ": " + (field.empty() ? "" : field + ": ") + problem);
+  }
+
+  void checkObject(const Json& v, const std::string& field) const {
+    if (!v.is_object()) fail(field, std::string("expected an object, got ") + v.type_name());
+  }
+
+  void checkKeys(const Json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return it.key() == a; })) continue;
+      std::string list;
+      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      fail(joinField(field, it.key()), "unknown key (expected one of: " + list + ")");
+    }
+  }
+
+  double number(const Json& v, const std::string& field) const {
+    if (!v.is_number()) fail(field, std::string("expected a number, got ") + v.type_name());
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(field, "must be finite");
+    return x;
+  }
+  double positive(const Json& v, const std::string& field) const {
+    const double x = number(v, field);
+    if (!(x > 0)) fail(field, "must be > 0");
+    return x;
+  }
+  double nonNegative(const Json& v, const std::string& field) const {
+    const double x = number(v, field);
+    if (!(x >= 0)) fail(field, "must be >= 0");
+    return x;
+  }
+  std::string string(const Json& v, const std::string& field) const {
+    if (!v.is_string()) fail(field, std::string("expected a string, got ") + v.type_name());
+    return v.get<std::string>();
+  }
+  std::string nonEmptyString(const Json& v, const std::string& field) const {
+    std::string s = string(v, field);
+    if (s.empty()) fail(field, "must not be empty");
+    return s;
+  }
+  bool boolean(const Json& v, const std::string& field) const {
+    if (!v.is_boolean()) fail(field, std::string("expected true or false, got ") + v.type_name());
+    return v.get<bool>();
+  }
+  /// An array of `minSize`..`maxSize` numbers.
+  std::vector<double> numbers(const Json& v, const std::string& field, std::size_t minSize, std::size_t maxSize) const {
+    const std::string want = minSize == maxSize ? std::to_string(minSize) : std::to_string(minSize) + " or " + std::to_string(maxSize);
+    if (!v.is_array()) fail(field, "expected an array of " + want + " numbers, got " + v.type_name());
+    if (v.size() < minSize || v.size() > maxSize)
+      fail(field, "expected " + want + " numbers, got " + std::to_string(v.size()));
+    std::vector<double> out;
+    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(number(v[i], indexField(field, i)));
+    return out;
+  }
+  /// Resolves a path written in the scene against the scene file's folder.
+  std::string resolve(const std::string& p) const {
+    const fs::path path(p);
+    return (path.is_absolute() ? path : (folder_ / path)).lexically_normal().string();
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  fs::path folder_;
+};
+
+/// A group path: '/'-separated names, none empty (so no leading, trailing or doubled '/').
+void checkGroup(const SceneReader& r, const std::string& group, const std::string& field) {
+  if (group.empty()) return;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t slash = group.find('/', start);
+    const std::size_t end = slash == std::string::npos ? group.size() : slash;
+    if (end == start)
+      r.fail(field, "'" + group + "' has an empty component (no leading, trailing or doubled '/')");
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+}
+
+EquipmentSpec readEquipment(const SceneReader& r, const Json& e, const std::string& field) {
+  r.checkObject(e, field);
+  r.checkKeys(e, field, {"name", "model", "position", "heading", "pitch", "roll", "scale", "group", "use_only", "kind"});
+  EquipmentSpec s;
+  if (!e.contains("model")) r.fail(joinField(field, "model"), "missing (the model file is required)");
+  s.model = r.nonEmptyString(e["model"], joinField(field, "model"));
+  if (!e.contains("position")) r.fail(joinField(field, "position"), "missing (map coordinates [x, y] or [x, y, z])");
+  const std::vector<double> p = r.numbers(e["position"], joinField(field, "position"), 2, 3);
+  s.position = {p[0], p[1], p.size() == 3 ? p[2] : 0.0};
+  s.hasZ = p.size() == 3;
+  if (e.contains("heading")) s.headingDeg = r.number(e["heading"], joinField(field, "heading"));
+  if (e.contains("pitch")) s.pitchDeg = r.number(e["pitch"], joinField(field, "pitch"));
+  if (e.contains("roll")) s.rollDeg = r.number(e["roll"], joinField(field, "roll"));
+  if (e.contains("scale")) s.scale = r.positive(e["scale"], joinField(field, "scale"));
+  if (e.contains("group")) {
+    s.group = r.string(e["group"], joinField(field, "group"));
+    checkGroup(r, s.group, joinField(field, "group"));
+  }
+  if (e.contains("use_only")) s.useOnly = r.boolean(e["use_only"], joinField(field, "use_only"));
+  if (s.useOnly && s.group.empty())
+    r.fail(joinField(field, "use_only"), "a use_only instance needs a group (its volume is its group's)");
+  if (e.contains("kind")) s.kind = r.string(e["kind"], joinField(field, "kind"));
+  if (e.contains("name")) s.name = r.nonEmptyString(e["name"], joinField(field, "name"));
+  return s;
+}
+
+ViewerSpec readViewer(const SceneReader& r, const Json& v) {
+  const std::string field = "viewer";
+  r.checkObject(v, field);
+  r.checkKeys(v, field, {"eye_height", "body_half_extents", "max_step", "max_slope_deg", "speed", "fly_clearance"});
+  ViewerSpec s;
+  if (v.contains("eye_height")) s.eyeHeight = r.positive(v["eye_height"], "viewer.eye_height");
+  if (v.contains("body_half_extents")) {
+    const std::vector<double> h = r.numbers(v["body_half_extents"], "viewer.body_half_extents", 3, 3);
+    for (std::size_t i = 0; i < 3; ++i)
+      if (!(h[i] > 0)) r.fail(indexField("viewer.body_half_extents", i), "must be > 0");
+    s.bodyHalfExtents = {h[0], h[1], h[2]};
+  }
+  if (v.contains("max_step")) s.maxStep = r.nonNegative(v["max_step"], "viewer.max_step");
+  if (v.contains("max_slope_deg")) {
+    s.maxSlopeDeg = r.number(v["max_slope_deg"], "viewer.max_slope_deg");
+    if (!(s.maxSlopeDeg > 0 && s.maxSlopeDeg < 90)) r.fail("viewer.max_slope_deg", "must be > 0 and < 90 degrees");
+  }
+  if (v.contains("speed")) s.speed = r.positive(v["speed"], "viewer.speed");
+  if (v.contains("fly_clearance")) s.flyClearance = r.nonNegative(v["fly_clearance"], "viewer.fly_clearance");
+  return s;
+}
+
+MethodSpec readMethod(const SceneReader& r, const Json& m) {
+  const std::string field = "method";
+  r.checkObject(m, field);
+  r.checkKeys(m, field, {"volumes", "hierarchy", "degree", "split_axis", "split_point", "fitter"});
+  MethodSpec s;
+  if (m.contains("volumes")) {
+    const std::string v = r.string(m["volumes"], "method.volumes");
+    if (v == "nested") s.volumes = VolumeMethod::Nested;
+    else if (v == "aabb") s.volumes = VolumeMethod::Aabb;
+    else if (v == "obb") s.volumes = VolumeMethod::Obb;
+    else r.fail("method.volumes", "expected nested, aabb or obb, got '" + v + "'");
+  }
+  if (m.contains("hierarchy")) {
+    const std::string h = r.string(m["hierarchy"], "method.hierarchy");
+    if (h == "auto") s.templateHierarchy = false;
+    else if (h == "template") s.templateHierarchy = true;
+    else r.fail("method.hierarchy", "expected auto or template, got '" + h + "'");
+  }
+  if (m.contains("degree")) {
+    const double d = r.number(m["degree"], "method.degree");
+    if (std::find(std::begin(kAllowedDegrees), std::end(kAllowedDegrees), d) == std::end(kAllowedDegrees))
+      r.fail("method.degree", "expected 2, 4 or 8, got " + m["degree"].dump());
+    s.autoTree.degree = int(d);
+  }
+  // The names are the ones splitAxisName / splitPointName print (box_tree.h).
+  if (m.contains("split_axis")) {
+    const std::string a = r.string(m["split_axis"], "method.split_axis");
+    if (a == "longest") s.autoTree.axis = SplitAxis::LongestSide;
+    else if (a == "splatter") s.autoTree.axis = SplitAxis::Splatter;
+    else r.fail("method.split_axis", "expected longest or splatter, got '" + a + "'");
+  }
+  if (m.contains("split_point")) {
+    const std::string p = r.string(m["split_point"], "method.split_point");
+    if (p == "mean") s.autoTree.point = SplitPoint::Mean;
+    else if (p == "median") s.autoTree.point = SplitPoint::Median;
+    else r.fail("method.split_point", "expected mean or median, got '" + p + "'");
+  }
+  if (m.contains("fitter")) {
+    const std::string f = r.string(m["fitter"], "method.fitter");
+    const std::optional<ObbFitter> fitter = parseFitter(f);
+    if (!fitter) r.fail("method.fitter", "expected hull-search or covariance, got '" + f + "'");
+    s.fitter = *fitter;
+  }
+  return s;
+}
+
+/// Default instance name: "<group>/<model stem>#<index>" ("<model stem>#<index>" at the root).
+std::string defaultName(const EquipmentSpec& e, std::size_t index) {
+  const std::string stem = fs::path(e.model).stem().string();
+  return (e.group.empty() ? "" : e.group + "/") + stem + "#" + std::to_string(index);
+}
+
+/// Names must be unique among instances and must not equal a use_only group's unit name.
+void checkNames(const SceneReader& r, std::vector<EquipmentSpec>& equipment, const std::vector<bool>& named) {
+  std::map<std::string, std::size_t> seen;
+  for (std::size_t i = 0; i < equipment.size(); ++i) {
+    const std::string field = indexField("equipment", i);
+    auto [it, inserted] = seen.emplace(equipment[i].name, i);
+    if (!inserted)
+      r.fail(named[i] ? joinField(field, "name") : field,
+             std::string(named[i] ? "" : "default ") + "name '" + equipment[i].name + "' is already the name of " +
+                 indexField("equipment", it->second));
+  }
+  for (std::size_t i = 0; i < equipment.size(); ++i) {
+    if (!equipment[i].useOnly) continue;
+    auto it = seen.find(equipment[i].group);
+    if (it != seen.end() && !equipment[it->second].useOnly)
+      r.fail(joinField(indexField("equipment", it->second), "name"),
+             "'" + equipment[i].group + "' is also the name of the unit formed by group '" + equipment[i].group +
+                 "''s use_only members (e.g. " + indexField("equipment", i) + ")");
+  }
+}
+
+}  // namespace
+
+const char* volumeMethodName(VolumeMethod m) {
+  switch (m) {
+    case VolumeMethod::Nested: return "nested";
+    case VolumeMethod::Aabb: return "aabb";
+    case VolumeMethod::Obb: return "obb";
+  }
+  return "?";
+}
+
+std::string describe(const MethodSpec& m) {
+  std::string s = std::string(volumeMethodName(m.volumes)) + ", ";
+  if (m.templateHierarchy) {
+    s += "template";
+  } else {
+    s += "auto delta=" + std::to_string(m.autoTree.degree) + " " + splitAxisName(m.autoTree.axis) + "/" +
+         splitPointName(m.autoTree.point);
+  }
+  return s + ", " + fitterName(m.fitter);
+}
+
+SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
+  const SceneReader r(path, fs::path(path).parent_path());
+  DuplicateKeyTracker duplicates;
+  Json root;
+  try {
+    root = Json::parse(text, std::ref(duplicates));
+  } catch (const Json::parse_error& e) {
+    // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ..."; keep
+    // the part from "parse error" on (it names the line and column).
+    std::string what = e.what();
+    const std::size_t at = what.find("parse error");
+    if (at != std::string::npos) what = what.substr(at);
+    throw InputError(path + ": not valid JSON: " + what);
+  }
+  if (!duplicates.firstDuplicate().empty()) r.fail(duplicates.firstDuplicate(), "duplicate key");
+  r.checkObject(root, "");
+  r.checkKeys(root, "", {"terrain", "origin", "equipment", "viewer", "method"});
+
+  SceneSpec s;
+  s.path = path;
+  if (!root.contains("terrain")) r.fail("terrain", "missing (the terrain file is required)");
+  s.terrain = r.resolve(r.nonEmptyString(root["terrain"], "terrain"));
+  if (root.contains("origin")) {
+    const std::vector<double> o = r.numbers(root["origin"], "origin", 3, 3);
+    s.origin = Eigen::Vector3d(o[0], o[1], o[2]);
+  }
+  std::vector<bool> named;
+  if (root.contains("equipment")) {
+    const Json& list = root["equipment"];
+    if (!list.is_array()) r.fail("equipment", std::string("expected an array, got ") + list.type_name());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      EquipmentSpec e = readEquipment(r, list[i], indexField("equipment", i));
+      named.push_back(!e.name.empty());
+      if (e.name.empty()) e.name = defaultName(e, i);
+      s.equipment.push_back(std::move(e));
+    }
+  }
+  checkNames(r, s.equipment, named);
+  if (root.contains("viewer")) s.viewer = readViewer(r, root["viewer"]);
+  if (root.contains("method")) s.method = readMethod(r, root["method"]);
+
+  // Files: the terrain, then every model (all missing ones in one error).
+  if (!fs::is_regular_file(s.terrain)) r.fail("terrain", "file not found: " + s.terrain);
+  std::set<std::string> checked;
+  std::vector<std::string> missing;
+  for (std::size_t i = 0; i < s.equipment.size(); ++i) {
+    EquipmentSpec& e = s.equipment[i];
+    e.model = r.resolve(e.model);
+    if (!checked.insert(e.model).second) continue;
+    if (!fs::is_regular_file(e.model)) missing.push_back(joinField(indexField("equipment", i), "model") + ": " + e.model);
+  }
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
+    throw InputError(path + ": " + std::to_string(missing.size()) + " model file" + (missing.size() == 1 ? "" : "s") +
+                     " not found: " + list);
+  }
+  return s;
+}
+
+SceneSpec readSceneFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path + ": scene file not found");
+  if (fs::is_directory(path, ec)) throw InputError(path + ": is a folder, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read the scene file");
+  return parseSceneJson(ss.str(), path);
+}
+
+}  // namespace nestwalk

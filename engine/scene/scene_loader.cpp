@@ -1,0 +1,237 @@
+// Loading a scene (scene.h): terrain, models once per file, instance transforms and volumes, and
+// the collision units.
+#include "engine/core/input_error.h"
+#include "engine/geometry/convex_hull.h"
+#include "engine/scene/model_geometry.h"
+#include "engine/scene/scene.h"
+#include "terrain/dem_reader.h"
+
+#include <osgDB/Registry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+
+namespace nestwalk {
+namespace {
+
+/// sin and cos of an angle in degrees, exact (0, +-1) at multiples of 90 degrees so that heading
+/// 90 gives an exactly axis-aligned rotation; elsewhere std::sin/std::cos of the radian value.
+std::pair<double, double> sinCosDegrees(double degrees) {
+  const double reduced = std::fmod(degrees, 360.0);  // exact
+  if (reduced == std::trunc(reduced) && std::fmod(reduced, 90.0) == 0.0) {
+    switch ((int(reduced) / 90 + 4) % 4) {
+      case 0: return {0.0, 1.0};
+      case 1: return {1.0, 0.0};
+      case 2: return {0.0, -1.0};
+      default: return {-1.0, 0.0};
+    }
+  }
+  const double radians = reduced * (std::numbers::pi / 180.0);
+  return {std::sin(radians), std::cos(radians)};
+}
+
+/// The exact AABB of `local` = t.apply(model points), rounded outward as aabbOf (volumes.h) rounds:
+/// by kOutwardRounding times the magnitudes involved in s * R * p + t (|t| + s * max |p| per axis),
+/// which bounds the rounding of the computed points even where s * R * p and t nearly cancel.
+Aabb<double> outwardBounds(const std::vector<Vec3<double>>& local, const std::vector<Vec3<double>>& model,
+                           const Similarity<double>& t) {
+  double radius = 0;
+  for (const auto& p : model) radius = std::max(radius, p.norm());
+  Aabb<double> b;
+  for (const auto& p : local) b.extend(p);
+  const Vec3<double> pad = kOutwardRounding<double> * (t.translation.cwiseAbs().array() + t.scale * radius).matrix();
+  return {b.min - pad, b.max + pad};
+}
+
+std::vector<Vec3<double>> transformed(const Similarity<double>& t, const std::vector<Vec3<double>>& points) {
+  std::vector<Vec3<double>> out;
+  out.reserve(points.size());
+  for (const auto& p : points) out.push_back(t.apply(p));
+  return out;
+}
+
+/// The heightfield moved by `shift` (same samples; heights move by shift.z, rounded to float).
+terrain::Heightfield shifted(const terrain::Heightfield& hf, const Eigen::Vector3d& shift) {
+  std::vector<float> heights;
+  heights.reserve(std::size_t(hf.cols()) * std::size_t(hf.rows()));
+  for (int r = 0; r < hf.rows(); ++r)
+    for (int c = 0; c < hf.cols(); ++c) heights.push_back(shift.z() == 0.0 ? hf.sample(c, r) : float(hf.sample(c, r) + shift.z()));
+  std::optional<float> noData = hf.noData();
+  if (noData && shift.z() != 0.0) {
+    // Holes must stay holes: keep the sentinel where it was.
+    for (std::size_t i = 0; i < heights.size(); ++i)
+      if (hf.sample(int(i % std::size_t(hf.cols())), int(i / std::size_t(hf.cols()))) == *noData) heights[i] = *noData;
+  }
+  return terrain::Heightfield(hf.cols(), hf.rows(), std::move(heights), hf.origin().x() + shift.x(),
+                              hf.origin().y() + shift.y(), hf.dx(), hf.dy(), noData, hf.crsWkt());
+}
+
+std::string quotedName(const EquipmentSpec& e) { return "'" + e.name + "'"; }
+
+}  // namespace
+
+Mat3<double> attitudeRotation(double headingDeg, double pitchDeg, double rollDeg) {
+  const auto [sh, ch] = sinCosDegrees(-headingDeg);
+  const auto [sp, cp] = sinCosDegrees(pitchDeg);
+  const auto [sr, cr] = sinCosDegrees(rollDeg);
+  Mat3<double> rz, rx, ry;
+  rz << ch, -sh, 0, sh, ch, 0, 0, 0, 1;
+  rx << 1, 0, 0, 0, cp, -sp, 0, sp, cp;
+  ry << cr, 0, sr, 0, 1, 0, -sr, 0, cr;
+  return rz * rx * ry;
+}
+
+std::vector<Aabb<double>> Scene::unitBoxes() const {
+  std::vector<Aabb<double>> out;
+  out.reserve(units.size());
+  for (const auto& u : units) out.push_back(u.volume.outer);
+  return out;
+}
+
+std::vector<std::string> Scene::unitGroups() const {
+  std::vector<std::string> out;
+  out.reserve(units.size());
+  for (const auto& u : units) out.push_back(u.group);
+  return out;
+}
+
+int Scene::findUnit(const std::string& name) const {
+  for (std::size_t i = 0; i < units.size(); ++i)
+    if (units[i].name == name) return int(i);
+  return -1;
+}
+
+Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
+  return loadScene(readSceneFile(path), options);
+}
+
+Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
+  const std::string& file = spec.path;
+  Scene scene;
+  scene.spec = spec;
+
+  // Terrain (map frame, moved by the shift).
+  try {
+    terrain::Heightfield hf = terrain::readDem(spec.terrain);
+    const Eigen::Vector3d& s = options.mapShift;
+    scene.terrain = std::make_shared<const terrain::Heightfield>(s.isZero() ? std::move(hf) : shifted(hf, s));
+  } catch (const InputError& e) {
+    throw InputError(file + ": terrain: " + e.what());
+  }
+  const terrain::Heightfield& hf = *scene.terrain;
+  if (spec.origin) {
+    scene.origin = *spec.origin + options.mapShift;
+  } else {
+    // The centre of the samples' extent, z 0.
+    const Eigen::Vector2d first = hf.samplePosition(0, 0), last = hf.samplePosition(hf.cols() - 1, hf.rows() - 1);
+    scene.origin = {0.5 * (first.x() + last.x()), 0.5 * (first.y() + last.y()), 0.0};
+  }
+
+  // Models: each distinct file once, in order of first use.
+  std::map<std::string, std::uint32_t> modelIndex;
+  std::vector<std::string> unreadable;
+  for (const auto& e : spec.equipment) {
+    if (modelIndex.count(e.model)) continue;
+    modelIndex.emplace(e.model, std::uint32_t(scene.models.size()));
+    SceneModel m;
+    m.path = e.model;
+    osgDB::Registry* registry = osgDB::Registry::instance();
+    osgDB::ReaderWriter::ReadResult rr = registry->readNode(e.model, registry->getOptions());
+    m.node = rr.getNode();
+    if (!m.node) {
+      const std::string why = rr.notHandled() ? "no OpenSceneGraph plugin reads it"
+                              : rr.message().empty() ? rr.statusMessage()
+                                                     : rr.message();
+      unreadable.push_back(e.model + " (" + why + ")");
+    }
+    scene.models.push_back(std::move(m));
+  }
+  if (!unreadable.empty()) {
+    std::string list;
+    for (const auto& u : unreadable) list += (list.empty() ? "" : "; ") + u;
+    throw InputError(file + ": " + std::to_string(unreadable.size()) + " model" + (unreadable.size() == 1 ? "" : "s") +
+                     " could not be read: " + list);
+  }
+  for (auto& m : scene.models) {
+    ModelGeometry g;
+    try {
+      g = collectModelGeometry(*m.node, m.path);
+    } catch (const InputError& e) {
+      throw InputError(file + ": model " + e.what());
+    }
+    m.triangles = g.triangles.size();
+    m.hullPoints = convexHull(g.vertices).vertices;
+    for (const auto& v : g.vertices) m.aabb.extend(v);
+    m.obb = fitObb(m.hullPoints, spec.method.fitter);
+  }
+
+  // Instances.
+  std::vector<std::string> noGround;
+  std::vector<std::vector<Vec3<double>>> points(spec.equipment.size());  // transformed hull points
+  for (std::size_t i = 0; i < spec.equipment.size(); ++i) {
+    const EquipmentSpec& e = spec.equipment[i];
+    SceneInstance inst;
+    inst.spec = std::uint32_t(i);
+    inst.model = modelIndex.at(e.model);
+    Eigen::Vector3d position = e.position + options.mapShift;
+    if (!e.hasZ) {
+      const std::optional<double> z = hf.groundHeight(position.x(), position.y());
+      if (!z) {
+        char where[96];
+        std::snprintf(where, sizeof where, " at (%.3f, %.3f)", e.position.x(), e.position.y());
+        noGround.push_back("equipment[" + std::to_string(i) + "] " + quotedName(e) + where);
+        continue;
+      }
+      position.z() = *z;
+    }
+    inst.toLocal.rotation = attitudeRotation(e.headingDeg, e.pitchDeg, e.rollDeg);
+    inst.toLocal.scale = e.scale;
+    inst.toLocal.translation = position - scene.origin;
+    const SceneModel& model = scene.models[inst.model];
+    points[i] = transformed(inst.toLocal, model.hullPoints);
+    inst.volume.outer = outwardBounds(points[i], model.hullPoints, inst.toLocal);
+    inst.volume.inner = inst.toLocal.apply(model.obb);
+    scene.instances.push_back(std::move(inst));
+  }
+  if (!noGround.empty()) {
+    std::string list;
+    for (const auto& n : noGround) list += (list.empty() ? "" : "; ") + n;
+    throw InputError(file + ": no ground under " + list + " (give the position a z or move it onto the terrain)");
+  }
+
+  // Units: one per instance that is not use_only, one per group of use_only instances (placed where
+  // its first member appears).
+  std::map<std::string, std::uint32_t> groupUnit;
+  for (auto& inst : scene.instances) {
+    const EquipmentSpec& e = spec.equipment[inst.spec];
+    if (!e.useOnly) {
+      inst.unit = std::uint32_t(scene.units.size());
+      scene.units.push_back({e.name, e.group, e.kind, inst.volume, {inst.spec}});
+      continue;
+    }
+    auto [it, added] = groupUnit.emplace(e.group, std::uint32_t(scene.units.size()));
+    if (added) scene.units.push_back({e.group, e.group, e.kind, {}, {}});
+    CollisionUnit& unit = scene.units[it->second];
+    if (unit.kind != e.kind) unit.kind.clear();  // mixed kinds: no label
+    unit.instances.push_back(inst.spec);  // every spec entry is an instance: same index
+    inst.unit = it->second;
+  }
+  for (const auto& [group, u] : groupUnit) {
+    CollisionUnit& unit = scene.units[u];
+    // The union of the members' outer boxes: the exact AABB of all their points, each rounded
+    // outward by its own instance's magnitudes.
+    std::vector<Vec3<double>> all;
+    for (std::uint32_t k : unit.instances) {
+      const auto& p = points[scene.instances[k].spec];
+      all.insert(all.end(), p.begin(), p.end());
+      unit.volume.outer.extend(scene.instances[k].volume.outer);
+    }
+    unit.volume.inner = fitObb(all, spec.method.fitter);
+  }
+  return scene;
+}
+
+}  // namespace nestwalk

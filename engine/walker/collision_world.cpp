@@ -1,0 +1,138 @@
+#include "engine/walker/collision_world.h"
+
+#include "engine/scene/scene.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace nestwalk {
+namespace {
+
+/// The box the broad phase files a unit under: its outer AABB, or for the OBB-only method the
+/// AABB of its inner OBB (the outer AABB need not contain the OBB; see scene.h).
+Aabb<double> broadPhaseBox(const NestedVolume<double>& v, VolumeMethod m) {
+  return m == VolumeMethod::Obb ? aabbOf(v.inner) : v.outer;
+}
+
+double micros(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+}  // namespace
+
+CollisionWorld::CollisionWorld(std::vector<NestedVolume<double>> units, std::vector<std::string> names,
+                               std::vector<std::string> groups, const MethodSpec& method)
+    : units_(std::move(units)), names_(std::move(names)), groups_(std::move(groups)), method_(method) {
+  if (names_.size() != units_.size() || groups_.size() != units_.size())
+    throw std::invalid_argument("CollisionWorld: units, names and groups differ in length");
+  std::vector<Aabb<double>> boxes;
+  boxes.reserve(units_.size());
+  for (const auto& u : units_) boxes.push_back(broadPhaseBox(u, method_.volumes));
+  tree_ = method_.templateHierarchy ? BoxTree::buildTemplate(boxes, groups_) : BoxTree::buildAuto(boxes, method_.autoTree);
+}
+
+CollisionWorld CollisionWorld::fromScene(const Scene& scene, const MethodSpec& method) {
+  std::vector<NestedVolume<double>> units;
+  std::vector<std::string> names, groups;
+  units.reserve(scene.units.size());
+  for (const auto& u : scene.units) {
+    units.push_back(u.volume);
+    names.push_back(u.name);
+    groups.push_back(u.group);
+  }
+  return CollisionWorld(std::move(units), std::move(names), std::move(groups), method);
+}
+
+SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
+                                            CollisionCounters& counters) const {
+  const NestedVolume<double>& obj = units_[u];
+  switch (method_.volumes) {
+    case VolumeMethod::Aabb:
+      return sweepOuterOnly(viewer, d, obj);
+    case VolumeMethod::Obb:
+      ++counters.stageTests[2];
+      return sweepInnerOnly(viewer, d, obj);
+    case VolumeMethod::Nested:
+      break;
+  }
+  // Stage 1 ran in the broad phase as a static test of the swept box (counted there); its
+  // interval is recomputed here because contact needs all three stages at the same t.
+  const SweptNestedResult r = sweepNested(viewer, d, obj);
+  if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
+  if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
+  return r;
+}
+
+SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<double>& d,
+                               CollisionCounters& counters) const {
+  Aabb<double> swept = viewer.outer;
+  swept.extend(Aabb<double>{viewer.outer.min + d, viewer.outer.max + d});
+  if (method_.volumes == VolumeMethod::Obb) {
+    const Aabb<double> b = aabbOf(viewer.inner);
+    swept = b;
+    swept.extend(Aabb<double>{b.min + d, b.max + d});
+  }
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point t0, t1;
+  if (timing_) t0 = Clock::now();
+  scratch_.clear();
+  BroadPhaseCounters bc;
+  tree_.query(swept, scratch_, &bc);
+  counters.nodeTests += bc.nodeTests;
+  counters.stageTests[0] += bc.leafTests;
+  if (timing_) t1 = Clock::now();
+
+  SweepHit hit;
+  for (std::uint32_t u : scratch_) {
+    const SweptNestedResult r = sweepUnit(viewer, d, u, counters);
+    if (!r.contact) continue;
+    // Touching or overlapping at t = 0: a contact only if the motion presses into the unit along
+    // the slab it entered last, so that a viewer placed in contact can always move away.
+    if (r.t <= 0.0 && !(r.normal.dot(d) < 0.0)) continue;
+    if (!hit.contact || r.t < hit.t || (r.t == hit.t && std::int32_t(u) < hit.unit)) {
+      hit.contact = true;
+      hit.t = r.t;
+      hit.unit = std::int32_t(u);
+      hit.normal = r.normal;
+    }
+  }
+  if (timing_) {
+    const Clock::time_point t2 = Clock::now();
+    counters.broadMicros += micros(t0, t1);
+    counters.narrowMicros += micros(t1, t2);
+  }
+  return hit;
+}
+
+std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, CollisionCounters& counters) const {
+  scratch_.clear();
+  BroadPhaseCounters bc;
+  const Aabb<double> box = method_.volumes == VolumeMethod::Obb ? aabbOf(viewer.inner) : viewer.outer;
+  tree_.query(box, scratch_, &bc);
+  counters.nodeTests += bc.nodeTests;
+  counters.stageTests[0] += bc.leafTests;
+  std::int32_t found = -1;
+  for (std::uint32_t u : scratch_) {
+    bool overlap = false;
+    switch (method_.volumes) {
+      case VolumeMethod::Aabb:
+        overlap = true;  // the broad phase's leaf test was the AABB-AABB test
+        break;
+      case VolumeMethod::Obb:
+        ++counters.stageTests[2];
+        overlap = satObbObb(viewer.inner, units_[u].inner).overlap;
+        break;
+      case VolumeMethod::Nested: {
+        const NestedResult r = testNested(viewer, units_[u]);
+        if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
+        if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
+        overlap = r.overlap;
+        break;
+      }
+    }
+    if (overlap && (found < 0 || std::int32_t(u) < found)) found = std::int32_t(u);
+  }
+  return found;
+}
+
+}  // namespace nestwalk

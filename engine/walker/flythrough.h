@@ -1,0 +1,32 @@
+// One flythrough: a script played on a scene's walker, with a record per step (what `nestwalk run`
+// writes, what the report and the benchmarks aggregate). No files here: see report/frame_record.h.
+#pragma once
+
+#include "engine/report/frame_record.h"
+#include "engine/walker/script.h"
+#include "engine/walker/walker.h"
+
+#include <functional>
+#include <vector>
+
+namespace nestwalk {
+
+struct Scene;
+
+struct FlythroughResult {
+  std::vector<FrameRecord> records;
+  std::vector<ExpectationResult> expectations;
+  std::vector<CameraSample> camera;  // eye, heading and pitch per step (for the .path file)
+  bool expectationsMet() const;
+};
+
+// Plays `script` on a walker over `scene` and `world`; calls `onRecord` after each step (progress
+// lines). Throws InputError (script file and line) for a start that cannot be.
+FlythroughResult runFlythrough(const Scene& scene, const CollisionWorld& world, const Script& script,
+                               const WalkerOptions& options,
+                               const std::function<void(const FrameRecord&)>& onRecord = {});
+
+// The record of the walker's current state after a step.
+FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report);
+
+}  // namespace nestwalk

@@ -1,0 +1,89 @@
+// Flythrough scripts: a small line-based text format (documented for users in README.md,
+// "Flythrough scripts"). One command per line; '#' starts a comment; numbers are metres, seconds,
+// degrees and metres per second; headings are clockwise from north (map +y), pitch positive up.
+//
+//   mode walk | fly          walking follows the ground; flying keeps z, at least `clearance` up
+//   speed V                  m/s for the following moves (default: the scene's viewer speed)
+//   clearance C              flying: lowest body bottom above the ground (default: the scene's)
+//   start X Y [Z] [heading H]  place the viewer (map coordinates); once, before any motion
+//   goto X Y [Z]             turn toward the point and go there in a straight line
+//   move D                   go D metres along the current heading (negative: backwards)
+//   move DX DY [DZ]          relative move in map axes (east, north, up)
+//   turn A                   turn by A degrees (positive: clockwise, to the right)
+//   heading H                turn to heading H
+//   look P                   pitch the view to P degrees
+//   wait T                   stand still for T seconds
+//   expect blocked [by NAME] the last step was blocked (by the unit NAME or one in group NAME)
+//   expect free              the last step was not blocked
+//   expect ground within TOL walking: the eye is eye_height above the terrain, within TOL metres
+//   expect position X Y within TOL   horizontal distance to (X, Y) at most TOL
+//   expect clearance at least C      flying: body bottom at least C above the ground
+//
+// A motion command ends when its target is reached or when the viewer has not moved for
+// `kBlockedTimeout` seconds (it is blocked); the script then goes on with the next line.
+// Errors name the file and line ("patrol.txt:12: goto: expected 2 or 3 numbers, got 1").
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+
+enum class ScriptOp : std::uint8_t {
+  Mode, Speed, Clearance, Start, Goto, Move, MoveBy, Turn, Heading, Look, Wait,
+  ExpectBlocked, ExpectFree, ExpectGround, ExpectPosition, ExpectClearance,
+};
+
+const char* scriptOpName(ScriptOp op);  // the keyword(s) as written: "goto", "expect blocked", ...
+
+struct ScriptCommand {
+  ScriptOp op = ScriptOp::Wait;
+  int line = 0;                    // 1-based line in the source
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // numeric arguments, by op:
+                                   //  Speed/Clearance/Turn/Heading/Look/Wait/Move: v.x()
+                                   //  Start/Goto/MoveBy: x y [z]; ExpectPosition: x y, tol in `tolerance`
+  bool hasZ = false;               // Start/Goto/MoveBy gave a z
+  bool hasHeading = false;         // Start: `heading H` given, in `heading`
+  double heading = 0;
+  double tolerance = 0;            // ExpectGround/ExpectPosition: TOL; ExpectClearance: C
+  bool fly = false;                // Mode: true for fly
+  std::string name;                // ExpectBlocked: NAME ("" = by anything)
+};
+
+struct Script {
+  std::string path;                // as given, for messages
+  std::vector<ScriptCommand> commands;
+};
+
+inline constexpr double kBlockedTimeout = 0.5;  // seconds without progress that end a motion command
+
+Script parseScript(const std::string& text, const std::string& path);  // throws InputError
+Script readScript(const std::string& path);  // a script file, or an osgviewer AnimationPath (.path)
+
+// An OpenSceneGraph AnimationPath (as osgviewer records with 'z' and AnimationPathManipulator
+// reads: lines "time x y z qx qy qz qw", camera orientation) made into a script: `mode fly`, a
+// start at the first control point, then for each later point a `speed` (distance over the time
+// between points), `heading`/`look` from the camera orientation and a `goto x y z`; points closer
+// than 1 mm in space become a `wait`. Positions are map coordinates (export writes the scene in
+// map coordinates).
+Script scriptFromAnimationPath(const std::string& text, const std::string& path);
+
+struct CameraSample {
+  double time = 0;
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // map frame
+  double headingDeg = 0, pitchDeg = 0;
+};
+
+// OSG camera orientation (camera looks down its -Z with +Y up) for a heading and pitch in a z-up
+// map frame, as a quaternion (x, y, z, w); and back.
+Eigen::Vector4d cameraQuaternion(double headingDeg, double pitchDeg);
+void headingPitchFromQuaternion(const Eigen::Vector4d& q, double& headingDeg, double& pitchDeg);
+
+// Writes an AnimationPath text file osgviewer replays (`osgviewer scene.osgb -p run.path`);
+// through a temporary file renamed at the end.
+void writeAnimationPath(const std::string& path, const std::vector<CameraSample>& samples);
+
+}  // namespace nestwalk

@@ -1,0 +1,274 @@
+#include "engine/walker/script_player.h"
+
+#include "engine/core/input_error.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace nestwalk {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Heading (degrees clockwise from north, in [0, 360)) of a horizontal direction.
+double headingOf(double dx, double dy) {
+  double h = std::atan2(dx, dy) * 180.0 / kPi;
+  if (h < 0) h += 360.0;
+  return h;
+}
+
+/// Signed smallest turn from a to b, degrees in (-180, 180].
+double turnBetween(double a, double b) {
+  double d = std::fmod(b - a, 360.0);
+  if (d > 180.0) d -= 360.0;
+  if (d <= -180.0) d += 360.0;
+  return d;
+}
+
+double wrap360(double h) {
+  h = std::fmod(h, 360.0);
+  return h < 0 ? h + 360.0 : h;
+}
+
+bool nameMatches(const std::string& name, const std::string& want) {
+  return name == want || (name.size() > want.size() && name.compare(0, want.size(), want) == 0 &&
+                          name[want.size()] == '/');
+}
+
+std::string fmt(const char* f, double a) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, f, a);
+  return buf;
+}
+
+}  // namespace
+
+ScriptPlayer::ScriptPlayer(const Script& script, Walker& walker)
+    : script_(script), walker_(walker), speed_(walker.options().viewer.speed) {}
+
+bool ScriptPlayer::allMet() const {
+  for (const auto& r : results_)
+    if (!r.met) return false;
+  return true;
+}
+
+std::string ScriptPlayer::where(const ScriptCommand& c) const {
+  return script_.path + ":" + std::to_string(c.line) + ": " + scriptOpName(c.op);
+}
+
+void ScriptPlayer::stepOnce(const Eigen::Vector3d& move, double headingDeg, double pitchDeg,
+                            const StepCallback& onStep) {
+  StepInput in;
+  in.move = move;
+  in.headingDeg = headingDeg;
+  in.pitchDeg = pitchDeg;
+  const StepReport report = walker_.step(in);
+  ++steps_;
+  if (onStep) onStep(walker_, report);
+}
+
+void ScriptPlayer::turnTo(double headingDeg, const StepCallback& onStep) {
+  const double maxTurn = kTurnRate * walker_.options().dt;
+  double left = turnBetween(walker_.state().headingDeg, headingDeg);
+  while (left != 0.0) {
+    const double turn = std::abs(left) <= maxTurn ? left : std::copysign(maxTurn, left);
+    const double h = std::abs(left) <= maxTurn ? wrap360(headingDeg) : wrap360(walker_.state().headingDeg + turn);
+    stepOnce(Eigen::Vector3d::Zero(), h, walker_.state().pitchDeg, onStep);
+    left -= turn;
+    if (std::abs(left) < 1e-12) left = 0.0;
+  }
+}
+
+void ScriptPlayer::pitchTo(double pitchDeg, const StepCallback& onStep) {
+  const double maxPitch = kPitchRate * walker_.options().dt;
+  while (walker_.state().pitchDeg != pitchDeg) {
+    const double left = pitchDeg - walker_.state().pitchDeg;
+    const double p = std::abs(left) <= maxPitch ? pitchDeg : walker_.state().pitchDeg + std::copysign(maxPitch, left);
+    stepOnce(Eigen::Vector3d::Zero(), walker_.state().headingDeg, p, onStep);
+  }
+}
+
+void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep) {
+  const double dt = walker_.options().dt;
+  const double eyeHeight = walker_.options().viewer.eyeHeight;
+  auto offset = [&]() {
+    const WalkerState& s = walker_.state();
+    Eigen::Vector3d d = target - (s.feet + Eigen::Vector3d(0, 0, eyeHeight));
+    if (!(hasZ && s.flying)) d.z() = 0;
+    return d;
+  };
+  if (aim) {
+    const Eigen::Vector3d d = offset();
+    if (d.head<2>().norm() > kArrivalTolerance) turnTo(headingOf(d.x(), d.y()), onStep);
+  }
+  double stuck = 0;
+  for (;;) {
+    const Eigen::Vector3d d = offset();
+    const double dist = d.norm();
+    if (dist <= kArrivalTolerance) break;
+    const double stepLen = speed_ * dt;
+    const Eigen::Vector3d move = dist <= stepLen ? d : d * (stepLen / dist);
+    double heading = walker_.state().headingDeg;
+    if (aim && d.head<2>().norm() > 0.01) {
+      // Re-aim (a slide may have moved the viewer off the line), within the turn rate.
+      const double want = headingOf(d.x(), d.y());
+      const double turn = turnBetween(heading, want);
+      const double maxTurn = kTurnRate * dt;
+      heading = wrap360(heading + (std::abs(turn) <= maxTurn ? turn : std::copysign(maxTurn, turn)));
+    }
+    const Eigen::Vector3d before = walker_.state().feet;
+    stepOnce(move, heading, walker_.state().pitchDeg, onStep);
+    if ((walker_.state().feet - before).norm() < kProgressEpsilon) {
+      stuck += dt;
+      if (stuck >= kBlockedTimeout - 1e-9) break;
+    } else {
+      stuck = 0;
+    }
+  }
+}
+
+void ScriptPlayer::expect(const ScriptCommand& c) {
+  const WalkerState& s = walker_.state();
+  const CollisionWorld& world = walker_.world();
+  ExpectationResult r;
+  r.script = script_.path;
+  r.line = c.line;
+  r.frame = s.frame;
+  r.eye = walker_.eye();
+  std::string blocker = s.reason == BlockReason::Equipment && s.blockedUnit >= 0
+                            ? world.name(std::size_t(s.blockedUnit))
+                            : std::string(blockReasonName(s.reason));
+  switch (c.op) {
+    case ScriptOp::ExpectBlocked: {
+      r.text = c.name.empty() ? "expect blocked" : "expect blocked by " + c.name;
+      bool byIt = c.name.empty();
+      if (!byIt && s.reason == BlockReason::Equipment && s.blockedUnit >= 0) {
+        const std::size_t u = std::size_t(s.blockedUnit);
+        byIt = nameMatches(world.name(u), c.name) || nameMatches(world.group(u), c.name);
+      } else if (!byIt && s.reason != BlockReason::None) {
+        byIt = nameMatches(blocker, c.name) || c.name == "terrain";
+      }
+      r.met = s.blocked && byIt;
+      r.detail = s.blocked ? "blocked by " + blocker : "free";
+      break;
+    }
+    case ScriptOp::ExpectFree:
+      r.text = "expect free";
+      r.met = !s.blocked;
+      r.detail = s.blocked ? "blocked by " + blocker : "free";
+      break;
+    case ScriptOp::ExpectGround: {
+      r.text = "expect ground within " + fmt("%g", c.tolerance);
+      const std::optional<double> g = walker_.terrain().groundHeight(s.feet.x(), s.feet.y());
+      if (!g) {
+        r.detail = "no ground under the viewer";
+      } else if (s.flying) {
+        r.detail = "flying";
+      } else {
+        const double err = std::abs(s.feet.z() - *g);
+        r.met = err <= c.tolerance;
+        r.detail = "eye " + fmt("%.6f", err) + " m off eye height above the ground";
+      }
+      break;
+    }
+    case ScriptOp::ExpectPosition: {
+      r.text = "expect position " + fmt("%.3f", c.v.x()) + " " + fmt("%.3f", c.v.y()) + " within " +
+               fmt("%g", c.tolerance);
+      const double dist = std::hypot(s.feet.x() - c.v.x(), s.feet.y() - c.v.y());
+      r.met = dist <= c.tolerance;
+      r.detail = fmt("%.4f", dist) + " m away";
+      break;
+    }
+    case ScriptOp::ExpectClearance: {
+      r.text = "expect clearance at least " + fmt("%g", c.tolerance);
+      const std::optional<double> g = walker_.terrain().groundHeight(s.feet.x(), s.feet.y());
+      if (!g) {
+        r.detail = "no ground under the viewer";
+      } else {
+        const double clear = s.feet.z() - *g;
+        r.met = clear >= c.tolerance - 1e-9;
+        r.detail = "clearance " + fmt("%.4f", clear) + " m";
+      }
+      break;
+    }
+    default:
+      return;
+  }
+  results_.push_back(std::move(r));
+}
+
+void ScriptPlayer::run(const StepCallback& onStep) {
+  const double dt = walker_.options().dt;
+  bool started = false;
+  for (const ScriptCommand& c : script_.commands) {
+    const WalkerState& s = walker_.state();
+    switch (c.op) {
+      case ScriptOp::Mode:
+        if (c.fly != s.flying) {
+          if (c.fly) {
+            walker_.setFlying(true, s.clearance);
+          } else {
+            const std::string why =
+                walker_.place(s.feet + Eigen::Vector3d(0, 0, walker_.options().viewer.eyeHeight), false, s.headingDeg,
+                              false, s.clearance);
+            if (!why.empty()) throw InputError(where(c) + ": cannot land here: " + why);
+          }
+        }
+        break;
+      case ScriptOp::Speed:
+        speed_ = c.v.x();
+        break;
+      case ScriptOp::Clearance:
+        walker_.setFlying(s.flying, c.v.x());
+        break;
+      case ScriptOp::Start: {
+        const double heading = c.hasHeading ? c.heading : s.headingDeg;
+        const std::string why = walker_.place(c.v, c.hasZ, heading, s.flying, s.clearance);
+        if (!why.empty()) throw InputError(where(c) + ": " + why);
+        started = true;
+        break;
+      }
+      case ScriptOp::Goto:
+      case ScriptOp::Move:
+      case ScriptOp::MoveBy: {
+        if (!started) throw InputError(where(c) + ": the script moves before its `start`");
+        const Eigen::Vector3d eye = walker_.eye();
+        if (c.op == ScriptOp::Goto) {
+          Eigen::Vector3d t = c.v;
+          if (!c.hasZ) t.z() = eye.z();
+          goTo(t, c.hasZ, true, onStep);
+        } else if (c.op == ScriptOp::Move) {
+          const double h = s.headingDeg * kPi / 180.0;
+          goTo(eye + c.v.x() * Eigen::Vector3d(std::sin(h), std::cos(h), 0), false, false, onStep);
+        } else {
+          goTo(eye + c.v, c.hasZ, false, onStep);
+        }
+        break;
+      }
+      case ScriptOp::Turn:
+        turnTo(wrap360(s.headingDeg + c.v.x()), onStep);
+        break;
+      case ScriptOp::Heading:
+        turnTo(wrap360(c.v.x()), onStep);
+        break;
+      case ScriptOp::Look:
+        pitchTo(c.v.x(), onStep);
+        break;
+      case ScriptOp::Wait: {
+        const auto n = std::uint64_t(std::ceil(c.v.x() / dt - 1e-9));
+        for (std::uint64_t i = 0; i < n; ++i)
+          stepOnce(Eigen::Vector3d::Zero(), s.headingDeg, s.pitchDeg, onStep);
+        break;
+      }
+      case ScriptOp::ExpectBlocked:
+      case ScriptOp::ExpectFree:
+      case ScriptOp::ExpectGround:
+      case ScriptOp::ExpectPosition:
+      case ScriptOp::ExpectClearance:
+        expect(c);
+        break;
+    }
+  }
+}
+
+}  // namespace nestwalk

@@ -1,0 +1,55 @@
+// Plays a flythrough script (script.h) on a walker: turns each command into fixed steps, checks
+// the expectations where they stand in the script, and hands every step to a callback (records,
+// rendering). Deterministic: the same script, scene and options give the same steps.
+//
+// Motion: `goto` turns the view toward the target at kTurnRate, then walks (or flies) straight at
+// the current speed, re-aiming every step; `move D` goes to the point D ahead of the heading at
+// its start; `move DX DY [DZ]` to the offset point, keeping the heading. A motion ends at its
+// target (within kArrivalTolerance) or after kBlockedTimeout seconds without progress. `turn`,
+// `heading` and `look` run at kTurnRate / kPitchRate; `wait` stands for ceil(T / dt) steps.
+#pragma once
+
+#include "engine/report/frame_record.h"
+#include "engine/walker/script.h"
+#include "engine/walker/walker.h"
+
+#include <functional>
+#include <vector>
+
+namespace nestwalk {
+
+inline constexpr double kTurnRate = 90.0;          // degrees per second
+inline constexpr double kPitchRate = 60.0;         // degrees per second
+inline constexpr double kArrivalTolerance = 1e-6;  // metres
+inline constexpr double kProgressEpsilon = 1e-6;   // metres per step that count as progress
+
+class ScriptPlayer {
+ public:
+  using StepCallback = std::function<void(const Walker&, const StepReport&)>;
+
+  ScriptPlayer(const Script& script, Walker& walker);
+
+  // Runs the whole script; calls onStep after every step. Throws InputError (file:line) when a
+  // `start` (or a switch to walking) puts the viewer where it cannot be.
+  void run(const StepCallback& onStep);
+
+  const std::vector<ExpectationResult>& expectations() const { return results_; }
+  bool allMet() const;
+  std::uint64_t steps() const { return steps_; }
+
+ private:
+  void stepOnce(const Eigen::Vector3d& move, double headingDeg, double pitchDeg, const StepCallback& onStep);
+  void turnTo(double headingDeg, const StepCallback& onStep);
+  void pitchTo(double pitchDeg, const StepCallback& onStep);
+  void goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep);
+  void expect(const ScriptCommand& c);
+  std::string where(const ScriptCommand& c) const;
+
+  const Script& script_;
+  Walker& walker_;
+  double speed_;
+  std::vector<ExpectationResult> results_;
+  std::uint64_t steps_ = 0;
+};
+
+}  // namespace nestwalk

@@ -1,0 +1,271 @@
+#include "engine/walker/walker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace nestwalk {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+/// Unit forward vector of a heading (clockwise from north = map +y).
+Eigen::Vector2d forwardOf(double headingDeg) {
+  return {std::sin(headingDeg * kDeg), std::cos(headingDeg * kDeg)};
+}
+
+using Clock = std::chrono::steady_clock;
+double micros(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+}  // namespace
+
+const char* blockReasonName(BlockReason r) {
+  switch (r) {
+    case BlockReason::None: return "";
+    case BlockReason::Equipment: return "equipment";
+    case BlockReason::TerrainStep: return "terrain:step";
+    case BlockReason::TerrainSlope: return "terrain:slope";
+    case BlockReason::TerrainEdge: return "terrain:edge";
+  }
+  return "";
+}
+
+struct Walker::Leg {
+  bool blocked = false;
+  BlockReason reason = BlockReason::None;
+  std::int32_t unit = -1;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d remaining = Eigen::Vector3d::Zero();  // the part of the leg not walked
+};
+
+Walker::Walker(const terrain::Heightfield& terrain, const CollisionWorld& world, const Eigen::Vector3d& origin,
+               const WalkerOptions& options)
+    : terrain_(terrain), world_(world), origin_(origin), options_(options) {
+  sampleSpacing_ = kGroundSampleSpacing * std::min(std::abs(terrain.dx()), std::abs(terrain.dy()));
+  state_.clearance = options.viewer.flyClearance;
+}
+
+NestedVolume<double> Walker::bodyVolume(const Eigen::Vector3d& feetMap, double yawDeg) const {
+  const Eigen::Vector3d& h = options_.viewer.bodyHalfExtents;
+  const Eigen::Vector2d f = forwardOf(yawDeg);
+  Obb<double> b;
+  b.center = feetMap + Eigen::Vector3d(0, 0, h.z()) - origin_;
+  b.axes.col(0) = Vec3<double>(f.x(), f.y(), 0);
+  b.axes.col(1) = Vec3<double>(-f.y(), f.x(), 0);
+  b.axes.col(2) = Vec3<double>(0, 0, 1);
+  b.halfExtents = h;
+  return NestedVolume<double>::fromObb(b);
+}
+
+bool Walker::footprintHeights(double x, double y, double yawDeg, std::array<double, 5>& h) const {
+  // Centre, then the corners: +f+s, +f-s, -f+s, -f-s (f forward, s sideways).
+  const Eigen::Vector2d f = forwardOf(yawDeg) * options_.viewer.bodyHalfExtents.x();
+  const Eigen::Vector2d s = Eigen::Vector2d(-forwardOf(yawDeg).y(), forwardOf(yawDeg).x()) *
+                            options_.viewer.bodyHalfExtents.y();
+  const Eigen::Vector2d c(x, y);
+  const Eigen::Vector2d pts[5] = {c, c + f + s, c + f - s, c - f + s, c - f - s};
+  for (int i = 0; i < 5; ++i) {
+    const std::optional<double> z = terrain_.groundHeight(pts[i].x(), pts[i].y());
+    if (!z) return false;
+    h[std::size_t(i)] = *z;
+  }
+  return true;
+}
+
+std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double headingDeg, bool flying,
+                          double clearance) {
+  std::array<double, 5> h{};
+  if (!footprintHeights(position.x(), position.y(), headingDeg, h)) return "no ground under the viewer's footprint";
+  WalkerState s;
+  s.headingDeg = s.bodyYawDeg = headingDeg;
+  s.flying = flying;
+  s.clearance = clearance;
+  s.hasGround = true;
+  s.ground = h[0];
+  if (flying) {
+    const double lowest = *std::max_element(h.begin(), h.end()) + clearance;
+    const double feetZ = hasZ ? position.z() - options_.viewer.eyeHeight : lowest;
+    s.feet = Eigen::Vector3d(position.x(), position.y(), std::max(feetZ, lowest));
+  } else {
+    s.feet = Eigen::Vector3d(position.x(), position.y(), h[0]);
+  }
+  CollisionCounters c;
+  const std::int32_t u = world_.overlapping(bodyVolume(s.feet, headingDeg), c);
+  if (u >= 0) return "the viewer's body overlaps " + world_.name(std::size_t(u));
+  s.frame = state_.frame;
+  s.time = state_.time;
+  s.pitchDeg = state_.pitchDeg;
+  state_ = s;
+  return {};
+}
+
+void Walker::setFlying(bool flying, double clearance) {
+  state_.flying = flying;
+  state_.clearance = clearance;
+}
+
+Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
+  Leg leg;
+  const Eigen::Vector3d start = state_.feet;
+  const ViewerSpec& v = options_.viewer;
+  const double yaw = state_.bodyYawDeg;
+  Clock::time_point t0;
+  if (options_.timeParts) t0 = Clock::now();
+
+  // 1. The terrain along the leg decides how far it can go (walking) or how high (flying).
+  Eigen::Vector3d target = start;
+  const double len = move.head<2>().norm();
+  const int n = len > 0 ? std::max(1, int(std::ceil(len / sampleSpacing_))) : 0;
+  std::array<double, 5> h{};
+  if (state_.flying) {
+    double lowest = -std::numeric_limits<double>::infinity();
+    int good = 0;
+    for (int k = 1; k <= n; ++k) {
+      const Eigen::Vector3d p = start + move * (double(k) / n);
+      if (!footprintHeights(p.x(), p.y(), yaw, h)) {
+        leg.blocked = true;
+        leg.reason = BlockReason::TerrainEdge;
+        break;
+      }
+      lowest = std::max(lowest, *std::max_element(h.begin(), h.end()) + state_.clearance);
+      good = k;
+    }
+    target = n == 0 ? Eigen::Vector3d(start + move) : Eigen::Vector3d(start + move * (double(good) / n));
+    if (n == 0 && footprintHeights(target.x(), target.y(), yaw, h))
+      lowest = *std::max_element(h.begin(), h.end()) + state_.clearance;
+    target.z() = std::max(target.z(), lowest);
+  } else if (n > 0) {
+    const double maxSlope = std::tan(v.maxSlopeDeg * kDeg);
+    const Eigen::Vector2d dir = move.head<2>() / len;
+    const Eigen::Vector2d f = forwardOf(yaw), s(-f.y(), f.x());
+    const double alongF = dir.dot(f), alongS = dir.dot(s);
+    double prevZ = start.z();
+    for (int k = 1; k <= n; ++k) {
+      const Eigen::Vector2d p = start.head<2>() + move.head<2>() * (double(k) / n);
+      BlockReason r = BlockReason::None;
+      if (!footprintHeights(p.x(), p.y(), yaw, h)) {
+        r = BlockReason::TerrainEdge;
+      } else if (std::abs(h[0] - prevZ) > v.maxStep) {
+        r = BlockReason::TerrainStep;
+      } else {
+        // Plane through the footprint corners (least squares on the rectangle): its gradient
+        // along the motion is the slope the viewer would walk.
+        const double gf = ((h[1] + h[2]) - (h[3] + h[4])) / (4.0 * v.bodyHalfExtents.x());
+        const double gs = ((h[1] + h[3]) - (h[2] + h[4])) / (4.0 * v.bodyHalfExtents.y());
+        if (std::abs(gf * alongF + gs * alongS) > maxSlope) r = BlockReason::TerrainSlope;
+      }
+      if (r != BlockReason::None) {
+        leg.blocked = true;
+        leg.reason = r;
+        break;
+      }
+      prevZ = h[0];
+      target = Eigen::Vector3d(p.x(), p.y(), h[0]);
+    }
+  }
+  Clock::time_point t1;
+  if (options_.timeParts) {
+    t1 = Clock::now();
+    report.micros[0] += micros(t0, t1);
+  }
+
+  // 2. The equipment: the swept nested test along the straight leg start -> target.
+  const Eigen::Vector3d d = target - start;
+  Eigen::Vector3d end = target;
+  if (!d.isZero()) {
+    const NestedVolume<double> body = bodyVolume(start, yaw);
+    report.volumesUpdated += 2;
+    const SweepHit hit = world_.sweep(body, d, report.counters);
+    if (hit.contact) {
+      const double back = kStopDistance / d.norm();
+      double t = std::max(0.0, hit.t - back);
+      // Never end inside: the static test has the last word (it is conservative by its bands).
+      for (int i = 0; i < 60 && t > 0.0; ++i) {
+        report.volumesUpdated += 2;
+        if (world_.overlapping(bodyVolume(start + d * t, yaw), report.counters) < 0) break;
+        t = std::max(0.0, t - back * std::ldexp(1.0, i));
+      }
+      end = start + d * t;
+      if (!state_.flying && t > 0.0) {
+        // Back on the ground at the stop (the leg's straight line cuts chords under curved ground).
+        const std::optional<double> z = terrain_.groundHeight(end.x(), end.y());
+        if (z) {
+          const Eigen::Vector3d grounded(end.x(), end.y(), *z);
+          report.volumesUpdated += 2;
+          if (world_.overlapping(bodyVolume(grounded, yaw), report.counters) < 0) end = grounded;
+        }
+      }
+      leg.blocked = true;
+      leg.reason = BlockReason::Equipment;
+      leg.unit = hit.unit;
+      leg.normal = hit.normal;
+      leg.remaining = d * (1.0 - t);
+    }
+  }
+  state_.feet = end;
+  return leg;
+}
+
+StepReport Walker::step(const StepInput& in) {
+  StepReport report;
+  Clock::time_point t0;
+  if (options_.timeParts) t0 = Clock::now();
+
+  // 1. View and body yaw.
+  state_.headingDeg = in.headingDeg;
+  state_.pitchDeg = in.pitchDeg;
+  if (state_.bodyYawDeg != in.headingDeg) {
+    report.volumesUpdated += 2;
+    if (world_.overlapping(bodyVolume(state_.feet, in.headingDeg), report.counters) < 0)
+      state_.bodyYawDeg = in.headingDeg;
+  }
+
+  // 2-3. Ground and equipment, then slides along the contact plane if asked.
+  state_.blocked = false;
+  state_.reason = BlockReason::None;
+  state_.blockedUnit = -1;
+  Eigen::Vector3d move = in.move;
+  if (!state_.flying) move.z() = 0;
+  for (int k = 0; k <= kMaxSlides; ++k) {
+    const Leg leg = walkLeg(move, report);
+    if (!leg.blocked) break;
+    state_.blocked = true;
+    state_.reason = leg.reason;
+    state_.blockedUnit = leg.unit;
+    if (!options_.slide || leg.reason != BlockReason::Equipment || k == kMaxSlides) break;
+    Eigen::Vector3d nrm = leg.normal;
+    Eigen::Vector3d rest = leg.remaining;
+    if (!state_.flying) {
+      nrm.z() = 0;
+      rest.z() = 0;
+    }
+    const double nn = nrm.norm();
+    if (!(nn > 1e-9)) break;
+    nrm /= nn;
+    const double into = rest.dot(nrm);
+    if (into < 0) rest -= into * nrm;
+    if (!(rest.norm() > 1e-9)) break;
+    move = rest;
+  }
+
+  Clock::time_point tg;
+  if (options_.timeParts) tg = Clock::now();
+  const std::optional<double> g = terrain_.groundHeight(state_.feet.x(), state_.feet.y());
+  state_.hasGround = g.has_value();
+  state_.ground = g.value_or(0.0);
+  ++state_.frame;
+  state_.time = double(state_.frame) * options_.dt;
+  if (options_.timeParts) {
+    const Clock::time_point t1 = Clock::now();
+    report.micros[0] += micros(tg, t1);
+    report.micros[1] = report.counters.broadMicros;
+    report.micros[2] = report.counters.narrowMicros;
+    report.micros[3] = micros(t0, t1);
+  }
+  return report;
+}
+
+}  // namespace nestwalk

@@ -1,0 +1,114 @@
+// The walker: the viewpoint moved one fixed time step at a time, deterministic (same inputs, same
+// states, bit for bit). Each step (seed 004 and the design sketch):
+//   1. the view turns to the commanded heading and pitch; the body box turns with it unless the
+//      turned box would overlap equipment (then the body keeps its yaw until it is clear);
+//   2. ground following (walking): downward rays at the body centre and the four footprint
+//      corners, every kGroundSampleSpacing cells along the step. A rise between samples above
+//      max_step, a slope along the motion above max_slope_deg, or a sample with no ground (hole,
+//      the raster's edge) blocks like a wall: the step ends at the last good sample. Flying: the
+//      body bottom is kept at least `clearance` above the highest footprint sample;
+//   3. the swept nested test of the step against the equipment (swept.h, collision_world.h): the
+//      step stops kStopDistance before the first contact, never inside (checked with the static
+//      test, backing off further if rounding says so), and stays blocked while the commanded
+//      motion presses into the obstacle; with `slide`, the rest of the step is projected on the
+//      contact plane and walked again (at most kMaxSlides times).
+// Frames: the state is in map coordinates (double); volumes are built in the scene's local frame.
+#pragma once
+
+#include "engine/scene/scene_file.h"
+#include "engine/walker/collision_world.h"
+#include "terrain/heightfield.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <limits>
+#include <optional>
+#include <cstdint>
+#include <string>
+
+namespace nestwalk {
+
+/// The stop short of a contact, metres along the motion. The gap left to the obstacle is at most
+/// this (the issue asks for within 1 mm) and positive, so the viewer never ends inside.
+inline constexpr double kStopDistance = 0.5e-3;
+/// Ground samples along a step, in cells of the terrain: half a cell, so that no ridge or ditch of
+/// the triangulated surface is stepped over between two samples.
+inline constexpr double kGroundSampleSpacing = 0.5;
+/// Slides per step at most (a corner between two obstacles ends the step after two).
+inline constexpr int kMaxSlides = 2;
+
+enum class BlockReason : std::uint8_t { None, Equipment, TerrainStep, TerrainSlope, TerrainEdge };
+const char* blockReasonName(BlockReason r);  // "", "equipment", "terrain:step", "terrain:slope", "terrain:edge"
+
+struct WalkerOptions {
+  ViewerSpec viewer;
+  double dt = 1.0 / 60.0;  // seconds per step
+  bool slide = false;      // slide along contact faces instead of stopping
+  bool timeParts = true;   // measure µs per part (off for benchmarks timing whole steps)
+};
+
+struct WalkerState {
+  Eigen::Vector3d feet = Eigen::Vector3d::Zero();  // map frame: the ground point under the body
+                                                   // centre (walking) or the body bottom (flying)
+  double headingDeg = 0, pitchDeg = 0;             // the view
+  double bodyYawDeg = 0;                           // the body box's heading
+  bool flying = false;
+  double clearance = 2.0;                          // flying: body bottom above the ground, at least
+  bool blocked = false;                            // the last step was stopped short
+  BlockReason reason = BlockReason::None;
+  std::int32_t blockedUnit = -1;
+  bool hasGround = false;
+  double ground = 0;                               // terrain height under the body centre
+  std::uint64_t frame = 0;
+  double time = 0;
+};
+
+struct StepInput {
+  Eigen::Vector3d move = Eigen::Vector3d::Zero();  // desired displacement this step, map axes, metres
+                                                   // (walking: z is ignored, the ground decides)
+  double headingDeg = 0, pitchDeg = 0;             // the view at the end of the step
+};
+
+struct StepReport {
+  CollisionCounters counters;
+  std::uint64_t volumesUpdated = 0;  // Nu: viewer volumes rebuilt
+  std::array<double, 4> micros{};    // µs: ground, broad phase, narrow phase, total (StepPart order)
+};
+
+class Walker {
+ public:
+  Walker(const terrain::Heightfield& terrain, const CollisionWorld& world, const Eigen::Vector3d& origin,
+         const WalkerOptions& options);
+
+  // Places the viewer at map (x, y) (walking: on the ground; flying: at z if given, at least
+  // `clearance` above the ground). Returns "" or a message saying why the place is not valid
+  // (no ground there, inside a unit).
+  std::string place(const Eigen::Vector3d& position, bool hasZ, double headingDeg, bool flying, double clearance);
+  void setFlying(bool flying, double clearance);
+  void setPitch(double pitchDeg) { state_.pitchDeg = pitchDeg; }
+
+  StepReport step(const StepInput& in);
+
+  const WalkerState& state() const { return state_; }
+  const WalkerOptions& options() const { return options_; }
+  Eigen::Vector3d eye() const { return state_.feet + Eigen::Vector3d(0, 0, options_.viewer.eyeHeight); }
+  // The body's nested volumes (local frame) with its feet at a map point and a yaw.
+  NestedVolume<double> bodyVolume(const Eigen::Vector3d& feetMap, double yawDeg) const;
+  const CollisionWorld& world() const { return world_; }
+  const terrain::Heightfield& terrain() const { return terrain_; }
+
+ private:
+  struct Leg;
+  Leg walkLeg(const Eigen::Vector3d& move, StepReport& report);
+  bool footprintHeights(double x, double y, double yawDeg, std::array<double, 5>& h) const;
+
+  const terrain::Heightfield& terrain_;
+  const CollisionWorld& world_;
+  Eigen::Vector3d origin_;
+  WalkerOptions options_;
+  WalkerState state_;
+  double sampleSpacing_;  // metres
+};
+
+}  // namespace nestwalk

@@ -1,0 +1,89 @@
+// Shared by the report tests: a temporary folder and a run's worth of varied frame records.
+#pragma once
+
+#include "engine/report/frame_record.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nestwalk::testing {
+
+/// A fresh folder under the system's temporary folder, removed with everything in it at the end.
+class TempDir {
+ public:
+  TempDir() {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "nestwalk-report-XXXXXX").string();
+    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+    path_ = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  /// Names of the entries in the folder (a writer must leave no temporary file behind).
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// `n` records at UTM magnitudes: a walk north-east with blocked stretches (by a unit, by a name
+/// with a comma, by the terrain), every counter different, and step times of different orders
+/// of magnitude per part (ground ~0.1 µs, broad ~1 µs, narrow ~5 µs, total ~10 µs), spiky.
+inline std::vector<FrameRecord> sampleRecords(std::size_t n) {
+  std::vector<FrameRecord> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    FrameRecord r;
+    r.frame = i + 1;
+    r.time = double(i + 1) / 60.0;
+    r.eye = Eigen::Vector3d(500123.45678 + 0.0251 * double(i), 4400987.65432 + 0.0173 * double(i), 312.5 - 0.001 * double(i));
+    r.headingDeg = std::fmod(33.3333333 + 0.37 * double(i), 360.0);
+    r.pitchDeg = -12.5 + 0.01 * double(i);
+    r.flying = i % 50 >= 40;
+    r.hasGround = i % 17 != 0;
+    r.ground = r.hasGround ? r.eye.z() - 1.7 : 0.0;
+    if (i % 10 == 3) {
+      r.blocked = true;
+      r.blockedBy = "bench2/station3/mast";
+    } else if (i % 10 == 7) {
+      r.blocked = true;
+      r.blockedBy = "pole,north \"A\"";
+    } else if (i % 25 == 9) {
+      r.blocked = true;
+      r.blockedBy = "terrain:step";
+    }
+    r.nodeTests = 10 + i % 7;
+    r.stageTests = {5 + i % 3, 2 + i % 2, i % 4 == 0 ? 1u : 0u};
+    r.primitiveTests = i % 5;
+    r.volumesUpdated = 1;
+    const double spike = i % 37 == 0 ? 8.0 : 1.0;
+    r.micros[0] = (0.1 + 0.001 * double(i % 13)) * spike;
+    r.micros[1] = (1.0 + 0.01 * double(i % 11)) * spike;
+    r.micros[2] = (5.0 + 0.05 * double(i % 7)) * spike;
+    r.micros[3] = r.micros[0] + r.micros[1] + r.micros[2] + 3.0 + 0.1 * double(i % 5);
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace nestwalk::testing

@@ -1,0 +1,158 @@
+// The summary JSON and the nearest-rank percentile (engine/report/frame_record.h), against values
+// computed here independently: sorted lists indexed by integer rank, sums, counts.
+#include "engine/report/frame_record.h"
+
+#include "engine/core/input_error.h"
+#include "tests/report/report_fixtures.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+namespace nestwalk {
+namespace {
+
+using testing::readFile;
+using testing::sampleRecords;
+using testing::TempDir;
+
+/// Nearest rank for integer p: the value at rank ceil(p n / 100) (1-based, at least 1) of the
+/// sorted list, all in integer arithmetic.
+double nearestRank(std::vector<double> v, int p) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  std::size_t rank = (std::size_t(p) * n + 99) / 100;
+  if (rank < 1) rank = 1;
+  return v[rank - 1];
+}
+
+TEST(Percentile, TextbookExample) {
+  // The nearest-rank example on five values (15, 20, 35, 40, 50).
+  const std::vector<double> v = {50, 15, 40, 20, 35};
+  EXPECT_EQ(percentile(v, 5), 15);
+  EXPECT_EQ(percentile(v, 30), 20);
+  EXPECT_EQ(percentile(v, 40), 20);
+  EXPECT_EQ(percentile(v, 50), 35);
+  EXPECT_EQ(percentile(v, 100), 50);
+  EXPECT_EQ(percentile(v, 0), 15);
+  EXPECT_EQ(percentile({}, 50), 0);
+  EXPECT_EQ(percentile({7}, 99), 7);
+}
+
+TEST(Percentile, ExactRanksAreNotRoundedUp) {
+  // 95 % of 20 values is rank 19 exactly; a floating 0.95 * 20 could round to rank 20.
+  std::vector<double> v;
+  for (int i = 1; i <= 20; ++i) v.push_back(i);
+  EXPECT_EQ(percentile(v, 95), 19);
+  for (int n : {1, 2, 3, 7, 10, 99, 100, 101, 1000, 1237})
+    for (int p : {0, 1, 5, 10, 33, 50, 90, 95, 99, 100}) {
+      std::vector<double> w;
+      std::mt19937 rng(unsigned(n * 1000 + p));
+      std::uniform_real_distribution<double> u(0, 100);
+      for (int i = 0; i < n; ++i) w.push_back(u(rng));
+      EXPECT_EQ(percentile(w, p), nearestRank(w, p)) << "n " << n << " p " << p;
+    }
+}
+
+TEST(RunSummary, ValuesAgainstIndependentComputation) {
+  TempDir dir;
+  const std::vector<FrameRecord> records = sampleRecords(1000);
+  std::vector<ExpectationResult> expectations(3);
+  expectations[0] = {"patrol.txt", 12, "expect blocked by bench2", true, 40, {500000.5, 4400000.25, 300.125},
+                     "blocked by bench2/station3/mast"};
+  expectations[1] = {"patrol.txt", 15, "expect free", false, 77, {1, 2, 3}, "blocked by terrain:step"};
+  expectations[2] = {"patrol.txt", 20, "expect ground within 0.01", true, 99, {4, 5, 6}, "eye 0.000001 m off"};
+  RunSummaryInfo info{"dump.scene.json", "patrol.txt", "nested, auto tree (degree 4)", 1.0 / 60.0, 42};
+  const std::string path = dir / "summary.json";
+  writeRunSummary(path, info, records, expectations);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"summary.json"});
+
+  const nlohmann::json j = nlohmann::json::parse(readFile(path));
+  EXPECT_EQ(j["scene"], "dump.scene.json");
+  EXPECT_EQ(j["script"], "patrol.txt");
+  EXPECT_EQ(j["method"], "nested, auto tree (degree 4)");
+  EXPECT_EQ(j["dt"].get<double>(), 1.0 / 60.0);
+  EXPECT_EQ(j["units"], 42);
+  EXPECT_EQ(j["frames"], 1000);
+  EXPECT_EQ(j["simulated_seconds"].get<double>(), records.back().time);
+
+  const char* parts[] = {"ground", "broad", "narrow", "total"};
+  for (int part = 0; part < kStepParts; ++part) {
+    std::vector<double> us;
+    for (const FrameRecord& r : records) us.push_back(r.micros[std::size_t(part)]);
+    const nlohmann::json& s = j["step_us"][parts[part]];
+    EXPECT_EQ(s["p50"].get<double>(), nearestRank(us, 50)) << parts[part];
+    EXPECT_EQ(s["p95"].get<double>(), nearestRank(us, 95)) << parts[part];
+    EXPECT_EQ(s["p99"].get<double>(), nearestRank(us, 99)) << parts[part];
+    EXPECT_EQ(s["max"].get<double>(), *std::max_element(us.begin(), us.end())) << parts[part];
+  }
+
+  double sums[6] = {};
+  std::map<std::string, int> blockers;
+  int blocked = 0;
+  for (const FrameRecord& r : records) {
+    sums[0] += double(r.nodeTests);
+    sums[1] += double(r.stageTests[0]);
+    sums[2] += double(r.stageTests[1]);
+    sums[3] += double(r.stageTests[2]);
+    sums[4] += double(r.primitiveTests);
+    sums[5] += double(r.volumesUpdated);
+    if (r.blocked) {
+      ++blocked;
+      ++blockers[r.blockedBy];
+    }
+  }
+  const char* counters[] = {"node_tests", "aabb_aabb", "aabb_obb", "obb_obb", "np", "nu"};
+  for (int i = 0; i < 6; ++i)
+    EXPECT_DOUBLE_EQ(j["mean_per_frame"][counters[i]].get<double>(), sums[i] / 1000.0) << counters[i];
+
+  EXPECT_EQ(j["contacts"]["frames_blocked"], blocked);
+  const nlohmann::json& list = j["contacts"]["blockers"];
+  ASSERT_EQ(list.size(), blockers.size());
+  for (const nlohmann::json& b : list) EXPECT_EQ(b["frames"], blockers.at(b["name"].get<std::string>()));
+  for (std::size_t i = 1; i < list.size(); ++i) EXPECT_GE(list[i - 1]["frames"], list[i]["frames"]);
+
+  const nlohmann::json& e = j["expectations"];
+  EXPECT_EQ(e["met"], 2);
+  EXPECT_EQ(e["failed"], 1);
+  ASSERT_EQ(e["list"].size(), 3u);
+  EXPECT_EQ(e["list"][1]["script"], "patrol.txt");
+  EXPECT_EQ(e["list"][1]["line"], 15);
+  EXPECT_EQ(e["list"][1]["text"], "expect free");
+  EXPECT_EQ(e["list"][1]["met"], false);
+  EXPECT_EQ(e["list"][1]["frame"], 77);
+  EXPECT_EQ(e["list"][1]["detail"], "blocked by terrain:step");
+  EXPECT_EQ(e["list"][0]["eye"], nlohmann::json::array({500000.5, 4400000.25, 300.125}));
+  EXPECT_EQ(e["list"][0]["met"], true);
+}
+
+TEST(RunSummary, EmptyRun) {
+  TempDir dir;
+  writeRunSummary(dir / "s.json", RunSummaryInfo{"s", "t", "m", 0.01, 0}, {}, {});
+  const nlohmann::json j = nlohmann::json::parse(readFile(dir / "s.json"));
+  EXPECT_EQ(j["frames"], 0);
+  EXPECT_EQ(j["simulated_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(j["step_us"]["total"]["p99"].get<double>(), 0.0);
+  EXPECT_EQ(j["mean_per_frame"]["node_tests"].get<double>(), 0.0);
+  EXPECT_EQ(j["contacts"]["frames_blocked"], 0);
+  EXPECT_TRUE(j["contacts"]["blockers"].empty());
+  EXPECT_EQ(j["expectations"]["met"], 0);
+  EXPECT_EQ(j["expectations"]["failed"], 0);
+}
+
+TEST(RunSummary, UnwritableFolderNamesTheFile) {
+  TempDir dir;
+  const std::string path = dir / "no/summary.json";
+  try {
+    writeRunSummary(path, RunSummaryInfo{}, sampleRecords(3), {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk

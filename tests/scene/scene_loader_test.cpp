@@ -1,0 +1,448 @@
+// Scene loading and the scene graph: small scenes on a planar GeoTIFF terrain written with GDAL,
+// at the origin and at UTM magnitudes. Expected values come from the construction (the plane's
+// formula), from Eigen's own AngleAxis/Affine transforms of the model's vertices read separately,
+// and from OSG's matrix stack for the graph.
+#include "engine/geometry/volumes.h"
+#include "engine/scene/model_geometry.h"
+#include "engine/scene/scene.h"
+#include "tests/scene/scene_test_util.h"
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/LOD>
+#include <osg/MatrixTransform>
+#include <osg/NodeVisitor>
+#include <osgDB/WriteFile>
+
+#include <chrono>
+#include <numbers>
+
+namespace nestwalk {
+namespace {
+
+using test::inputError;
+using test::weatherStation;
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+/// Where the terrain's north-west corner is: at the origin, and at UTM magnitudes (zone 51N-like).
+struct Place {
+  const char* name;
+  double west, north;
+};
+const Place kPlaces[] = {{"origin", 0.0, 65.0}, {"utm", 550000.0, 4650065.0}};
+void PrintTo(const Place& p, std::ostream* os) { *os << p.name; }
+
+/// Tolerance of comparisons between two double computations of the same local-frame point (tens
+/// of metres from the origin): a few ulps of 100 m is ~1e-13; 1e-9 m leaves a wide margin while
+/// still catching any real (millimetre) error.
+constexpr double kLocalTol = 1e-9;
+
+/// The independent model -> local transform: Eigen's AngleAxis in the documented order
+/// Rz(-heading) Rx(pitch) Ry(roll), then scale, then the translation.
+Eigen::Affine3d independentTransform(double heading, double pitch, double roll, double scale,
+                                     const Eigen::Vector3d& translation) {
+  constexpr double d = std::numbers::pi / 180.0;
+  return Eigen::Translation3d(translation) * Eigen::AngleAxisd(-heading * d, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(pitch * d, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(roll * d, Eigen::Vector3d::UnitY()) *
+         Eigen::Scaling(scale);
+}
+
+/// A 2 x 1 x 0.5 m box model (12 triangles), corner at the origin, written with osgDB.
+void writeBoxModel(const fs::path& path) {
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  for (int i = 0; i < 8; ++i) v->push_back(osg::Vec3((i & 1) ? 2.0f : 0.0f, (i & 2) ? 1.0f : 0.0f, (i & 4) ? 0.5f : 0.0f));
+  osg::ref_ptr<osg::DrawElementsUShort> tris = new osg::DrawElementsUShort(GL_TRIANGLES);
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& q : quads)
+    for (int k : {q[0], q[1], q[2], q[0], q[2], q[3]}) tris->push_back((unsigned short)k);
+  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+  g->setVertexArray(v);
+  g->addPrimitiveSet(tris);
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(g);
+  ASSERT_TRUE(osgDB::writeNodeFile(*geode, path.string()));
+}
+
+/// Every Geometry under a node with its local-to-world matrix (all LOD children, all paths).
+class GeometryFinder : public osg::NodeVisitor {
+ public:
+  GeometryFinder() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+  void apply(osg::Geometry& g) override { found.push_back({&g, osg::computeLocalToWorld(getNodePath())}); }
+  std::vector<std::pair<osg::Geometry*, osg::Matrixd>> found;
+};
+
+/// Named MatrixTransforms under a node.
+class TransformFinder : public osg::NodeVisitor {
+ public:
+  TransformFinder() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+  void apply(osg::MatrixTransform& t) override {
+    byName[t.getName()].push_back(&t);
+    traverse(t);
+  }
+  std::map<std::string, std::vector<osg::MatrixTransform*>> byName;
+};
+
+osg::Node* childNamed(osg::Group& g, const std::string& name) {
+  for (unsigned i = 0; i < g.getNumChildren(); ++i)
+    if (g.getChild(i)->getName() == name) return g.getChild(i);
+  return nullptr;
+}
+
+class SceneLoad : public test::TempFolderTest, public ::testing::WithParamInterface<Place> {
+ protected:
+  void SetUp() override {
+    TempFolderTest::SetUp();
+    terrain_.west = GetParam().west;
+    terrain_.north = GetParam().north;
+    test::writePlaneTiff(dir() / "terrain.tif", terrain_);
+  }
+  /// Writes scene.json (terrain.tif beside it) with these equipment entries and loads it.
+  Scene load(const Json& equipment, const SceneLoadOptions& options = {}, Json extra = Json::object()) {
+    extra["terrain"] = "terrain.tif";
+    extra["equipment"] = equipment;
+    test::writeText(dir() / "scene.json", extra.dump(2));
+    return loadScene((dir() / "scene.json").string(), options);
+  }
+  std::string scenePath() const { return (dir() / "scene.json").string(); }
+  /// Map position of fractional sample (c, r).
+  Json at(double c, double r) const { return Json::array({terrain_.sampleX(c), terrain_.sampleY(r)}); }
+  test::PlaneTerrain terrain_;
+};
+
+TEST_P(SceneLoad, GroundHeightOriginAndModelsLoadedOnce) {
+  const Json eq = Json::array({{{"model", weatherStation()}, {"position", at(20.3, 30.7)}},
+                               {{"model", weatherStation()}, {"position", at(41.0, 12.5)}},
+                               {{"model", weatherStation()}, {"position", {terrain_.sampleX(5), terrain_.sampleY(6), 7.25}}}});
+  const Scene s = load(eq);
+  ASSERT_EQ(s.models.size(), 1u);  // one file, loaded once
+  ASSERT_EQ(s.instances.size(), 3u);
+  // Default origin: the centre of the sample extent, z 0.
+  EXPECT_EQ(s.origin, Eigen::Vector3d(0.5 * (terrain_.sampleX(0) + terrain_.sampleX(terrain_.cols - 1)),
+                                      0.5 * (terrain_.sampleY(0) + terrain_.sampleY(terrain_.rows - 1)), 0.0));
+  for (int i = 0; i < 2; ++i) {
+    const Eigen::Vector3d map = s.toMap(s.instances[i].toLocal.translation);
+    const auto ground = s.terrain->groundHeight(map.x(), map.y());
+    ASSERT_TRUE(ground.has_value());
+    EXPECT_EQ(map.z(), *ground) << "z from the ground must be Heightfield::groundHeight exactly";
+    EXPECT_NEAR(map.z(), terrain_.height(map.x(), map.y()), 1e-9) << "the plane's own formula";
+    EXPECT_NEAR(map.x(), eq[i]["position"][0].get<double>(), 1e-9);
+    EXPECT_NEAR(map.y(), eq[i]["position"][1].get<double>(), 1e-9);
+  }
+  EXPECT_EQ(s.toMap(s.instances[2].toLocal.translation).z(), 7.25);  // z given: the ground is not asked
+  // One unit per instance, named after it, in file order.
+  ASSERT_EQ(s.units.size(), 3u);
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(s.units[i].name, s.spec.equipment[i].name);
+    EXPECT_EQ(s.instances[i].unit, i);
+    EXPECT_EQ(s.units[i].instances, std::vector<std::uint32_t>{i});
+    EXPECT_EQ(s.findUnit(s.spec.equipment[i].name), int(i));
+  }
+  EXPECT_EQ(s.findUnit("nothing"), -1);
+}
+
+TEST(SceneAttitude, ConventionsAndEigenAgree) {
+  const Eigen::Vector3d forward = Eigen::Vector3d::UnitY(), right = Eigen::Vector3d::UnitX(), up = Eigen::Vector3d::UnitZ();
+  EXPECT_EQ(attitudeRotation(90, 0, 0) * forward, Eigen::Vector3d(1, 0, 0)) << "heading 90: forward turns east";
+  EXPECT_EQ(attitudeRotation(180, 0, 0) * forward, Eigen::Vector3d(0, -1, 0)) << "heading 180: south";
+  EXPECT_EQ(attitudeRotation(-90, 0, 0) * forward, Eigen::Vector3d(-1, 0, 0)) << "heading -90: west";
+  EXPECT_EQ(attitudeRotation(0, 90, 0) * forward, up) << "pitch 90: nose up";
+  EXPECT_EQ(attitudeRotation(0, 0, 90) * right, -up) << "roll 90: right side down";
+  EXPECT_EQ(attitudeRotation(90, 0, 0) * up, up);
+  // Arbitrary angles: Eigen's AngleAxis in the documented order.
+  for (const auto& [h, p, r] : {std::array<double, 3>{37, 4, -6}, {-123.5, 17, 81}, {400, -30, 200}}) {
+    const Eigen::Matrix3d want = independentTransform(h, p, r, 1.0, Eigen::Vector3d::Zero()).linear();
+    EXPECT_LT((attitudeRotation(h, p, r) - want).cwiseAbs().maxCoeff(), 1e-15) << h << " " << p << " " << r;
+  }
+}
+
+TEST_P(SceneLoad, VolumesMatchAnIndependentTransformOfTheVertices) {
+  const Json eq = Json::array({{{"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 37},
+                                {"pitch", 4}, {"roll", -6}, {"scale", 1.7}},
+                               {{"model", weatherStation()}, {"position", at(50.5, 50.5)}, {"heading", 90}}});
+  const Scene s = load(eq);
+  const ModelGeometry model = loadModelGeometry(weatherStation());  // read again, apart from the scene
+  ASSERT_GT(model.vertices.size(), 10u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& e = eq[i];
+    const Eigen::Vector3d map(e["position"][0].get<double>(), e["position"][1].get<double>(),
+                              terrain_.height(e["position"][0].get<double>(), e["position"][1].get<double>()));
+    const Eigen::Affine3d t = independentTransform(e.value("heading", 0.0), e.value("pitch", 0.0), e.value("roll", 0.0),
+                                                   e.value("scale", 1.0), map - s.origin);
+    Aabb<double> bounds;
+    const NestedVolume<double>& v = s.instances[i].volume;
+    for (const auto& p : model.vertices) {
+      const Eigen::Vector3d q = t * p;
+      bounds.extend(q);
+      EXPECT_TRUE(v.outer.contains(q, 1e-12)) << "outer AABB, instance " << i;  // 1e-12: the two roundings
+      EXPECT_TRUE(v.inner.contains(q, kLocalTol)) << "inner OBB, instance " << i;
+    }
+    EXPECT_LT((v.outer.min - bounds.min).cwiseAbs().maxCoeff(), kLocalTol) << "outer = exact bounds, instance " << i;
+    EXPECT_LT((v.outer.max - bounds.max).cwiseAbs().maxCoeff(), kLocalTol) << "outer = exact bounds, instance " << i;
+    // The inner box is the model's box moved: same half extents times the scale.
+    EXPECT_LT((v.inner.halfExtents - e.value("scale", 1.0) * s.models[0].obb.halfExtents).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT(axesError(v.inner.axes), kAxesTolerance<double>);
+  }
+}
+
+TEST_P(SceneLoad, SharedNodeAndTerrainCoincideInTheGraph) {
+  writeBoxModel(dir() / "box.osgt");
+  const Json eq = Json::array({{{"name", "ws1"}, {"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 30}},
+                               {{"name", "box"}, {"model", "box.osgt"}, {"position", at(10, 10)}, {"scale", 2}},
+                               {{"name", "ws2"}, {"model", weatherStation()}, {"position", at(40.2, 8.9)}}});
+  const Scene s = load(eq);
+  ASSERT_EQ(s.models.size(), 2u);
+  EXPECT_EQ(s.models[1].triangles, 12u);
+  SceneGraphOptions go;
+  go.volumes = true;
+  go.terrainTileCells = 16;  // 64 cells: 4 x 4 tiles
+  const osg::ref_ptr<osg::Group> root = buildSceneGraph(s, go);
+  TransformFinder transforms;
+  root->accept(transforms);
+  for (const char* n : {"ws1", "ws2", "box"}) ASSERT_EQ(transforms.byName[n].size(), 1u) << n;
+  osg::MatrixTransform* ws1 = transforms.byName["ws1"][0];
+  osg::MatrixTransform* ws2 = transforms.byName["ws2"][0];
+  ASSERT_EQ(ws1->getNumChildren(), 1u);
+  EXPECT_EQ(ws1->getChild(0), ws2->getChild(0)) << "every instance of a model shares its node";
+  EXPECT_EQ(ws1->getChild(0), s.models[0].node.get());
+  EXPECT_NE(transforms.byName["box"][0]->getChild(0), ws1->getChild(0));
+
+  // Equipment: a model vertex through the graph's matrices lands at toMap(toLocal(v)); the
+  // station's foot stands on the ground.
+  for (std::size_t i = 0; i < 3; ++i) {
+    osg::MatrixTransform* t = transforms.byName[s.spec.equipment[i].name][0];
+    const osg::Matrixd world = osg::computeLocalToWorld(t->getParentalNodePaths()[0]);  // the path ends at t
+    for (const auto& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 1.1, 2.5)}) {
+      const osg::Vec3d got = osg::Vec3d(p.x(), p.y(), p.z()) * world;
+      const Eigen::Vector3d want = s.toMap(s.instances[i].toLocal.apply(p));
+      EXPECT_NEAR(got.x(), want.x(), 1e-8);
+      EXPECT_NEAR(got.y(), want.y(), 1e-8);
+      EXPECT_NEAR(got.z(), want.z(), 1e-8);
+    }
+    const osg::Vec3d foot = osg::Vec3d(0, 0, 0) * world;
+    EXPECT_NEAR(foot.z(), terrain_.height(foot.x(), foot.y()), 1e-8) << s.spec.equipment[i].name;
+  }
+
+  // Terrain: every vertex of every tile level, through the graph, is a sample of the plane at its
+  // map position (the mesh's frame is metres from sample (0, 0); the graph must place it).
+  osg::Group* localToMap = root->getChild(0)->asGroup();
+  ASSERT_NE(localToMap, nullptr);
+  osg::Node* terrainNode = childNamed(*localToMap, "terrain");
+  ASSERT_NE(terrainNode, nullptr);
+  GeometryFinder geometries;
+  terrainNode->accept(geometries);
+  EXPECT_GE(geometries.found.size(), 16u);
+  std::size_t checked = 0;
+  for (const auto& [g, m] : geometries.found) {
+    // accept() started at the terrain node (its matrix is in m): then the path above it (OSG
+    // multiplies row vectors, so the parent's matrix comes last).
+    const osg::Matrixd world = m * osg::computeLocalToWorld(localToMap->getParentalNodePaths()[0]);
+    const auto* v = dynamic_cast<const osg::Vec3Array*>(g->getVertexArray());
+    ASSERT_NE(v, nullptr);
+    for (const osg::Vec3& p : *v) {
+      const osg::Vec3d w = osg::Vec3d(p) * world;
+      // On the sample grid to float rounding of the tile vertices (< 1e-5 m over 64 m).
+      const double c = (w.x() - terrain_.sampleX(0)) / terrain_.cell, r = (terrain_.sampleY(0) - w.y()) / terrain_.cell;
+      ASSERT_NEAR(c, std::round(c), 1e-5);
+      ASSERT_NEAR(r, std::round(r), 1e-5);
+      ASSERT_NEAR(w.z(), terrain_.height(w.x(), w.y()), 1e-4);
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, std::size_t(terrain_.cols * terrain_.rows));
+
+  // Volumes: one outer and one inner wireframe, 12 edges per unit each.
+  osg::Node* volumes = childNamed(*localToMap, "volumes");
+  ASSERT_NE(volumes, nullptr);
+  GeometryFinder lines;
+  volumes->accept(lines);
+  ASSERT_EQ(lines.found.size(), 2u);
+  for (const auto& [g, m] : lines.found) EXPECT_EQ(g->getVertexArray()->getNumElements(), 24u * s.units.size());
+
+  // Without terrain and volumes: equipment only.
+  go.terrain = false;
+  go.volumes = false;
+  const osg::ref_ptr<osg::Group> bare = buildSceneGraph(s, go);
+  EXPECT_EQ(childNamed(*bare->getChild(0)->asGroup(), "terrain"), nullptr);
+  EXPECT_EQ(childNamed(*bare->getChild(0)->asGroup(), "volumes"), nullptr);
+  EXPECT_NE(childNamed(*bare->getChild(0)->asGroup(), "equipment"), nullptr);
+}
+
+TEST_P(SceneLoad, UseOnlyMembersFormOneUnitPerGroup) {
+  writeBoxModel(dir() / "box.osgt");
+  const Json eq = Json::array({
+      {{"name", "lone"}, {"model", "box.osgt"}, {"position", at(5, 5)}, {"kind", "container"}},
+      {{"model", weatherStation()}, {"position", at(20, 20)}, {"group", "bench1/st1"}, {"use_only", true}, {"kind", "mast"}},
+      {{"name", "st1-pole"}, {"model", "box.osgt"}, {"position", at(22, 20)}, {"group", "bench1/st1"}},
+      {{"model", "box.osgt"}, {"position", at(21, 23)}, {"heading", 45}, {"group", "bench1/st1"}, {"use_only", true},
+       {"kind", "panel"}},
+      {{"model", "box.osgt"}, {"position", at(40, 40)}, {"group", "bench2"}, {"use_only", true}, {"kind", "panel"}},
+  });
+  const Scene s = load(eq);
+  ASSERT_EQ(s.units.size(), 4u);
+  // File order; a group's unit where its first member appears.
+  EXPECT_EQ(s.units[0].name, "lone");
+  EXPECT_EQ(s.units[0].kind, "container");
+  EXPECT_EQ(s.units[1].name, "bench1/st1");
+  EXPECT_EQ(s.units[1].group, "bench1/st1");
+  EXPECT_EQ(s.units[1].kind, "") << "mixed kinds: no label";
+  EXPECT_EQ(s.units[1].instances, (std::vector<std::uint32_t>{1, 3}));
+  EXPECT_EQ(s.units[2].name, "st1-pole");
+  EXPECT_EQ(s.units[2].group, "bench1/st1");
+  EXPECT_EQ(s.units[3].name, "bench2");
+  EXPECT_EQ(s.units[3].kind, "panel");
+  EXPECT_EQ(s.instances[1].unit, 1u);
+  EXPECT_EQ(s.instances[3].unit, 1u);
+  EXPECT_EQ(s.instances[2].unit, 2u);
+  EXPECT_EQ(s.findUnit("bench1/st1"), 1);
+  EXPECT_EQ(s.unitGroups(), (std::vector<std::string>{"", "bench1/st1", "bench1/st1", "bench2"}));
+  const std::vector<Aabb<double>> boxes = s.unitBoxes();
+  ASSERT_EQ(boxes.size(), 4u);
+  // The group's volumes hold every vertex of both members (transformed independently).
+  Aabb<double> bounds;
+  for (std::uint32_t k : {1u, 3u}) {
+    const auto& e = eq[k];
+    const ModelGeometry g = loadModelGeometry(s.models[s.instances[k].model].path);
+    const double x = e["position"][0].get<double>(), y = e["position"][1].get<double>();
+    const Eigen::Affine3d t =
+        independentTransform(e.value("heading", 0.0), 0, 0, 1, Eigen::Vector3d(x, y, terrain_.height(x, y)) - s.origin);
+    for (const auto& p : g.vertices) {
+      const Eigen::Vector3d q = t * p;
+      bounds.extend(q);
+      EXPECT_TRUE(s.units[1].volume.inner.contains(q, kLocalTol));
+      EXPECT_TRUE(boxes[1].contains(q, 1e-12));
+    }
+  }
+  EXPECT_LT((boxes[1].min - bounds.min).cwiseAbs().maxCoeff(), kLocalTol);
+  EXPECT_LT((boxes[1].max - bounds.max).cwiseAbs().maxCoeff(), kLocalTol);
+  // The group unit's inner box is fitted to the members together: not either member's box.
+  EXPECT_GT(s.units[1].volume.inner.volume(), s.instances[1].volume.inner.volume());
+}
+
+TEST_P(SceneLoad, ExplicitOriginAndMapShiftGiveTheSameLocalVolumes) {
+  writeBoxModel(dir() / "box.osgt");
+  const Json eq = Json::array({
+      {{"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 37}, {"pitch", 3}},
+      {{"model", "box.osgt"}, {"position", at(44.4, 12.1)}, {"heading", 120}, {"group", "g"}, {"use_only", true}},
+      {{"model", weatherStation()}, {"position", at(46.1, 13.7)}, {"group", "g"}, {"use_only", true}},
+  });
+  const Scene a = load(eq);
+  SceneLoadOptions shift;
+  shift.mapShift = {-GetParam().west, -(GetParam().north - 65.0), 0.0};  // the UTM case moves to the origin
+  const Scene b = load(eq, shift);
+  EXPECT_EQ(b.origin, a.origin + shift.mapShift);
+  EXPECT_EQ(b.terrain->origin(), a.terrain->origin() + shift.mapShift.head<2>());
+  ASSERT_EQ(a.units.size(), b.units.size());
+  auto near = [](const NestedVolume<double>& x, const NestedVolume<double>& y) {
+    return (x.outer.min - y.outer.min).cwiseAbs().maxCoeff() <= kLocalTol &&
+           (x.outer.max - y.outer.max).cwiseAbs().maxCoeff() <= kLocalTol &&
+           (x.inner.center - y.inner.center).cwiseAbs().maxCoeff() <= kLocalTol &&
+           (x.inner.axes - y.inner.axes).cwiseAbs().maxCoeff() <= 1e-12 &&
+           (x.inner.halfExtents - y.inner.halfExtents).cwiseAbs().maxCoeff() <= kLocalTol;
+  };
+  for (std::size_t i = 0; i < a.instances.size(); ++i) EXPECT_TRUE(near(a.instances[i].volume, b.instances[i].volume)) << i;
+  for (std::size_t i = 0; i < a.units.size(); ++i) EXPECT_TRUE(near(a.units[i].volume, b.units[i].volume)) << i;
+
+  // An explicit origin is used as given (and moved by the shift).
+  const Eigen::Vector3d origin(terrain_.sampleX(10), terrain_.sampleY(10), 50.0);
+  const Scene c = load(eq, shift, Json{{"origin", {origin.x(), origin.y(), origin.z()}}});
+  EXPECT_EQ(c.origin, origin + shift.mapShift);
+  const Eigen::Vector3d mapA = a.toMap(a.instances[0].toLocal.translation), mapC = c.toMap(c.instances[0].toLocal.translation);
+  EXPECT_LT((mapC - (mapA + shift.mapShift)).cwiseAbs().maxCoeff(), kLocalTol);
+}
+
+TEST_P(SceneLoad, UnreadableEmptyAndGroundlessAreErrors) {
+  test::writeText(dir() / "junk.osgb", "not a model");
+  test::writeText(dir() / "model.xyzzy", "no plugin for this");
+  osgDB::writeNodeFile(*osg::ref_ptr<osg::Group>(new osg::Group), (dir() / "empty.osgt").string());
+  // Every unreadable model in one error; a readable one is not named.
+  std::string e = inputError([&] {
+    load(Json::array({{{"model", "junk.osgb"}, {"position", at(5, 5)}},
+                      {{"model", weatherStation()}, {"position", at(6, 6)}},
+                      {{"model", "model.xyzzy"}, {"position", at(7, 7)}},
+                      {{"model", "junk.osgb"}, {"position", at(8, 8)}}}));
+  });
+  EXPECT_EQ(e.rfind(scenePath() + ": 2 models could not be read: " + (dir() / "junk.osgb").string() + " (", 0), 0u) << e;
+  EXPECT_NE(e.find("; " + (dir() / "model.xyzzy").string() + " (no OpenSceneGraph plugin reads it)"), std::string::npos) << e;
+  EXPECT_EQ(e.find("weather_station"), std::string::npos) << e;
+
+  e = inputError([&] { load(Json::array({{{"model", "empty.osgt"}, {"position", at(5, 5)}}})); });
+  EXPECT_EQ(e.rfind(scenePath() + ": model " + (dir() / "empty.osgt").string() + ": the model holds no vertices", 0), 0u) << e;
+
+  // No ground: beyond the outermost sample centres (the raster's outer half cell has none).
+  e = inputError([&] {
+    load(Json::array({{{"name", "off-east"}, {"model", weatherStation()}, {"position", at(64.2, 5)}},
+                      {{"model", weatherStation()}, {"position", at(5, 5)}},
+                      {{"model", weatherStation()}, {"position", at(3, -3)}}}));
+  });
+  EXPECT_EQ(e.rfind(scenePath() + ": no ground under equipment[0] 'off-east' at (", 0), 0u) << e;
+  EXPECT_NE(e.find("; equipment[2] 'weather_station#2' at ("), std::string::npos) << e;
+  EXPECT_EQ(e.find("equipment[1]"), std::string::npos) << e;
+  // With a z the ground is not needed.
+  EXPECT_NO_THROW(load(Json::array({{{"model", weatherStation()}, {"position", {terrain_.sampleX(70), terrain_.sampleY(5), 3.0}}}})));
+
+  // A terrain that is no raster: readDem's message, behind the scene file and field.
+  test::writeText(dir() / "terrain.tif", "not a raster");
+  e = inputError([&] { load(Json::array()); });
+  EXPECT_EQ(e.rfind(scenePath() + ": terrain: " + (dir() / "terrain.tif").string(), 0), 0u) << e;
+  fs::remove(dir() / "terrain.tif");
+  e = inputError([&] { load(Json::array()); });
+  EXPECT_EQ(e, scenePath() + ": terrain: file not found: " + (dir() / "terrain.tif").string());
+}
+
+INSTANTIATE_TEST_SUITE_P(Places, SceneLoad, ::testing::ValuesIn(kPlaces),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// The real models (shared data): every format they come in, each loaded once, volumes containing
+// every vertex transformed independently.
+TEST(SceneRealModels, VolumesContainEveryVertex) {
+  const fs::path data = test::sharedData();
+  if (data.empty()) GTEST_SKIP() << "shared data folder absent (" << NESTWALK_SHARED_DATA_DIR << "): real models not tested";
+  std::vector<std::string> models;
+  for (const char* m : {"models/dumptruck.osgt", "models/street_lamp.osgb", "models/excavator_chassis.obj", "models/jeep1/jeep1.3ds"})
+    if (fs::exists(data / m)) models.push_back((data / m).string());
+  if (models.empty()) GTEST_SKIP() << "no real models in " << (data / "models");
+  const fs::path dir = fs::temp_directory_path() / ("nestwalk-scene-real-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  test::PlaneTerrain t;
+  t.west = 550000.0;
+  t.north = 4650065.0;
+  test::writePlaneTiff(dir / "terrain.tif", t);
+  Json eq = Json::array();
+  for (std::size_t i = 0; i < models.size(); ++i)
+    for (double heading : {0.0, 63.0})
+      eq.push_back({{"model", models[i]}, {"position", {t.sampleX(10.0 + 12.0 * double(i)), t.sampleY(heading == 0 ? 15 : 45)}},
+                    {"heading", heading}});
+  test::writeText(dir / "scene.json", Json{{"terrain", "terrain.tif"}, {"equipment", eq}}.dump());
+  const auto start = std::chrono::steady_clock::now();
+  const Scene s = loadScene((dir / "scene.json").string());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fs::remove_all(dir);
+  std::printf("loaded %zu real models (%zu instances) in %.2f s\n", s.models.size(), s.instances.size(), seconds);
+  ASSERT_EQ(s.models.size(), models.size());
+  for (std::size_t i = 0; i < s.instances.size(); ++i) {
+    const SceneInstance& inst = s.instances[i];
+    const ModelGeometry g = collectModelGeometry(*s.models[inst.model].node, s.models[inst.model].path);
+    const auto& e = eq[i];
+    const double x = e["position"][0].get<double>(), y = e["position"][1].get<double>();
+    const Eigen::Affine3d tr = independentTransform(e["heading"].get<double>(), 0, 0, 1,
+                                                    Eigen::Vector3d(x, y, t.height(x, y)) - s.origin);
+    // Tolerances relative to the model's size: the fitter's 1e-9 relative containment.
+    const double size = s.models[inst.model].aabb.size().norm();
+    Aabb<double> bounds;
+    std::size_t outside = 0;
+    for (const auto& p : g.vertices) {
+      const Eigen::Vector3d q = tr * p;
+      bounds.extend(q);
+      outside += !inst.volume.outer.contains(q, 1e-12 * size) || !inst.volume.inner.contains(q, 1e-9 * size);
+    }
+    EXPECT_EQ(outside, 0u) << s.models[inst.model].path;
+    EXPECT_LT((inst.volume.outer.min - bounds.min).cwiseAbs().maxCoeff(), 1e-9 * size) << s.models[inst.model].path;
+    EXPECT_LT((inst.volume.outer.max - bounds.max).cwiseAbs().maxCoeff(), 1e-9 * size) << s.models[inst.model].path;
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk

@@ -1,0 +1,105 @@
+// Shared by the scene tests: a per-test temporary folder, a small planar GeoTIFF terrain written
+// with GDAL, and catching an InputError's message.
+#pragma once
+
+#include "engine/core/input_error.h"
+#include "terrain/dem_reader.h"
+#include "tests/terrain/gdal_test_util.h"
+
+#include <gdal.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace nestwalk::test {
+
+namespace fs = std::filesystem;
+
+/// A fixture with an empty temporary folder per test, removed afterwards unless the test failed
+/// (then it stays for inspection and its path is printed).
+class TempFolderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "-" + info->name();
+    for (char& c : name)
+      if (c == '/') c = '_';
+    dir_ = fs::temp_directory_path() / ("nestwalk-scene-" + std::to_string(::getpid()) + "-" + name);
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (HasFailure()) {
+      std::printf("kept the test folder %s\n", dir_.c_str());
+      return;
+    }
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
+
+/// The planar test terrain: sample (c, r) has height kPlane0 + kPlaneEast * c + kPlaneSouth * r,
+/// exact in float, so the triangulated surface is the plane itself.
+inline constexpr double kPlane0 = 100.0, kPlaneEast = 0.5, kPlaneSouth = 0.25;
+
+struct PlaneTerrain {
+  double west = 0, north = 0;  // the raster's outer corner (GDAL geotransform origin)
+  double cell = 1;
+  int cols = 65, rows = 65;
+  /// Map position of sample (c, r)'s centre.
+  double sampleX(double c) const { return west + (c + 0.5) * cell; }
+  double sampleY(double r) const { return north - (r + 0.5) * cell; }
+  /// The plane at map (x, y), computed from the construction (not through the heightfield).
+  double height(double x, double y) const {
+    const double c = (x - sampleX(0)) / cell, r = (sampleY(0) - y) / cell;
+    return kPlane0 + kPlaneEast * c + kPlaneSouth * r;
+  }
+};
+
+/// Writes `t` as a Float32 GeoTIFF at `path`.
+inline void writePlaneTiff(const fs::path& path, const PlaneTerrain& t) {
+  terrain::initGdal();
+  std::vector<double> values;
+  for (int r = 0; r < t.rows; ++r)
+    for (int c = 0; c < t.cols; ++c) values.push_back(kPlane0 + kPlaneEast * c + kPlaneSouth * r);
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), t.cols, t.rows, 1, GDT_Float32, nullptr);
+  ASSERT_NE(ds, nullptr);
+  double gt[6] = {t.west, t.cell, 0.0, t.north, 0.0, -t.cell};
+  GDALSetGeoTransform(ds, gt);
+  writeBands(ds, t.cols, t.rows, values, std::nullopt, 1);
+  GDALClose(ds);
+}
+
+inline void writeText(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+/// The message of the InputError `f` throws ("" and a test failure when it throws none).
+template <class F>
+std::string inputError(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return {};
+}
+
+/// The bundled weather station (OBJ, metres, foot at the origin).
+inline std::string weatherStation() { return std::string(NESTWALK_SOURCE_DIR) + "/assets/models/weather_station.obj"; }
+
+/// The shared real data folder, or empty when it is absent (tests then skip and say so).
+inline fs::path sharedData() {
+  const char* env = std::getenv("NESTWALK_SHARED_DATA");
+  fs::path p = env ? env : NESTWALK_SHARED_DATA_DIR;
+  return fs::is_directory(p) ? p : fs::path();
+}
+
+}  // namespace nestwalk::test

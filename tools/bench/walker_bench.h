@@ -1,0 +1,31 @@
+// The walker benchmark (`nestwalk bench walker`, issue 4):
+//  1. walker steps without rendering over 1k, 100k and 1M box-shaped instances scattered over
+//     10 km x 10 km of rolling synthetic terrain (poles to containers, random headings): p50 / p99
+//     / max µs per step, each step timed on its own, contacts per 1000 steps;
+//  2. the broad-phase query side by side with Bullet's btDbvt and FCL's DynamicAABBTree on the same
+//     boxes, and build times (tools/bench/broadphase_bench.h);
+//  3. BV tests per hierarchy on the bundled flythroughs, printed like fACT's Table 2 (seed 001):
+//     hierarchy node tests and the three stages per script, and the total as a % of the template
+//     hierarchy's; every hierarchy must give the same contacts (checked, reported).
+#pragma once
+
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace nestwalk::bench {
+
+struct WalkerBenchOptions {
+  bool json = false;
+  bool quick = false;                 // 1k and 10k instances, fewer steps
+  std::vector<std::size_t> sizes;     // instance counts; empty: 1k, 100k, 1M (quick: 1k, 10k)
+  std::size_t steps = 0;              // timed steps per size; 0: 200k (quick 5k)
+  std::string scene;                  // scene for the Table-2 counts; empty: skip that part
+  std::vector<std::string> scripts;   // its flythroughs
+  bool broadPhase = true;             // run part 2
+};
+
+int runWalkerBench(const WalkerBenchOptions& opts, std::ostream& out);
+
+}  // namespace nestwalk::bench

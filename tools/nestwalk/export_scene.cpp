@@ -1,0 +1,95 @@
+// nestwalk export SCENE OUT [--volumes] [--no-terrain] [--tile-cells N] [--overwrite]: loads a scene
+// and writes its OpenSceneGraph graph (scene.h, buildSceneGraph) in any format OSG writes, chosen
+// by OUT's extension (.osgb, .osgt, .ive, ...), for viewing in osgviewer or other tools. The file is
+// written under a temporary name in OUT's folder and renamed at the end; an existing OUT is
+// replaced only with --overwrite. Prints one summary line.
+#include "engine/core/input_error.h"
+#include "engine/report/output_file.h"
+#include "engine/scene/scene.h"
+#include "tools/nestwalk/commands.h"
+
+#include <osgDB/FileNameUtils>
+#include <osgDB/Registry>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace nestwalk::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// OSG's text writers' option for the digits of floating-point output: 17 round-trips a double.
+constexpr const char* kPrecisionOption = "precision 17";
+
+struct ExportArgs {
+  std::string scene, out;
+  bool volumes = false, noTerrain = false, overwrite = false;
+  int tileCells = 128;
+};
+
+/// Checks OUT before anything is loaded: a known format, a folder that exists, not a folder itself,
+/// not an existing file unless --overwrite.
+std::string checkOutput(const ExportArgs& a) {
+  const std::string ext = osgDB::getLowerCaseFileExtension(a.out);
+  if (ext.empty()) throw InputError(a.out + ": no file extension: name the format (.osgb, .osgt, .ive, ...)");
+  if (!osgDB::Registry::instance()->getReaderWriterForExtension(ext))
+    throw InputError(a.out + ": OpenSceneGraph has no plugin for '." + ext + "' files (try .osgb, .osgt or .ive)");
+  const fs::path out(a.out);
+  const fs::path folder = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  if (!fs::is_directory(folder)) throw InputError(a.out + ": the folder " + folder.string() + " does not exist");
+  if (fs::is_directory(out)) throw InputError(a.out + ": is a folder");
+  if (fs::exists(out) && !a.overwrite) throw InputError(a.out + ": exists; pass --overwrite to replace it");
+  if (a.tileCells < 1 || (a.tileCells & (a.tileCells - 1)) != 0)
+    throw InputError("--tile-cells: expected a power of two >= 1, got " + std::to_string(a.tileCells));
+  return ext;
+}
+
+void runExport(const ExportArgs& a) {
+  const std::string ext = checkOutput(a);
+  const Scene scene = loadScene(a.scene);
+  SceneGraphOptions go;
+  go.terrain = !a.noTerrain;
+  go.volumes = a.volumes;
+  go.terrainTileCells = a.tileCells;
+  const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go);
+
+  OutputFile file(a.out, "." + ext);
+  osgDB::Registry* registry = osgDB::Registry::instance();
+  osg::ref_ptr<osgDB::Options> options =
+      registry->getOptions() ? static_cast<osgDB::Options*>(registry->getOptions()->clone(osg::CopyOp::SHALLOW_COPY))
+                             : new osgDB::Options;
+  // Text formats (.osgt, .osg) print doubles with 17 significant digits, so the UTM translations
+  // read back bit for bit (OSG's default loses the last bit, ~1e-9 m); binary formats ignore it.
+  options->setOptionString(options->getOptionString() + (options->getOptionString().empty() ? "" : " ") + kPrecisionOption);
+  const osgDB::ReaderWriter::WriteResult wr = registry->writeNode(*graph, file.tempPath(), options.get());
+  if (!wr.success() || !fs::exists(file.tempPath()))
+    throw InputError(a.out + ": OpenSceneGraph could not write the file" + (wr.message().empty() ? "" : ": " + wr.message()));
+  file.commit();
+
+  std::size_t triangles = 0;
+  for (const auto& inst : scene.instances) triangles += scene.models[inst.model].triangles;
+  std::printf("wrote %s: %zu instances, %zu models, %zu equipment triangles, %zu units", a.out.c_str(),
+              scene.instances.size(), scene.models.size(), triangles, scene.units.size());
+  if (go.terrain) std::printf(", terrain %d x %d samples", scene.terrain->cols(), scene.terrain->rows());
+  if (go.volumes) std::printf(", volume wireframes");
+  std::printf("\n");
+}
+
+}  // namespace
+
+void registerExport(CLI::App& app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "export", "Write a scene's OpenSceneGraph graph (terrain, equipment, optional volume wireframes) to a file");
+  cmd->add_option("SCENE", args->scene, "Scene file (.json)")->required();
+  cmd->add_option("OUT", args->out, "Output file; the extension picks the format (.osgb, .osgt, .ive, ...)")->required();
+  cmd->add_flag("--volumes", args->volumes, "Add the units' outer AABBs and inner OBBs as wireframes");
+  cmd->add_flag("--no-terrain", args->noTerrain, "Leave the terrain out");
+  cmd->add_option("--tile-cells", args->tileCells, "Terrain tile side in cells, a power of two")->default_val(128);
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT");
+  cmd->callback([args] { runExport(*args); });
+}
+
+}  // namespace nestwalk::tools

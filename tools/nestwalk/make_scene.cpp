@@ -1,0 +1,56 @@
+// nestwalk make-scene DIR [--seed N] [--overwrite]: generates the bundled mining-dump scene
+// (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/models/*.osgt, DIR/scene.json and
+// DIR/scripts/{bench_patrol,ramp_descent,low_flight}.txt, built in a temporary folder beside DIR
+// and renamed to DIR at the end. An existing DIR is replaced only with --overwrite.
+#include "assets/generators/scene_generator.h"
+#include "tools/nestwalk/commands.h"
+
+#include <cstdio>
+#include <map>
+#include <memory>
+
+namespace nestwalk::tools {
+namespace {
+
+struct MakeSceneArgs {
+  std::string dir;
+  std::uint64_t seed = 1;
+  bool overwrite = false;
+};
+
+void runMakeScene(const MakeSceneArgs& args) {
+  const assets::GeneratedScene scene = assets::generateScene(args.seed);
+  assets::writeScene(scene, args.dir, args.overwrite);
+  std::map<std::string, int> kinds;
+  for (const auto& p : scene.equipment) ++kinds[assets::modelKindLabel(p.model)];
+  const auto& L = scene.dump.layout;
+  const auto& P = scene.points;
+  std::printf("generated %s (seed %llu)\n", args.dir.c_str(), static_cast<unsigned long long>(args.seed));
+  std::printf("  terrain:    terrain.tif, %d x %d samples at %.10g m, EPSG:32651; benches every %.3f m from %.3f to %.3f m\n",
+              scene.dump.cols, scene.dump.rows, scene.dump.cell, scene.geometry.benchHeight, L.baseHeight,
+              L.topHeight);
+  std::printf("  equipment:  %zu pieces:", scene.equipment.size());
+  for (const auto& [kind, n] : kinds) std::printf(" %s %d", kind.c_str(), n);
+  std::printf("\n  models:     models/*.osgt (%zu)\n", assets::kAllModels.size());
+  std::printf("  patrol:     scripts/bench_patrol.txt: lane blocked by %s (mast at %.3f %.3f)\n",
+              P.patrolStation.c_str(), P.patrolMast.x(), P.patrolMast.y());
+  std::printf("  ramp:       scripts/ramp_descent.txt: %.3f %.3f -> %.3f %.3f\n", P.rampTop.x(), P.rampTop.y(),
+              P.rampToe.x(), P.rampToe.y());
+  std::printf("  flight:     scripts/low_flight.txt: %.3f %.3f -> %.3f %.3f\n", P.flightStart.x(), P.flightStart.y(),
+              P.flightEnd.x(), P.flightEnd.y());
+}
+
+}  // namespace
+
+void registerMakeScene(CLI::App& app) {
+  auto args = std::make_shared<MakeSceneArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "make-scene",
+      "Generate the bundled mining-dump scene: terrain, equipment models (OSG native), scene.json and its scripts");
+  cmd->add_option("DIR", args->dir, "Output folder; replaced only with --overwrite")->required();
+  cmd->add_option("--seed", args->seed, "Random seed (same seed, same scene)")->default_val(1);
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing DIR");
+  cmd->callback([args] { runMakeScene(*args); });
+}
+
+}  // namespace nestwalk::tools
