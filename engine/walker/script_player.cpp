@@ -68,32 +68,40 @@ void ScriptPlayer::stepOnce(const Eigen::Vector3d& move, double headingDeg, doub
 }
 
 void ScriptPlayer::turnTo(double headingDeg, const StepCallback& onStep) {
+  // Whole steps at the turn rate; the last part (less than a step's turn) is applied to the view
+  // at once and the body follows at the next step.
   const double maxTurn = kTurnRate * walker_.options().dt;
   double left = turnBetween(walker_.state().headingDeg, headingDeg);
-  while (left != 0.0) {
-    const double turn = std::abs(left) <= maxTurn ? left : std::copysign(maxTurn, left);
-    const double h = std::abs(left) <= maxTurn ? wrap360(headingDeg) : wrap360(walker_.state().headingDeg + turn);
-    stepOnce(Eigen::Vector3d::Zero(), h, walker_.state().pitchDeg, onStep);
+  while (std::abs(left) > maxTurn) {
+    const double turn = std::copysign(maxTurn, left);
+    stepOnce(Eigen::Vector3d::Zero(), wrap360(walker_.state().headingDeg + turn), walker_.state().pitchDeg, onStep);
     left -= turn;
-    if (std::abs(left) < 1e-12) left = 0.0;
   }
+  walker_.setView(wrap360(headingDeg), walker_.state().pitchDeg);
 }
 
 void ScriptPlayer::pitchTo(double pitchDeg, const StepCallback& onStep) {
   const double maxPitch = kPitchRate * walker_.options().dt;
-  while (walker_.state().pitchDeg != pitchDeg) {
-    const double left = pitchDeg - walker_.state().pitchDeg;
-    const double p = std::abs(left) <= maxPitch ? pitchDeg : walker_.state().pitchDeg + std::copysign(maxPitch, left);
+  while (std::abs(pitchDeg - walker_.state().pitchDeg) > maxPitch) {
+    const double p = walker_.state().pitchDeg + std::copysign(maxPitch, pitchDeg - walker_.state().pitchDeg);
     stepOnce(Eigen::Vector3d::Zero(), walker_.state().headingDeg, p, onStep);
   }
+  walker_.setView(walker_.state().headingDeg, pitchDeg);
 }
 
 void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep) {
   const double dt = walker_.options().dt;
   const double eyeHeight = walker_.options().viewer.eyeHeight;
+  // A flying target below the clearance over its ground is aimed at the lowest allowed height
+  // there, so that the speed goes into the distance that can be flown.
+  Eigen::Vector3d aimAt = target;
+  if (hasZ && walker_.state().flying) {
+    if (const std::optional<double> lowest = walker_.lowestFlyingFeet(target.x(), target.y()))
+      aimAt.z() = std::max(aimAt.z(), *lowest + eyeHeight);
+  }
   auto offset = [&]() {
     const WalkerState& s = walker_.state();
-    Eigen::Vector3d d = target - (s.feet + Eigen::Vector3d(0, 0, eyeHeight));
+    Eigen::Vector3d d = aimAt - (s.feet + Eigen::Vector3d(0, 0, eyeHeight));
     if (!(hasZ && s.flying)) d.z() = 0;
     return d;
   };
@@ -107,7 +115,10 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     const double dist = d.norm();
     if (dist <= kArrivalTolerance) break;
     const double stepLen = speed_ * dt;
-    const Eigen::Vector3d move = dist <= stepLen ? d : d * (stepLen / dist);
+    // The last step takes the whole rest when it is within kLastStepSlack of a step's length
+    // (flying targets recorded below the clearance floor are a hair out of reach otherwise).
+    const bool last = dist <= stepLen * (1.0 + kLastStepSlack);
+    const Eigen::Vector3d move = last ? d : Eigen::Vector3d(d * (stepLen / dist));
     double heading = walker_.state().headingDeg;
     if (aim && d.head<2>().norm() > 0.01) {
       // Re-aim (a slide may have moved the viewer off the line), within the turn rate.
@@ -118,7 +129,10 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     }
     const Eigen::Vector3d before = walker_.state().feet;
     stepOnce(move, heading, walker_.state().pitchDeg, onStep);
+    if (last && offset().head<2>().norm() <= kArrivalTolerance) break;
     if ((walker_.state().feet - before).norm() < kProgressEpsilon) {
+      // Only height left and none gained: the flying clearance holds the viewer above the target.
+      if (d.head<2>().norm() <= kArrivalTolerance) break;
       stuck += dt;
       if (stuck >= kBlockedTimeout - 1e-9) break;
     } else {

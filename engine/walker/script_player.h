@@ -6,7 +6,9 @@
 // the current speed, re-aiming every step; `move D` goes to the point D ahead of the heading at
 // its start; `move DX DY [DZ]` to the offset point, keeping the heading. A motion ends at its
 // target (within kArrivalTolerance) or after kBlockedTimeout seconds without progress. `turn`,
-// `heading` and `look` run at kTurnRate / kPitchRate; `wait` stands for ceil(T / dt) steps.
+// `heading` and `look` run at kTurnRate / kPitchRate in whole steps; the rest (less than one
+// step's turn) turns the view at once, the body following at the next step. `wait` stands for
+// ceil(T / dt) steps.
 #pragma once
 
 #include "engine/report/frame_record.h"
@@ -22,6 +24,7 @@ inline constexpr double kTurnRate = 90.0;          // degrees per second
 inline constexpr double kPitchRate = 60.0;         // degrees per second
 inline constexpr double kArrivalTolerance = 1e-6;  // metres
 inline constexpr double kProgressEpsilon = 1e-6;   // metres per step that count as progress
+inline constexpr double kLastStepSlack = 0.01;     // a rest up to 1 % over a step is taken in one
 
 class ScriptPlayer {
  public:

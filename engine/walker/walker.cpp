@@ -75,6 +75,12 @@ bool Walker::footprintHeights(double x, double y, double yawDeg, std::array<doub
   return true;
 }
 
+std::optional<double> Walker::lowestFlyingFeet(double x, double y) const {
+  std::array<double, 5> h{};
+  if (!footprintHeights(x, y, state_.bodyYawDeg, h)) return std::nullopt;
+  return *std::max_element(h.begin(), h.end()) + state_.clearance;
+}
+
 std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double headingDeg, bool flying,
                           double clearance) {
   std::array<double, 5> h{};

@@ -86,9 +86,17 @@ class Walker {
   // (no ground there, inside a unit).
   std::string place(const Eigen::Vector3d& position, bool hasZ, double headingDeg, bool flying, double clearance);
   void setFlying(bool flying, double clearance);
-  void setPitch(double pitchDeg) { state_.pitchDeg = pitchDeg; }
+  // Turns the view without a step (the body follows at the next step, if it can).
+  void setView(double headingDeg, double pitchDeg) {
+    state_.headingDeg = headingDeg;
+    state_.pitchDeg = pitchDeg;
+  }
 
   StepReport step(const StepInput& in);
+
+  // Flying: the lowest the feet may be at map (x, y) with the body's current yaw (highest
+  // footprint sample plus the clearance); nullopt where there is no ground.
+  std::optional<double> lowestFlyingFeet(double x, double y) const;
 
   const WalkerState& state() const { return state_; }
   const WalkerOptions& options() const { return options_; }

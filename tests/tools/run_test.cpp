@@ -93,6 +93,21 @@ TEST_P(BundledRun, EveryHierarchyGivesTheSameContacts) {
   }
 }
 
+TEST(Run, AWalkedCameraPathCanBeFlownAsAScript) {
+  if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent";
+  const auto dir = tempFolder();
+  const auto a = runNestwalk("run " + quoted(kScene) + " --script " + quoted(kScripts / "ramp_descent.txt") +
+                             " --headless --quiet --out " + quoted(dir / "walk"));
+  ASSERT_EQ(a.exitCode, 0) << a.out << a.err;
+  const auto b = runNestwalk("run " + quoted(kScene) + " --script " + quoted(dir / "walk" / "camera.path") +
+                             " --headless --quiet --out " + quoted(dir / "fly"));
+  ASSERT_EQ(b.exitCode, 0) << b.out << b.err;
+  const auto walked = nlohmann::json::parse(readText(dir / "walk" / "summary.json"));
+  const auto flown = nlohmann::json::parse(readText(dir / "fly" / "summary.json"));
+  // The path's points are flown at the recorded speed: about as many frames as the walk.
+  EXPECT_NEAR(flown["frames"].get<double>(), walked["frames"].get<double>(), 0.05 * walked["frames"].get<double>());
+}
+
 INSTANTIATE_TEST_SUITE_P(Scripts, BundledRun, ::testing::ValuesIn(kScriptNames),
                          [](const auto& info) { return fs::path(info.param).stem().string(); });
 
