@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev     # tests and benchmarks
   libfcl-dev libccd-dev libbullet-dev            # peers for benchmarks and test oracles
   libembree-dev                                  # ray-casting oracle
+  ffmpeg                                         # the rendered flythrough as a video (MP4)
   libcgal-dev libgmp-dev libmpfr-dev             # optimal OBB reference, exact arithmetic
   libqhull-dev                                   # convex hulls
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing

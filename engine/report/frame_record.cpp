@@ -17,6 +17,7 @@ constexpr int kPositionDigits = 4;
 constexpr int kAngleDigits = 6;
 constexpr int kTimeDigits = 6;
 constexpr int kMicrosDigits = 3;
+constexpr int kPixelDigits = 4;
 
 /// Fixed-point text, independent of the C and C++ locales (std::to_chars).
 void appendFixed(std::string& out, double v, int digits) {
@@ -60,6 +61,16 @@ const char* stepPartName(StepPart p) {
   return "?";
 }
 
+const char* renderPartName(RenderPart p) {
+  switch (p) {
+    case RenderPart::Cull: return "cull";
+    case RenderPart::Draw: return "draw";
+    case RenderPart::Readback: return "readback";
+    case RenderPart::Total: return "total";
+  }
+  return "?";
+}
+
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0.0;
   const double n = double(values.size());
@@ -75,7 +86,8 @@ double percentile(std::vector<double> values, double p) {
 void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& records) {
   std::string text =
       "frame,time,x,y,z,heading,pitch,flying,has_ground,ground,blocked,blocked_by,node_tests,aabb_aabb,aabb_obb,"
-      "obb_obb,np,nu,us_ground,us_broad,us_narrow,us_total\n";
+      "obb_obb,np,nu,rendered,triangles,instances_drawn,culled_aabb,culled_obb,terrain_error_px,us_ground,us_broad,"
+      "us_narrow,us_total,us_render_cull,us_render_draw,us_render_readback,us_render_total\n";
   text.reserve(text.size() + records.size() * 200);
   for (const FrameRecord& r : records) {
     appendInt(text, r.frame);
@@ -100,9 +112,22 @@ void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& reco
       text += ',';
       appendInt(text, c);
     }
+    text += r.render.rendered ? ",1" : ",0";
+    const std::uint64_t drawn[] = {r.render.triangles, r.render.instancesDrawn, r.render.culledByAabb,
+                                   r.render.culledByObb};
+    for (std::uint64_t c : drawn) {
+      text += ',';
+      appendInt(text, c);
+    }
+    text += ',';
+    appendFixed(text, r.render.terrainErrorPx, kPixelDigits);
     for (int part = 0; part < kStepParts; ++part) {
       text += ',';
       appendFixed(text, r.micros[std::size_t(part)], kMicrosDigits);
+    }
+    for (int part = 0; part < kRenderParts; ++part) {
+      text += ',';
+      appendFixed(text, r.render.micros[std::size_t(part)], kMicrosDigits);
     }
     text += '\n';
   }

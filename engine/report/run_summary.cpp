@@ -36,6 +36,43 @@ void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const 
   }
   out["step_us"] = steps;
 
+  std::vector<const FrameRecord*> rendered;
+  for (const FrameRecord& r : records)
+    if (r.render.rendered) rendered.push_back(&r);
+  if (!rendered.empty()) {
+    json render = info.renderInfoJson.empty() ? json::object() : json::parse(info.renderInfoJson);
+    render["frames"] = rendered.size();
+    json ms = json::object();
+    for (int part = 0; part < kRenderParts; ++part) {
+      std::vector<double> v;
+      v.reserve(rendered.size());
+      for (const FrameRecord* r : rendered) v.push_back(r->render.micros[std::size_t(part)] / 1000.0);
+      ms[renderPartName(RenderPart(part))] = {{"p50", percentile(v, 50)},
+                                              {"p95", percentile(v, 95)},
+                                              {"p99", percentile(v, 99)},
+                                              {"max", percentile(v, 100)}};
+    }
+    render["ms"] = ms;
+    std::uint64_t triangles = 0, maxTriangles = 0, drawn = 0, byAabb = 0, byObb = 0;
+    double maxError = 0;
+    for (const FrameRecord* r : rendered) {
+      triangles += r->render.triangles;
+      maxTriangles = std::max(maxTriangles, r->render.triangles);
+      drawn += r->render.instancesDrawn;
+      byAabb += r->render.culledByAabb;
+      byObb += r->render.culledByObb;
+      maxError = std::max(maxError, r->render.terrainErrorPx);
+    }
+    const double m = double(rendered.size());
+    render["mean_triangles"] = double(triangles) / m;
+    render["max_triangles"] = maxTriangles;
+    render["max_terrain_error_px"] = maxError;
+    render["mean_instances_drawn"] = double(drawn) / m;
+    render["mean_culled_aabb"] = double(byAabb) / m;
+    render["mean_culled_obb"] = double(byObb) / m;
+    out["render"] = render;
+  }
+
   // Sums in 64-bit integers (exact), divided once at the end.
   std::uint64_t sums[6] = {};
   std::uint64_t blocked = 0;

@@ -11,7 +11,10 @@
 #include "engine/geometry/nested.h"
 #include "engine/scene/scene_file.h"
 #include "terrain/heightfield.h"
+#include "terrain/terrain_mesh.h"
 
+#include <osg/LOD>
+#include <osg/MatrixTransform>
 #include <osg/Node>
 #include <osg/ref_ptr>
 
@@ -104,6 +107,16 @@ struct SceneGraphOptions {
   bool equipment = true;
   bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
   int terrainTileCells = 128;
+  terrain::LodRule terrainLod;  // the LOD switch rule (screen size, field of view, pixels of error)
+};
+
+// What the renderer needs to find again in a built graph (buildSceneGraph's optional output).
+struct SceneGraphParts {
+  std::shared_ptr<const terrain::TerrainMesh> terrainMesh;  // null without terrain
+  std::vector<osg::ref_ptr<osg::LOD>> terrainTiles;         // tile i of terrainMesh->tiles() (null: no LOD)
+  osg::ref_ptr<osg::MatrixTransform> terrain;               // mesh frame -> local frame
+  osg::ref_ptr<osg::Group> equipment;                       // child i: instance i
+  osg::ref_ptr<osg::Group> volumes;
 };
 
 // The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
@@ -115,6 +128,7 @@ struct SceneGraphOptions {
 //  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,
 //    lighting off, local frame.
 // For drawing and `nestwalk export`; the walker never touches it. terrainTileCells: a power of two.
-osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {});
+osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {},
+                                         SceneGraphParts* parts = nullptr);
 
 }  // namespace nestwalk

@@ -66,7 +66,10 @@ osg::ref_ptr<osg::Node> volumeWireframes(const Scene& scene) {
 
 }  // namespace
 
-osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options) {
+osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options, SceneGraphParts* parts) {
+  SceneGraphParts local;
+  SceneGraphParts& out = parts ? *parts : local;
+  out = SceneGraphParts{};
   osg::ref_ptr<osg::Group> root = new osg::Group;
   root->setName("scene");
   osg::ref_ptr<osg::MatrixTransform> localToMap =
@@ -83,10 +86,15 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
     tiles->setName("terrain");
     terrain::TerrainMeshOptions meshOptions;
     meshOptions.tileCells = options.terrainTileCells;
-    const terrain::TerrainMesh mesh(hf, meshOptions);
-    for (const auto& tile : mesh.tiles())
-      if (osg::ref_ptr<osg::LOD> lod = mesh.makeLod(tile)) tiles->addChild(lod);
+    auto mesh = std::make_shared<const terrain::TerrainMesh>(hf, meshOptions);
+    for (const auto& tile : mesh->tiles()) {
+      osg::ref_ptr<osg::LOD> lod = mesh->makeLod(tile, options.terrainLod);
+      if (lod) tiles->addChild(lod);
+      out.terrainTiles.push_back(lod);
+    }
     localToMap->addChild(tiles);
+    out.terrainMesh = std::move(mesh);
+    out.terrain = tiles;
   }
 
   if (options.equipment) {
@@ -101,6 +109,7 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
       equipment->addChild(t);
     }
     localToMap->addChild(equipment);
+    out.equipment = equipment;
   }
 
   if (options.volumes) {
@@ -108,6 +117,7 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
     volumes->setName("volumes");
     volumes->addChild(volumeWireframes(scene));
     localToMap->addChild(volumes);
+    out.volumes = volumes;
   }
   return root;
 }

@@ -36,7 +36,7 @@ FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report) {
 }
 
 FlythroughResult runFlythrough(const Scene& scene, const CollisionWorld& world, const Script& script,
-                               const WalkerOptions& options, const std::function<void(const FrameRecord&)>& onRecord) {
+                               const WalkerOptions& options, const std::function<void(FrameRecord&)>& onRecord) {
   FlythroughResult out;
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);

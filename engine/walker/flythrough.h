@@ -20,11 +20,12 @@ struct FlythroughResult {
   bool expectationsMet() const;
 };
 
-// Plays `script` on a walker over `scene` and `world`; calls `onRecord` after each step (progress
-// lines). Throws InputError (script file and line) for a start that cannot be.
+// Plays `script` on a walker over `scene` and `world`; calls `onRecord` after each step with the
+// step's record, which it may complete (rendering fills FrameRecord::render) before it is kept.
+// Throws InputError (script file and line) for a start that cannot be.
 FlythroughResult runFlythrough(const Scene& scene, const CollisionWorld& world, const Script& script,
                                const WalkerOptions& options,
-                               const std::function<void(const FrameRecord&)>& onRecord = {});
+                               const std::function<void(FrameRecord&)>& onRecord = {});
 
 // The record of the walker's current state after a step.
 FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report);

@@ -61,7 +61,9 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
 const std::vector<std::string> kHeader = {
     "frame",    "time",      "x",        "y",        "z",       "heading",  "pitch",    "flying",
     "has_ground", "ground",  "blocked",  "blocked_by", "node_tests", "aabb_aabb", "aabb_obb", "obb_obb",
-    "np",       "nu",        "us_ground", "us_broad", "us_narrow", "us_total"};
+    "np",       "nu",        "rendered", "triangles", "instances_drawn", "culled_aabb", "culled_obb",
+    "terrain_error_px", "us_ground", "us_broad", "us_narrow", "us_total", "us_render_cull", "us_render_draw",
+    "us_render_readback", "us_render_total"};
 
 double num(const std::string& s) {
   char* end = nullptr;
@@ -106,7 +108,15 @@ TEST(FrameCsv, ParsesBackToTheRecords) {
     EXPECT_EQ(f[15], std::to_string(r.stageTests[2]));
     EXPECT_EQ(f[16], std::to_string(r.primitiveTests));
     EXPECT_EQ(f[17], std::to_string(r.volumesUpdated));
-    for (int k = 0; k < kStepParts; ++k) EXPECT_NEAR(num(f[18 + std::size_t(k)]), r.micros[std::size_t(k)], kMicrosTol);
+    EXPECT_EQ(f[18], r.render.rendered ? "1" : "0");
+    EXPECT_EQ(f[19], std::to_string(r.render.triangles));
+    EXPECT_EQ(f[20], std::to_string(r.render.instancesDrawn));
+    EXPECT_EQ(f[21], std::to_string(r.render.culledByAabb));
+    EXPECT_EQ(f[22], std::to_string(r.render.culledByObb));
+    EXPECT_NEAR(num(f[23]), r.render.terrainErrorPx, 0.5e-4);
+    for (int k = 0; k < kStepParts; ++k) EXPECT_NEAR(num(f[24 + std::size_t(k)]), r.micros[std::size_t(k)], kMicrosTol);
+    for (int k = 0; k < kRenderParts; ++k)
+      EXPECT_NEAR(num(f[28 + std::size_t(k)]), r.render.micros[std::size_t(k)], kMicrosTol);
   }
 }
 
@@ -127,8 +137,8 @@ TEST(FrameCsv, FixedDecimalsAtUtmMagnitudes) {
   EXPECT_EQ(rows[1][4], "-3.5000");
   EXPECT_EQ(rows[1][5], "359.999999");
   EXPECT_EQ(rows[1][11], "");
-  EXPECT_EQ(rows[1][18], "0.062");  // round half to even of 0.0625 (exact in binary)
-  EXPECT_EQ(rows[1][21], "10.000");
+  EXPECT_EQ(rows[1][24], "0.062");  // round half to even of 0.0625 (exact in binary)
+  EXPECT_EQ(rows[1][27], "10.000");
 }
 
 /// The file with every column whose header starts with "us_" removed (what a user does with cut).

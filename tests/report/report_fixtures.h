@@ -81,6 +81,15 @@ inline std::vector<FrameRecord> sampleRecords(std::size_t n) {
     r.micros[1] = (1.0 + 0.01 * double(i % 11)) * spike;
     r.micros[2] = (5.0 + 0.05 * double(i % 7)) * spike;
     r.micros[3] = r.micros[0] + r.micros[1] + r.micros[2] + 3.0 + 0.1 * double(i % 5);
+    if (i % 3 == 0) {  // every third frame rendered
+      r.render.rendered = true;
+      r.render.triangles = 400000 + 37 * i;
+      r.render.instancesDrawn = 100 + i % 9;
+      r.render.culledByAabb = 700 - i % 9;
+      r.render.culledByObb = i % 4;
+      r.render.terrainErrorPx = 0.25 + 0.001 * double(i % 100);
+      r.render.micros = {1500.0 + double(i), 30000.0 + 10.0 * double(i), 2500.0, 34000.0 + 11.0 * double(i)};
+    }
     out.push_back(r);
   }
   return out;

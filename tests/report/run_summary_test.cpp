@@ -65,7 +65,7 @@ TEST(RunSummary, ValuesAgainstIndependentComputation) {
                      "blocked by bench2/station3/mast"};
   expectations[1] = {"patrol.txt", 15, "expect free", false, 77, {1, 2, 3}, "blocked by terrain:step"};
   expectations[2] = {"patrol.txt", 20, "expect ground within 0.01", true, 99, {4, 5, 6}, "eye 0.000001 m off"};
-  RunSummaryInfo info{"dump.scene.json", "patrol.txt", "nested, auto tree (degree 4)", 1.0 / 60.0, 42};
+  RunSummaryInfo info{"dump.scene.json", "patrol.txt", "nested, auto tree (degree 4)", 1.0 / 60.0, 42, ""};
   const std::string path = dir / "summary.json";
   writeRunSummary(path, info, records, expectations);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"summary.json"});
@@ -131,7 +131,7 @@ TEST(RunSummary, ValuesAgainstIndependentComputation) {
 
 TEST(RunSummary, EmptyRun) {
   TempDir dir;
-  writeRunSummary(dir / "s.json", RunSummaryInfo{"s", "t", "m", 0.01, 0}, {}, {});
+  writeRunSummary(dir / "s.json", RunSummaryInfo{"s", "t", "m", 0.01, 0, ""}, {}, {});
   const nlohmann::json j = nlohmann::json::parse(readFile(dir / "s.json"));
   EXPECT_EQ(j["frames"], 0);
   EXPECT_EQ(j["simulated_seconds"].get<double>(), 0.0);
@@ -152,6 +152,49 @@ TEST(RunSummary, UnwritableFolderNamesTheFile) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace nestwalk
+
+namespace nestwalk {
+namespace {
+
+TEST(RunSummary, RenderSectionOverRenderedFramesOnly) {
+  testing::TempDir dir;
+  const std::vector<FrameRecord> records = testing::sampleRecords(300);
+  RunSummaryInfo info{"s.json", "p.txt", "nested", 1.0 / 60.0, 7, ""};
+  info.renderInfoJson = R"({"route": "egl-surfaceless", "size": [640, 360]})";
+  writeRunSummary(dir / "summary.json", info, records, {});
+  const nlohmann::json j = nlohmann::json::parse(testing::readFile(dir / "summary.json"));
+  ASSERT_TRUE(j.contains("render"));
+  const nlohmann::json& r = j["render"];
+  EXPECT_EQ(r["route"], "egl-surfaceless");
+  EXPECT_EQ(r["size"][1], 360);
+  std::size_t frames = 0;
+  double triangles = 0, maxError = 0;
+  std::vector<double> totalMs, drawMs;
+  for (const FrameRecord& f : records)
+    if (f.render.rendered) {
+      ++frames;
+      triangles += double(f.render.triangles);
+      maxError = std::max(maxError, f.render.terrainErrorPx);
+      totalMs.push_back(f.render.micros[3] / 1000.0);
+      drawMs.push_back(f.render.micros[1] / 1000.0);
+    }
+  EXPECT_EQ(r["frames"], frames);
+  EXPECT_EQ(frames, 100u);
+  EXPECT_DOUBLE_EQ(r["mean_triangles"].get<double>(), triangles / double(frames));
+  EXPECT_EQ(r["max_terrain_error_px"].get<double>(), maxError);
+  EXPECT_EQ(r["ms"]["total"]["p50"].get<double>(), nearestRank(totalMs, 50));
+  EXPECT_EQ(r["ms"]["draw"]["p95"].get<double>(), nearestRank(drawMs, 95));
+  EXPECT_EQ(r["ms"]["total"]["max"].get<double>(), *std::max_element(totalMs.begin(), totalMs.end()));
+
+  // Without rendered frames there is no render section.
+  std::vector<FrameRecord> plain = records;
+  for (FrameRecord& f : plain) f.render = RenderRecord{};
+  writeRunSummary(dir / "plain.json", info, plain, {});
+  EXPECT_FALSE(nlohmann::json::parse(testing::readFile(dir / "plain.json")).contains("render"));
 }
 
 }  // namespace

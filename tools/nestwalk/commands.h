@@ -18,5 +18,6 @@ void registerMakeScene(CLI::App& app);       // nestwalk make-scene DIR
 void registerExport(CLI::App& app);          // nestwalk export SCENE OUT.osgb
 void registerRun(CLI::App& app);             // nestwalk run SCENE --script FILE --headless --out DIR
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]
+void registerBenchRender(CLI::App& bench);  // nestwalk bench render [--json]
 
 }  // namespace nestwalk::tools

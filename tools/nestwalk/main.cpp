@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerBenchVolumes(*bench);
   nestwalk::tools::registerBenchTerrain(*bench);
   nestwalk::tools::registerBenchWalker(*bench);
+  nestwalk::tools::registerBenchRender(*bench);
 
   try {
     app.parse(argc, argv);

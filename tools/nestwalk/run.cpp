@@ -1,12 +1,19 @@
-// nestwalk run SCENE --script FILE --headless --out DIR: plays a flythrough script on the scene's
-// walker without any display and writes, in DIR: frames.csv (a record per step), summary.json,
-// frame_times.png and camera.path (an OpenSceneGraph AnimationPath osgviewer replays over
-// `nestwalk export`). Exits with 3 when an expectation of the script failed (each is printed with
-// its frame and position), with 1 for bad input.
+// nestwalk run SCENE --script FILE --headless --out DIR [--render ...]: plays a flythrough script
+// on the scene's walker without any display and writes, in DIR: frames.csv (a record per step),
+// summary.json, frame_times.png, top_down.png (the run over the terrain's hillshade) and camera.path
+// (an OpenSceneGraph AnimationPath osgviewer replays over `nestwalk export`). With --render it also renders the walker's view offscreen (every N-th
+// step) into frames/frame_NNNNNN.png and flythrough.mp4, with the render times in the same CSV and
+// summary. Exits with 3 when an expectation of the script failed (each is printed with its frame
+// and position), with 1 for bad input.
 #include "engine/core/input_error.h"
+#include "engine/render/frame_writers.h"
+#include "engine/render/view_renderer.h"
+#include "engine/report/top_down_map.h"
 #include "engine/scene/scene.h"
 #include "engine/walker/flythrough.h"
 #include "tools/nestwalk/commands.h"
+
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
@@ -24,7 +31,20 @@ struct RunArgs {
   double hz = 60.0;
   std::string volumes, hierarchy, splitAxis, splitPoint;
   int degree = 0;
+  // Rendering.
+  bool render = false, showVolumes = false, noVideo = false, noFrames = false, osgCulling = false;
+  std::string size = "1280x720";
+  int every = 1;
 };
+
+std::pair<int, int> parseSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 ||
+      h < 16 || w > 8192 || h > 8192)
+    throw InputError("--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 1280x720, got '" + text + "'");
+  return {w, h};
+}
 
 MethodSpec methodFrom(const RunArgs& a, MethodSpec m) {
   if (!a.volumes.empty()) {
@@ -55,11 +75,20 @@ MethodSpec methodFrom(const RunArgs& a, MethodSpec m) {
 void runRun(const RunArgs& args) {
   namespace fs = std::filesystem;
   const fs::path out(args.out);
-  const char* outputs[] = {"frames.csv", "summary.json", "frame_times.png", "camera.path"};
+  std::vector<std::string> outputs = {"frames.csv", "summary.json", "frame_times.png", "top_down.png", "camera.path"};
+  if (args.render) {
+    if (!args.noFrames) outputs.push_back("frames");
+    if (!args.noVideo) outputs.push_back("flythrough.mp4");
+  }
   if (!args.overwrite)
-    for (const char* f : outputs)
+    for (const std::string& f : outputs)
       if (fs::exists(out / f))
         throw InputError((out / f).string() + ": exists; pass --overwrite to replace the run's outputs");
+  const auto [width, height] = parseSize(args.size);
+  if (args.render && !args.noVideo && !VideoWriter::ffmpegAvailable())
+    throw InputError((out / "flythrough.mp4").string() +
+                     ": cannot write the video: ffmpeg is not installed (tools/setup-deps.sh installs it; "
+                     "--no-video renders without it)");
 
   const Script script = readScript(args.script);
   const Scene scene = loadScene(args.scene);
@@ -71,18 +100,55 @@ void runRun(const RunArgs& args) {
   options.dt = 1.0 / args.hz;
   options.slide = args.slide;
 
-  const bool terminal = !args.quiet && isatty(fileno(stderr));
-  const FlythroughResult result = runFlythrough(scene, world, script, options, [&](const FrameRecord& r) {
-    if (terminal && r.frame % 30 == 0)
-      std::fprintf(stderr, "\rframe %6llu  t %7.2f s  eye %.2f %.2f %.2f  %s\033[K",
-                   static_cast<unsigned long long>(r.frame), r.time, r.eye.x(), r.eye.y(), r.eye.z(),
-                   r.blocked ? ("blocked by " + r.blockedBy).c_str() : "");
-  });
-  if (terminal) std::fprintf(stderr, "\r\033[K");
-
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw InputError(out.string() + ": cannot create the folder: " + ec.message());
+
+  std::unique_ptr<ViewRenderer> renderer;
+  std::unique_ptr<PngSequenceWriter> pngs;
+  std::unique_ptr<VideoWriter> video;
+  if (args.render) {
+    RenderOptions ro;
+    ro.width = width;
+    ro.height = height;
+    ro.volumes = args.showVolumes;
+    ro.nestedCulling = !args.osgCulling;
+    try {
+      renderer = std::make_unique<ViewRenderer>(scene, ro);
+    } catch (const std::runtime_error& e) {
+      throw InputError(std::string("--render: ") + e.what());
+    }
+    if (!args.noFrames) pngs = std::make_unique<PngSequenceWriter>((out / "frames").string());
+    if (!args.noVideo)
+      video = std::make_unique<VideoWriter>((out / "flythrough.mp4").string(), width, height, args.hz / args.every);
+  }
+
+  const bool terminal = !args.quiet && isatty(fileno(stderr));
+  double lastRenderMs = 0;
+  const FlythroughResult result = runFlythrough(scene, world, script, options, [&](FrameRecord& r) {
+    if (renderer && (r.frame - 1) % std::uint64_t(args.every) == 0) {
+      const RenderFrameStats& s =
+          renderer->render({r.eye, r.headingDeg, r.pitchDeg, r.blocked, r.blockedBy});
+      r.render.rendered = true;
+      r.render.triangles = s.triangles;
+      r.render.instancesDrawn = s.cull.instances ? s.cull.visible : scene.instances.size();
+      r.render.culledByAabb = s.cull.aabbOutside;
+      r.render.culledByObb = s.cull.obbOutside;
+      r.render.terrainErrorPx = s.terrainErrorPx;
+      r.render.micros = {1000.0 * s.cullMs, 1000.0 * s.drawMs, 1000.0 * s.readbackMs, 1000.0 * s.totalMs};
+      lastRenderMs = s.totalMs;
+      if (pngs) pngs->write(renderer->image(), r.frame);
+      if (video) video->addFrame(renderer->image());
+    }
+    if (terminal && r.frame % 30 == 0)
+      std::fprintf(stderr, "\rframe %6llu  t %7.2f s  eye %.2f %.2f %.2f%s  %s\033[K",
+                   static_cast<unsigned long long>(r.frame), r.time, r.eye.x(), r.eye.y(), r.eye.z(),
+                   renderer ? ("  render " + std::to_string(int(lastRenderMs + 0.5)) + " ms").c_str() : "",
+                   r.blocked ? ("blocked by " + r.blockedBy).c_str() : "");
+  });
+  if (terminal) std::fprintf(stderr, "\r\033[K");
+  std::size_t pngCount = pngs ? pngs->finish() : 0;
+  if (video) video->finish();
   writeFrameCsv((out / "frames.csv").string(), result.records);
   RunSummaryInfo info;
   info.scene = args.scene;
@@ -90,8 +156,19 @@ void runRun(const RunArgs& args) {
   info.method = describe(method);
   info.dt = options.dt;
   info.units = world.size();
+  if (renderer) {
+    nlohmann::ordered_json r;
+    r["route"] = offscreenRouteName(renderer->route());
+    r["gl_renderer"] = renderer->glRenderer();
+    r["size"] = {width, height};
+    r["every"] = args.every;
+    r["culling"] = args.osgCulling ? "osg bounding spheres" : "nested (outer AABB, then inner OBB)";
+    r["near_far"] = {renderer->nearPlane(), renderer->farPlane()};
+    info.renderInfoJson = r.dump();
+  }
   writeRunSummary((out / "summary.json").string(), info, result.records, result.expectations);
   writeFrameTimePlot((out / "frame_times.png").string(), result.records);
+  writeTopDownMap((out / "top_down.png").string(), scene, result.records, result.expectations);
   writeAnimationPath((out / "camera.path").string(), result.camera);
 
   std::vector<double> total;
@@ -113,8 +190,24 @@ void runRun(const RunArgs& args) {
                   e.text.c_str(), static_cast<unsigned long long>(e.frame), e.eye.x(), e.eye.y(), e.eye.z(),
                   e.detail.c_str());
   }
+  if (renderer) {
+    std::vector<double> ms[kRenderParts];
+    std::size_t frames = 0;
+    for (const auto& r : result.records)
+      if (r.render.rendered) {
+        ++frames;
+        for (int k = 0; k < kRenderParts; ++k) ms[k].push_back(r.render.micros[std::size_t(k)] / 1000.0);
+      }
+    std::printf("  rendered %zu frames at %dx%d (%s, %s): ms per frame p50 %.1f (cull %.1f, draw %.1f, readback %.1f), "
+                "p95 %.1f\n",
+                frames, width, height, offscreenRouteName(renderer->route()), renderer->glRenderer().c_str(),
+                percentile(ms[3], 50), percentile(ms[0], 50), percentile(ms[1], 50), percentile(ms[2], 50),
+                percentile(ms[3], 95));
+    if (pngCount) std::printf("  wrote %zu frames to %s\n", pngCount, (out / "frames").string().c_str());
+    if (video) std::printf("  wrote %s (%zu frames)\n", (out / "flythrough.mp4").string().c_str(), video->frames());
+  }
   std::printf("  expectations: %zu of %zu met\n", met, result.expectations.size());
-  std::printf("  wrote %s/{frames.csv, summary.json, frame_times.png, camera.path}\n", out.string().c_str());
+  std::printf("  wrote %s/{frames.csv, summary.json, frame_times.png, top_down.png, camera.path}\n", out.string().c_str());
   if (met != result.expectations.size()) throw CLI::RuntimeError(3);
 }
 
@@ -127,7 +220,15 @@ void registerRun(CLI::App& app) {
   cmd->add_option("--script", args->script, "Flythrough script (text, see README) or an osgviewer AnimationPath (.path)")
       ->required();
   cmd->add_option("--out", args->out, "Folder for the run's files")->required();
-  cmd->add_flag("--headless", args->headless, "No display (the only mode until rendering lands)");
+  cmd->add_flag("--headless", args->headless, "No display (nestwalk never opens a window: rendering is offscreen)");
+  cmd->add_flag("--render", args->render, "Render the walker's view offscreen: frames/*.png, flythrough.mp4, render times");
+  cmd->add_option("--size", args->size, "Rendered frame size, WIDTHxHEIGHT (default 1280x720)");
+  cmd->add_option("--every", args->every, "Render every N-th step (default 1; the video plays at hz/N frames per second)")
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_flag("--show-volumes", args->showVolumes, "Draw the equipment's outer AABBs (yellow) and inner OBBs (cyan)");
+  cmd->add_flag("--osg-culling", args->osgCulling, "Cull equipment with OSG's bounding spheres instead of the nested volumes");
+  cmd->add_flag("--no-video", args->noVideo, "Render without writing flythrough.mp4");
+  cmd->add_flag("--no-frames", args->noFrames, "Render without writing the PNG frames");
   cmd->add_flag("--overwrite", args->overwrite, "Replace the run's files in the output folder");
   cmd->add_flag("--slide", args->slide, "Slide along contact faces instead of stopping");
   cmd->add_flag("--quiet", args->quiet, "No progress line");

@@ -1,0 +1,342 @@
+// The top-down map of a run (engine/report/top_down_map.h), read back with osgDB's own PNG reader:
+// a synthetic scene at UTM magnitudes (a plane falling to the south-east with a pit and a hole,
+// a rotated container and a pole) and a run over it; the image's size and north-up frame, the
+// hillshade against the plane's own Lambert shade, the hole, the path, blocked frames, the blocking
+// unit's outline, expectations and footprints are checked at pixels computed from the construction.
+#include "engine/report/top_down_map.h"
+
+#include "engine/core/input_error.h"
+#include "tests/report/report_fixtures.h"
+
+#include <gtest/gtest.h>
+#include <osg/Image>
+#include <osgDB/ReadFile>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+namespace nestwalk {
+namespace {
+
+using testing::TempDir;
+
+struct Rgb {
+  int r, g, b;
+  bool operator==(const Rgb&) const = default;
+};
+std::ostream& operator<<(std::ostream& os, const Rgb& c) { return os << "(" << c.r << ", " << c.g << ", " << c.b << ")"; }
+
+// The colours top_down_map.h documents.
+constexpr Rgb kHoleGrey{128, 128, 128};
+constexpr Rgb kWalk{40, 90, 255}, kFly{0, 215, 255};
+constexpr Rgb kRed{230, 0, 0}, kMet{0, 190, 0};
+constexpr Rgb kContainer{150, 65, 25}, kPole{255, 215, 0};
+constexpr Rgb kLowTint{96, 140, 96}, kHighTint{236, 214, 170};
+
+// The terrain: 121 x 101 samples 2 m apart, sample (0, 0) at a UTM position; heights
+// 200 - 0.5 c - 0.25 r (exact in float: a plane falling east and south), a paraboloid pit 10 m
+// deep and 16 m across in radius about sample (45, 65), a 5 x 5 hole of nodata at columns 60-64,
+// rows 40-44.
+constexpr int kCols = 121, kRows = 101;
+constexpr double kCell = 2.0, kOriginX = 550000.5, kOriginY = 4650100.5;
+constexpr int kPitCol = 45, kPitRow = 65;
+constexpr double kPitRadius = 8, kPitDepth = 10;  // radius in samples
+constexpr float kNoData = -9999;
+constexpr int kHoleCol = 60, kHoleRow = 40, kHoleSize = 5;
+
+double planeAt(double col, double row) { return 200 - 0.5 * col - 0.25 * row; }
+double planeAtMap(double x, double y) { return planeAt((x - kOriginX) / kCell, (kOriginY - y) / kCell); }
+Eigen::Vector2d samplePoint(double col, double row) { return {kOriginX + col * kCell, kOriginY - row * kCell}; }
+
+std::vector<float> terrainSamples() {
+  std::vector<float> h;
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kCols; ++c) {
+      const double d2 = (c - kPitCol) * (c - kPitCol) + (r - kPitRow) * (r - kPitRow);
+      const double pit = d2 < kPitRadius * kPitRadius ? kPitDepth * (1 - d2 / (kPitRadius * kPitRadius)) : 0;
+      const bool hole = c >= kHoleCol && c < kHoleCol + kHoleSize && r >= kHoleRow && r < kHoleRow + kHoleSize;
+      h.push_back(hole ? kNoData : float(planeAt(c, r) - pit));
+    }
+  return h;
+}
+
+// Equipment: a container turned 30° anticlockwise (seen from above) and a thin pole, each its own
+// collision unit.
+const Eigen::Vector2d kContainerCentre{550100, 4649996};
+constexpr double kContainerTurn = 30 * std::numbers::pi / 180;
+const Eigen::Vector3d kContainerHalf{3, 1.2, 1.3};
+const Eigen::Vector2d kPoleCentre{550160, 4649980};
+Eigen::Vector2d containerAxisU() { return {std::cos(kContainerTurn), std::sin(kContainerTurn)}; }
+Eigen::Vector2d containerAxisV() { return {-std::sin(kContainerTurn), std::cos(kContainerTurn)}; }
+Eigen::Vector2d containerPoint(double u, double v) { return kContainerCentre + u * containerAxisU() + v * containerAxisV(); }
+
+Scene testScene() {
+  Scene scene;
+  std::vector<float> samples = terrainSamples();
+  scene.terrain = std::make_shared<const terrain::Heightfield>(kCols, kRows, std::move(samples), kOriginX, kOriginY,
+                                                               kCell, kCell, kNoData);
+  scene.origin = Eigen::Vector3d(550120, 4650000, 0);
+  auto add = [&](const std::string& name, const std::string& kind, const Obb<double>& mapBox) {
+    EquipmentSpec spec;
+    spec.name = name;
+    spec.kind = kind;
+    scene.spec.equipment.push_back(spec);
+    Obb<double> local = mapBox;
+    local.center -= scene.origin;
+    SceneInstance instance;
+    instance.spec = std::uint32_t(scene.instances.size());
+    instance.volume = NestedVolume<double>::fromObb(local);
+    instance.unit = std::uint32_t(scene.units.size());
+    scene.instances.push_back(instance);
+    CollisionUnit unit;
+    unit.name = name;
+    unit.kind = kind;
+    unit.volume = instance.volume;
+    unit.instances = {instance.spec};
+    scene.units.push_back(unit);
+  };
+  Obb<double> container;
+  container.center = Eigen::Vector3d(kContainerCentre.x(), kContainerCentre.y(), 150);
+  container.axes.col(0) << containerAxisU(), 0;
+  container.axes.col(1) << containerAxisV(), 0;
+  container.halfExtents = kContainerHalf;
+  add("yard/container", "container", container);
+  Obb<double> pole;
+  pole.center = Eigen::Vector3d(kPoleCentre.x(), kPoleCentre.y(), 160);
+  pole.halfExtents = Eigen::Vector3d(0.05, 0.05, 2);
+  add("pole1", "pole", pole);
+  return scene;
+}
+
+// The run: 161 frames walking east along y = 4649990 from x = 550060 to 550140 (0.5 m a frame),
+// frames 80-84 blocked by the container, then 41 frames flying north to y = 4650010.
+constexpr double kWalkY = 4649990, kWalkX0 = 550060;
+constexpr int kWalkFrames = 161, kFlyFrames = 41;
+constexpr int kFirstBlocked = 80, kLastBlocked = 84;
+
+std::vector<FrameRecord> testRecords() {
+  std::vector<FrameRecord> records;
+  for (int i = 0; i < kWalkFrames + kFlyFrames; ++i) {
+    FrameRecord r;
+    r.frame = std::uint64_t(i + 1);
+    r.flying = i >= kWalkFrames;
+    r.eye = r.flying ? Eigen::Vector3d(kWalkX0 + 0.5 * (kWalkFrames - 1), kWalkY + 0.5 * (i - kWalkFrames), 170)
+                     : Eigen::Vector3d(kWalkX0 + 0.5 * i, kWalkY, 160);
+    if (i >= kFirstBlocked && i <= kLastBlocked) {
+      r.blocked = true;
+      r.blockedBy = "yard/container";
+    }
+    records.push_back(r);
+  }
+  return records;
+}
+
+std::vector<ExpectationResult> testExpectations() {
+  ExpectationResult met, failed;
+  met.met = true;
+  met.eye = Eigen::Vector3d(550080, kWalkY, 160);
+  failed.met = false;
+  failed.eye = Eigen::Vector3d(550140, 4650005, 170);
+  return {met, failed};
+}
+
+osg::ref_ptr<osg::Image> readBack(const std::string& path) {
+  osg::ref_ptr<osg::Image> img = osgDB::readImageFile(path);
+  if (!img) ADD_FAILURE() << "osgDB cannot read " << path;
+  return img;
+}
+
+Rgb pixel(const osg::Image& img, const Eigen::Vector2i& p) {
+  const unsigned char* d = img.data(unsigned(p.x()), unsigned(p.y()));
+  return {d[0], d[1], d[2]};
+}
+
+/// The map written once for the tests that look at its pixels (maxSize 800, default margin).
+class TopDownMapImage : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>();
+    const Scene scene = testScene();
+    options_.maxSize = 800;
+    writeTopDownMap(*dir_ / "map.png", scene, testRecords(), testExpectations(), options_);
+    frame_ = topDownFrame(scene, testRecords(), testExpectations(), options_);
+    image_ = readBack(*dir_ / "map.png");
+  }
+  static void TearDownTestSuite() {
+    image_ = nullptr;
+    dir_.reset();
+  }
+  /// The colour at a map point.
+  Rgb at(const Eigen::Vector2d& map) const {
+    const Eigen::Vector2i p = frame_.pixelOf(map);
+    EXPECT_TRUE(frame_.inside(p)) << "map point " << map.transpose() << " is off the image";
+    return frame_.inside(p) ? pixel(*image_, p) : Rgb{-1, -1, -1};
+  }
+  void SetUp() override { ASSERT_NE(image_, nullptr); }
+
+  static inline std::unique_ptr<TempDir> dir_;
+  static inline TopDownMapOptions options_;
+  static inline TopDownFrame frame_;
+  static inline osg::ref_ptr<osg::Image> image_;
+};
+
+TEST_F(TopDownMapImage, SizeFollowsThePathExtentAndMargin) {
+  // Eyes span x 550060..550140 and y 4649990..4650010; with 40 m of margin each side the area is
+  // 160 m x 100 m, wide enough to fill the 800 pixels less the legend column.
+  ASSERT_GT(frame_.legendWidth, 100);  // "EXPECTATION FAILED" alone is 107 pixels
+  ASSERT_LT(frame_.legendWidth, 300);
+  const int mapColumns = 800 - frame_.legendWidth;
+  EXPECT_EQ(frame_.width, mapColumns);
+  EXPECT_DOUBLE_EQ(frame_.metresPerPixel, 160.0 / mapColumns);
+  EXPECT_EQ(frame_.height, int(std::ceil(100.0 * mapColumns / 160.0)));
+  EXPECT_EQ(image_->s(), 800);
+  EXPECT_EQ(image_->t(), frame_.height);
+  // The area is centred: its edges lie within a pixel of the map's.
+  const double m = frame_.metresPerPixel;
+  EXPECT_NEAR(frame_.west, 550020, 1e-6);
+  EXPECT_NEAR(frame_.west + frame_.width * m, 550180, 1e-6);
+  EXPECT_GT(frame_.south, 4649950 - m);
+  EXPECT_LE(frame_.south, 4649950);
+  EXPECT_NEAR(frame_.south + 0.5 * frame_.height * m, 4650000, 1e-6);
+  EXPECT_EQ(dir_->entries(), std::vector<std::string>{"map.png"});
+}
+
+TEST_F(TopDownMapImage, FrameIsNorthUpWithSquarePixels) {
+  const double m = frame_.metresPerPixel;
+  const Eigen::Vector2d centre = frame_.pixelCentre(123, 45);
+  EXPECT_NEAR(centre.x(), frame_.west + 123.5 * m, 1e-6);
+  EXPECT_NEAR(centre.y(), frame_.south + 45.5 * m, 1e-6);
+  EXPECT_EQ(frame_.pixelOf(centre), Eigen::Vector2i(123, 45));
+  EXPECT_EQ(frame_.pixelOf(centre + Eigen::Vector2d(0, 10 * m)), Eigen::Vector2i(123, 55));  // north: rows up
+  EXPECT_EQ(frame_.pixelOf(centre + Eigen::Vector2d(10 * m, 0)), Eigen::Vector2i(133, 45));  // east: columns right
+  // The legend column is white paper, right of the map.
+  EXPECT_EQ(pixel(*image_, {frame_.width + frame_.legendWidth / 2, frame_.height / 2}), (Rgb{255, 255, 255}));
+}
+
+TEST_F(TopDownMapImage, HillshadeIsTheLambertShadeOfThePlane) {
+  // The plane z = 200 - 0.5 c - 0.25 r with c = (x - x0) / 2, r = (y0 - y) / 2: dz/dx = -0.25,
+  // dz/dy = +0.125. Sun: azimuth 315°, altitude 45°.
+  const Eigen::Vector3d normal = Eigen::Vector3d(0.25, -0.125, 1).normalized();
+  const double alt = std::numbers::pi / 4, az = 7 * std::numbers::pi / 4;
+  const Eigen::Vector3d sun(std::cos(alt) * std::sin(az), std::cos(alt) * std::cos(az), std::sin(alt));
+  const double shade = std::max(0.0, normal.dot(sun));
+  // Height range: the highest sample is (0, 0) at 200, the lowest the plane's far corner
+  // (120, 100) at 115 (the pit's bottom is at 151.25).
+  const double lowest = planeAt(120, 100), highest = planeAt(0, 0);
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(550150.3, 4650030.7), Eigen::Vector2d(550120.3, 4650040.7),
+                                   Eigen::Vector2d(550170.0, 4649965.0)}) {
+    const Eigen::Vector2d centre = frame_.pixelCentre(frame_.pixelOf(p).x(), frame_.pixelOf(p).y());
+    const double f = (planeAtMap(centre.x(), centre.y()) - lowest) / (highest - lowest);
+    const double light = 0.35 + 0.65 * shade;
+    const Rgb expected{int(std::lround((kLowTint.r + f * (kHighTint.r - kLowTint.r)) * light)),
+                       int(std::lround((kLowTint.g + f * (kHighTint.g - kLowTint.g)) * light)),
+                       int(std::lround((kLowTint.b + f * (kHighTint.b - kLowTint.b)) * light))};
+    const Rgb got = at(p);
+    EXPECT_NEAR(got.r, expected.r, 1) << "at " << p.transpose();
+    EXPECT_NEAR(got.g, expected.g, 1) << "at " << p.transpose();
+    EXPECT_NEAR(got.b, expected.b, 1) << "at " << p.transpose();
+  }
+}
+
+TEST_F(TopDownMapImage, PitWallFacingTheSunIsBrighterThanTheOneFacingAway) {
+  // The pit's south-east wall rises to the south-east, so it faces the north-west sun.
+  const Eigen::Vector2d pit = samplePoint(kPitCol, kPitRow);
+  auto brightness = [&](const Eigen::Vector2d& p) {
+    const Rgb c = at(p);
+    return c.r + c.g + c.b;
+  };
+  EXPECT_GT(brightness(pit + Eigen::Vector2d(7, -7)), brightness(pit + Eigen::Vector2d(-7, 7)) + 60);
+}
+
+TEST_F(TopDownMapImage, HoleIsFlatGrey) {
+  EXPECT_EQ(at(samplePoint(kHoleCol + 2, kHoleRow + 2)), kHoleGrey);
+  EXPECT_EQ(at(samplePoint(kHoleCol + 0.3, kHoleRow + 3.6)), kHoleGrey);
+}
+
+TEST_F(TopDownMapImage, PathIsDrawnInItsModeColour) {
+  const std::vector<FrameRecord> records = testRecords();
+  for (int i : {20, 30, 60, 130}) EXPECT_EQ(at(records[std::size_t(i)].eye.head<2>()), kWalk) << "frame " << i;
+  for (int i : {kWalkFrames + 8, kWalkFrames + 15}) EXPECT_EQ(at(records[std::size_t(i)].eye.head<2>()), kFly) << "frame " << i;
+}
+
+TEST_F(TopDownMapImage, BlockedFramesAndTheirBlockerAreRed) {
+  const std::vector<FrameRecord> records = testRecords();
+  for (int i = kFirstBlocked; i <= kLastBlocked; ++i) EXPECT_EQ(at(records[std::size_t(i)].eye.head<2>()), kRed);
+  // The container's footprint is outlined in red: points on its long edges.
+  EXPECT_EQ(at(containerPoint(0.5, kContainerHalf.y())), kRed);
+  EXPECT_EQ(at(containerPoint(-0.5, -kContainerHalf.y())), kRed);
+}
+
+TEST_F(TopDownMapImage, FootprintsAreTheInnerBoxesInTheirKindColour) {
+  EXPECT_EQ(at(kContainerCentre), kContainer);
+  EXPECT_EQ(at(containerPoint(1.5, 0)), kContainer);
+  // Inside the container's axis-aligned box but 1.2 m outside its turned box: terrain.
+  const Eigen::Vector2d outside = containerPoint(1.5, -2.4);
+  const Eigen::Vector2d offset = outside - kContainerCentre;
+  ASSERT_LT(std::abs(offset.x()), kContainerHalf.x() * std::cos(kContainerTurn) + kContainerHalf.y() * std::sin(kContainerTurn));
+  ASSERT_LT(std::abs(offset.y()), kContainerHalf.x() * std::sin(kContainerTurn) + kContainerHalf.y() * std::cos(kContainerTurn));
+  EXPECT_NE(at(outside), kContainer);
+  EXPECT_NE(at(outside), kRed);
+  // The pole is narrower than a pixel: drawn as a small disc of its colour.
+  EXPECT_EQ(at(kPoleCentre), kPole);
+}
+
+TEST_F(TopDownMapImage, ExpectationsAreGreenWhenMetAndRedWhenFailed) {
+  const std::vector<ExpectationResult> expectations = testExpectations();
+  EXPECT_EQ(at(expectations[0].eye.head<2>()), kMet);
+  EXPECT_EQ(at(expectations[1].eye.head<2>()), kRed);
+}
+
+TEST(TopDownMap, WholeTerrainFrameCoversTheSamples) {
+  TopDownMapOptions options;
+  options.maxSize = 600;
+  options.wholeTerrain = true;
+  const Scene scene = testScene();
+  // No run: the legend lists the two kinds only ("CONTAINER", 53 pixels).
+  const TopDownFrame frame = topDownFrame(scene, {}, {}, options);
+  ASSERT_GT(frame.legendWidth, 53);
+  ASSERT_LT(frame.legendWidth, 200);
+  // Samples span 240 m x 200 m, the width limits.
+  const int mapColumns = 600 - frame.legendWidth;
+  EXPECT_EQ(frame.width, mapColumns);
+  EXPECT_DOUBLE_EQ(frame.metresPerPixel, 240.0 / mapColumns);
+  EXPECT_EQ(frame.height, int(std::ceil(200.0 * mapColumns / 240.0)));
+  EXPECT_NEAR(frame.west, kOriginX, 1e-6);
+  EXPECT_NEAR(frame.south + 0.5 * frame.height * frame.metresPerPixel, kOriginY - 100, 1e-6);
+
+  TempDir dir;
+  writeTopDownMap(dir / "whole.png", scene, {}, {}, options);
+  const osg::ref_ptr<osg::Image> img = readBack(dir / "whole.png");
+  ASSERT_TRUE(img);
+  EXPECT_EQ(img->s(), 600);
+  EXPECT_EQ(img->t(), frame.height);
+  // The run does not move the frame with wholeTerrain.
+  const TopDownFrame withRun = topDownFrame(scene, testRecords(), testExpectations(), options);
+  EXPECT_NEAR(withRun.west + 0.5 * withRun.width * withRun.metresPerPixel, kOriginX + 120, 1e-6);
+}
+
+TEST(TopDownMap, BadInputsNameTheFile) {
+  TempDir dir;
+  const Scene scene = testScene();
+  const std::string missing = dir / "no/map.png";
+  try {
+    writeTopDownMap(missing, scene, testRecords(), testExpectations(), {.maxSize = 400});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+  }
+  const std::string bare = dir / "bare.png";
+  try {
+    writeTopDownMap(bare, Scene{}, testRecords(), {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(bare), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("terrain"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(writeTopDownMap(dir / "tiny.png", scene, testRecords(), {}, {.maxSize = 10}), InputError);
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+}  // namespace
+}  // namespace nestwalk
