@@ -229,10 +229,8 @@ MethodSpec readMethod(const SceneReader& r, const Json& m) {
   MethodSpec s;
   if (m.contains("volumes")) {
     const std::string v = r.string(m["volumes"], "method.volumes");
-    if (v == "nested") s.volumes = VolumeMethod::Nested;
-    else if (v == "aabb") s.volumes = VolumeMethod::Aabb;
-    else if (v == "obb") s.volumes = VolumeMethod::Obb;
-    else r.fail("method.volumes", "expected nested, aabb or obb, got '" + v + "'");
+    if (!parseVolumeMethod(v, s.volumes))
+      r.fail("method.volumes", "expected nested, aabb, obb, nested+mesh or kdop18, got '" + v + "'");
   }
   if (m.contains("hierarchy")) {
     const std::string h = r.string(m["hierarchy"], "method.hierarchy");
@@ -302,8 +300,20 @@ const char* volumeMethodName(VolumeMethod m) {
     case VolumeMethod::Nested: return "nested";
     case VolumeMethod::Aabb: return "aabb";
     case VolumeMethod::Obb: return "obb";
+    case VolumeMethod::NestedMesh: return "nested+mesh";
+    case VolumeMethod::Kdop18: return "kdop18";
   }
   return "?";
+}
+
+bool parseVolumeMethod(const std::string& name, VolumeMethod& out) {
+  for (VolumeMethod m : {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb, VolumeMethod::NestedMesh,
+                         VolumeMethod::Kdop18})
+    if (name == volumeMethodName(m)) {
+      out = m;
+      return true;
+    }
+  return false;
 }
 
 std::string describe(const MethodSpec& m) {

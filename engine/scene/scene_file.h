@@ -66,7 +66,15 @@ struct ViewerSpec {
   double flyClearance = 2.0;                                // flying: lowest body bottom above ground
 };
 
-enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb };  // issue 6 adds mesh methods
+// The walker's contact test against each unit (after the broad phase over the outer AABBs):
+//   Nested     outer AABB, then AABB-OBB, then OBB-OBB (seed 004; the default)
+//   Aabb       outer AABB only;  Obb  inner OBB only
+//   NestedMesh the nested test, then the body box against the model's real triangles through an
+//              OBB tree: blocks only on real contact (exact reference)
+//   Kdop18     the body box against the real triangles through a k-DOP-18 tree, right after the
+//              broad phase (exact, no nested stage)
+enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18 };
+inline bool usesMeshes(VolumeMethod m) { return m == VolumeMethod::NestedMesh || m == VolumeMethod::Kdop18; }
 
 struct MethodSpec {
   VolumeMethod volumes = VolumeMethod::Nested;
@@ -75,7 +83,9 @@ struct MethodSpec {
   ObbFitter fitter = ObbFitter::HullSearch;
 };
 
-const char* volumeMethodName(VolumeMethod m);  // "nested", "aabb", "obb"
+const char* volumeMethodName(VolumeMethod m);  // "nested", "aabb", "obb", "nested+mesh", "kdop18"
+// The method named so (the names above); false for an unknown name.
+bool parseVolumeMethod(const std::string& name, VolumeMethod& out);
 std::string describe(const MethodSpec& m);     // e.g. "nested, auto delta=4 longest/median, hull-search"
 
 struct SceneSpec {

@@ -2,6 +2,7 @@
 
 #include "engine/scene/scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -31,7 +32,8 @@ CollisionWorld::CollisionWorld(std::vector<NestedVolume<double>> units, std::vec
   tree_ = method_.templateHierarchy ? BoxTree::buildTemplate(boxes, groups_) : BoxTree::buildAuto(boxes, method_.autoTree);
 }
 
-CollisionWorld CollisionWorld::fromScene(const Scene& scene, const MethodSpec& method) {
+CollisionWorld CollisionWorld::fromScene(const Scene& scene, const MethodSpec& method,
+                                         std::shared_ptr<const MeshWorld> meshes) {
   std::vector<NestedVolume<double>> units;
   std::vector<std::string> names, groups;
   units.reserve(scene.units.size());
@@ -40,7 +42,45 @@ CollisionWorld CollisionWorld::fromScene(const Scene& scene, const MethodSpec& m
     names.push_back(u.name);
     groups.push_back(u.group);
   }
-  return CollisionWorld(std::move(units), std::move(names), std::move(groups), method);
+  CollisionWorld world(std::move(units), std::move(names), std::move(groups), method);
+  if (usesMeshes(method.volumes)) world.setMeshes(meshes ? std::move(meshes) : MeshWorld::fromScene(scene));
+  return world;
+}
+
+void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
+  if (meshes && meshes->units() != units_.size())
+    throw std::invalid_argument("CollisionWorld: the meshes' units differ from the world's");
+  meshes_ = std::move(meshes);
+}
+
+SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
+                                            double t0, const Vec3<double>& normal, MeshTreeKind kind,
+                                            CollisionCounters& counters) const {
+  if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
+  MeshQueryCounters mc;
+  const std::optional<MeshWorld::Contact> c = meshes_->firstContact(u, viewer.inner, d, t0, kind, mc);
+  counters.nodeTests += mc.nodeTests;
+  counters.primitiveTests += mc.triangleTests;
+  SweptNestedResult r;
+  if (!c) return r;
+  r.contact = true;
+  r.t = c->t;
+  // sweep() keeps a contact at t = 0 only when the normal opposes the motion: so it must when the
+  // motion presses into the triangles, and must not when it leads away.
+  const Vec3<double> along = d.normalized();
+  if (c->t <= 0.0) r.normal = c->pressing ? Vec3<double>(-along) : along;
+  else r.normal = normal.isZero() ? Vec3<double>(-along) : normal;
+  return r;
+}
+
+bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
+                                 CollisionCounters& counters) const {
+  if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
+  MeshQueryCounters mc;
+  const bool overlap = meshes_->overlaps(u, viewer.inner, kind, mc);
+  counters.nodeTests += mc.nodeTests;
+  counters.primitiveTests += mc.triangleTests;
+  return overlap;
 }
 
 SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
@@ -52,7 +92,10 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
     case VolumeMethod::Obb:
       ++counters.stageTests[2];
       return sweepInnerOnly(viewer, d, obj);
+    case VolumeMethod::Kdop18:
+      return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), MeshTreeKind::Kdop18, counters);
     case VolumeMethod::Nested:
+    case VolumeMethod::NestedMesh:
       break;
   }
   // Stage 1 ran in the broad phase as a static test of the swept box (counted there); its
@@ -60,6 +103,9 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
   const SweptNestedResult r = sweepNested(viewer, d, obj);
   if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
   if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
+  // The triangles lie inside both volumes: no real contact before the nested one.
+  if (method_.volumes == VolumeMethod::NestedMesh && r.contact)
+    return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
   return r;
 }
 
@@ -101,6 +147,22 @@ SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<do
     counters.broadMicros += micros(t0, t1);
     counters.narrowMicros += micros(t1, t2);
   }
+  if (reference_ && tally_) {
+    CollisionCounters ignored;
+    const SweepHit exact = reference_->sweep(viewer, d, ignored);
+    const double slack = 2.0 * kMeshContactTolerance / std::max(d.norm(), 1e-300);
+    ++tally_->sweeps;
+    tally_->contacts += hit.contact;
+    tally_->referenceContacts += exact.contact;
+    if (exact.contact && (!hit.contact || hit.t > exact.t + slack)) ++tally_->missed;
+    if (hit.contact && !exact.contact) {
+      // Would the real geometry stop the body further along the same direction?
+      const double length = d.norm();
+      const SweepHit further =
+          length > 0.0 ? reference_->sweep(viewer, d * (std::max(length, kEarlyStopHorizon) / length), ignored) : exact;
+      ++(further.contact ? tally_->earlyStops : tally_->falseBlocks);
+    }
+  }
   return hit;
 }
 
@@ -122,13 +184,19 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
         ++counters.stageTests[2];
         overlap = satObbObb(viewer.inner, units_[u].inner).overlap;
         break;
-      case VolumeMethod::Nested: {
+      case VolumeMethod::Nested:
+      case VolumeMethod::NestedMesh: {
         const NestedResult r = testNested(viewer, units_[u]);
         if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
         if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
         overlap = r.overlap;
+        if (overlap && method_.volumes == VolumeMethod::NestedMesh)
+          overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);
         break;
       }
+      case VolumeMethod::Kdop18:
+        overlap = meshOverlap(viewer, u, MeshTreeKind::Kdop18, counters);
+        break;
     }
     if (overlap && (found < 0 || std::int32_t(u) < found)) found = std::int32_t(u);
   }

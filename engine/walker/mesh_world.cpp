@@ -1,0 +1,93 @@
+// The equipment's triangles for the exact methods (mesh_world.h).
+#include "engine/walker/mesh_world.h"
+
+#include "engine/scene/scene.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace nestwalk {
+
+std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
+  auto world = std::make_shared<MeshWorld>();
+  world->models_.reserve(scene.models.size());
+  for (const SceneModel& m : scene.models) {
+    const TriangleMesh mesh = meshFromNode(*m.node);
+    world->models_.push_back({ObbTree(mesh), KdopTree(mesh), mesh.triangles.size()});
+  }
+  world->unitParts_.resize(scene.units.size());
+  for (std::size_t u = 0; u < scene.units.size(); ++u)
+    for (std::uint32_t i : scene.units[u].instances) {
+      const SceneInstance& inst = scene.instances[i];
+      world->unitParts_[u].push_back(
+          {inst.model, inst.toLocal.rotation, inst.toLocal.scale, inst.toLocal.translation});
+    }
+  return world;
+}
+
+std::size_t MeshWorld::triangles(std::size_t unit) const {
+  std::size_t n = 0;
+  for (const Part& p : unitParts_[unit]) n += models_[p.model].triangles;
+  return n;
+}
+
+Obb<double> MeshWorld::toModel(const Part& p, const Obb<double>& box) const {
+  Obb<double> b;
+  b.center = p.rotation.transpose() * (box.center - p.translation) / p.scale;
+  b.axes = p.rotation.transpose() * box.axes;
+  b.halfExtents = box.halfExtents / p.scale;
+  return b;
+}
+
+bool MeshWorld::overlaps(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const {
+  for (const Part& p : unitParts_[unit]) {
+    const Model& m = models_[p.model];
+    const Obb<double> b = toModel(p, box);
+    if (kind == MeshTreeKind::Obb ? m.obb.overlaps(b, &c) : m.kdop.overlaps(b, &c)) return true;
+  }
+  return false;
+}
+
+double MeshWorld::distance(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Part& p : unitParts_[unit]) {
+    const Model& m = models_[p.model];
+    const Obb<double> b = toModel(p, box);
+    const double dm = kind == MeshTreeKind::Obb ? m.obb.distance(b, &c) : m.kdop.distance(b, &c);
+    best = std::min(best, dm * p.scale);
+  }
+  return best;
+}
+
+std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, const Obb<double>& box,
+                                                           const Vec3<double>& d, double t0, MeshTreeKind kind,
+                                                           MeshQueryCounters& c) const {
+  const double length = d.norm();
+  Obb<double> moved = box;
+  auto distanceAt = [&](double t) {
+    moved.center = box.center + t * d;
+    return distance(unit, moved, kind, c);
+  };
+  double t = std::max(0.0, t0);
+  double dist = distanceAt(t);
+  if (dist <= kMeshContactTolerance) {
+    // Already in contact where the search starts: at the very start of the step it is a contact
+    // only if the motion presses in (the walker must be able to move away from a contact).
+    Contact contact{t, true};
+    if (t == 0.0 && length > 0.0) {
+      const double probe = std::min(1.0, 1e-3 / length);  // 1 mm along the step
+      contact.pressing = distanceAt(probe) < dist;
+    }
+    return contact;
+  }
+  if (length == 0.0) return std::nullopt;
+  for (int i = 0; i < kMaxAdvancementSteps; ++i) {
+    t += (dist - 0.5 * kMeshContactTolerance) / length;  // stop half the tolerance short of the surface
+    if (t > 1.0) return std::nullopt;
+    dist = distanceAt(t);
+    if (dist <= kMeshContactTolerance) return Contact{t, true};
+  }
+  return Contact{t, true};  // grazing for too long: a conservative early contact
+}
+
+}  // namespace nestwalk

@@ -1,0 +1,73 @@
+// The equipment's real triangles for the walker's exact methods: per model an OBB tree and a
+// k-DOP-18 tree over its triangles (mesh_tree.h, built once per model file), per collision unit
+// the instances (model and transform) it is made of. Answers, for the viewer's body box in the
+// local frame: does it touch a unit's triangles, how far is it from them, and where along a step
+// does it first come within a contact tolerance of them.
+//
+// First contact along a step (box + t d, t in [t0, 1]) is found by conservative advancement:
+// at t the distance D to the triangles is computed exactly; no point of the box moves more than
+// |d| dt, so nothing can be touched before t + D / |d|, and t advances by that much until D falls
+// to kMeshContactTolerance (or the step ends). It never steps over an obstacle, however thin or
+// fast (a 5 cm pole at 50 m/s is met like any other), and stops within the tolerance of the
+// surface; a motion grazing a face at a small distance takes more iterations (capped: at the cap
+// the current t is returned, a conservative early contact).
+//
+// Frames: instances' transforms are similarities (rotation, uniform scale, translation; scene.h);
+// the box is taken into each model's frame by the inverse, the distance scaled back.
+#pragma once
+
+#include "engine/geometry/mesh_tree.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace nestwalk {
+
+struct Scene;
+
+enum class MeshTreeKind : std::uint8_t { Obb, Kdop18 };
+
+// Contact: within this distance of the triangles (metres). The walker then stops kStopDistance
+// (0.5 mm) short along its step, so the stop gap stays within about 0.6 mm.
+inline constexpr double kMeshContactTolerance = 1e-4;
+inline constexpr int kMaxAdvancementSteps = 4096;
+
+class MeshWorld {
+ public:
+  // Trees for every model the scene's units use.
+  static std::shared_ptr<const MeshWorld> fromScene(const Scene& scene);
+
+  std::size_t units() const { return unitParts_.size(); }
+  std::size_t triangles(std::size_t unit) const;
+  bool overlaps(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
+  double distance(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
+
+  struct Contact {
+    double t = 1.0;
+    bool pressing = true;  // at t0 already within the tolerance: whether d moves closer
+  };
+  // The first t in [t0, 1] at which box + t d comes within kMeshContactTolerance of the unit's
+  // triangles; nullopt when it never does within the step.
+  std::optional<Contact> firstContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
+                                      MeshTreeKind kind, MeshQueryCounters& c) const;
+
+ private:
+  struct Model {
+    ObbTree obb;
+    KdopTree kdop;
+    std::size_t triangles;
+  };
+  struct Part {
+    std::uint32_t model;
+    Mat3<double> rotation;  // model -> local
+    double scale;
+    Vec3<double> translation;
+  };
+  Obb<double> toModel(const Part& p, const Obb<double>& box) const;
+  std::vector<Model> models_;
+  std::vector<std::vector<Part>> unitParts_;
+};
+
+}  // namespace nestwalk

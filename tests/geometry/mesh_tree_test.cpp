@@ -1,0 +1,502 @@
+// The mesh trees (mesh_tree.h: OBB tree and 18-DOP tree over a model's triangles) against the
+// brute-force loops over every triangle (whose primitive, triangle_box.h, is checked against CGAL
+// and FCL in its own tests), on meshes that stress them: an icosphere, a thin pole, coplanar and
+// degenerate triangles, a single triangle, an empty mesh, a mesh with exponentially spaced parts,
+// and a sphere at UTM magnitudes (the trees work in whatever frame the mesh is in).
+//
+// Queries: thousands of random boxes (random rotations or exactly axis-aligned; half extents from
+// 1 mm to half the mesh, some zero) around each mesh, and boxes with a corner exactly on a mesh
+// vertex (touching contact, where a bounding-volume test that is not conservative would prune a
+// real contact). Asserted: overlaps() equals the brute-force verdict, every time; distance() equals
+// the brute-force minimum (to 1e-12 relative: the same triangles and function, so normally bit for
+// bit); the node volumes hold their triangles; the counters stay far below brute force (far boxes
+// under 10% of the triangle count, as are near boxes on average). Timings are printed.
+// The bundled equipment models (NESTWALK_BUNDLED_SCENE_DIR/models, or the folder the environment
+// variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through meshFromNode and
+// walked into by body-sized boxes: both trees equal brute force, every mesh contact is an inner-OBB
+// contact, and the OBB's false contacts (OBB touched, triangles not) are printed with how far
+// from the real surface they stop the viewer: the error the exact reference measures.
+#include "engine/geometry/mesh_tree.h"
+
+#include "engine/core/input_error.h"
+#include "engine/geometry/obb_fit.h"
+#include "engine/geometry/sat.h"
+#include "tests/geometry/test_shapes.h"
+
+#include <gtest/gtest.h>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/MatrixTransform>
+#include <osgDB/ReadFile>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+namespace {
+
+using V3 = Vec3<double>;
+
+// ---- Test meshes. ----
+
+TriangleMesh icosphere(int subdivisions, double radius) {
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  TriangleMesh m;
+  m.vertices = {V3(-1, g, 0), V3(1, g, 0),  V3(-1, -g, 0), V3(1, -g, 0), V3(0, -1, g), V3(0, 1, g),
+                V3(0, -1, -g), V3(0, 1, -g), V3(g, 0, -1),  V3(g, 0, 1),  V3(-g, 0, -1), V3(-g, 0, 1)};
+  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (V3& v : m.vertices) v = v.normalized() * radius;
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::minmax(a, b);
+      auto [it, added] = midpoints.try_emplace(key, std::uint32_t(m.vertices.size()));
+      if (added) m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized() * radius);
+      return it->second;
+    };
+    std::vector<std::array<std::uint32_t, 3>> finer;
+    for (const auto& t : m.triangles) {
+      const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      finer.insert(finer.end(), {{t[0], ab, ca}, {t[1], bc, ab}, {t[2], ca, bc}, {ab, bc, ca}});
+    }
+    m.triangles = std::move(finer);
+  }
+  return m;
+}
+
+// A 5 cm pole, 3 m tall: a 16-sided prism with capped ends, tilted off the axes.
+TriangleMesh pole() {
+  const int sides = 16;
+  const double radius = 0.025, length = 3.0;
+  const Mat3<double> tilt = Eigen::AngleAxisd(0.3, V3(1, 2, 0).normalized()).toRotationMatrix();
+  TriangleMesh m;
+  for (int end = 0; end < 2; ++end)
+    for (int i = 0; i < sides; ++i) {
+      const double a = 2 * M_PI * i / sides;
+      m.vertices.push_back(tilt * V3(radius * std::cos(a), radius * std::sin(a), end * length));
+    }
+  for (std::uint32_t i = 0; i < sides; ++i) {
+    const std::uint32_t j = (i + 1) % sides;
+    m.triangles.push_back({i, j, sides + j});
+    m.triangles.push_back({i, sides + j, sides + i});
+  }
+  for (std::uint32_t i = 1; i + 1 < sides; ++i) {
+    m.triangles.push_back({0, i + 1, i});
+    m.triangles.push_back({sides, sides + i, sides + i + 1});
+  }
+  return m;
+}
+
+// A 1 m floor of 200 coplanar triangles, a vertical coplanar wall, and degenerate triangles:
+// collinear (on and off the floor), a repeated vertex, a point, duplicates.
+TriangleMesh coplanarAndDegenerate() {
+  TriangleMesh m;
+  const int n = 10;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) m.vertices.push_back(V3(x * 0.1, y * 0.1, 0));
+  for (std::uint32_t y = 0; y < n; ++y)
+    for (std::uint32_t x = 0; x < n; ++x) {
+      const std::uint32_t a = y * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  auto add = [&](const V3& p, const V3& q, const V3& r) {
+    const auto base = std::uint32_t(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {p, q, r});
+    m.triangles.push_back({base, base + 1, base + 2});
+  };
+  for (int i = 0; i < 20; ++i) add(V3(0.5, i * 0.05, 0.2), V3(0.5, i * 0.05, 0.6), V3(0.5, i * 0.05 + 0.05, 0.4));  // wall
+  add(V3(0, 0, 0.3), V3(1, 1, 0.3), V3(0.5, 0.5, 0.3));          // collinear, above the floor
+  add(V3(0.2, 0.9, 0), V3(0.8, 0.9, 0), V3(0.4, 0.9, 0));        // collinear, on the floor
+  add(V3(1.2, 0.2, 0.1), V3(1.2, 0.2, 0.1), V3(1.4, 0.3, 0.1));  // a repeated vertex
+  add(V3(1.3, 0.8, 0.5), V3(1.3, 0.8, 0.5), V3(1.3, 0.8, 0.5));  // a point
+  m.triangles.push_back(m.triangles[7]);                          // duplicates
+  m.triangles.push_back(m.triangles[7]);
+  return m;
+}
+
+TriangleMesh singleTriangle() { return {{V3(0, 0, 0), V3(1, 0.2, 0.1), V3(0.3, 0.8, -0.2)}, {{0, 1, 2}}}; }
+
+// Small triangles at x = 1.2^i: mean splits peel a few triangles off the far end at every level.
+TriangleMesh exponentiallySpaced() {
+  TriangleMesh m;
+  for (std::uint32_t i = 0; i < 150; ++i) {
+    const double x = std::pow(1.2, i), s = 0.1 * x;
+    m.vertices.insert(m.vertices.end(), {V3(x, 0, 0), V3(x + s, s, 0), V3(x, s, s)});
+    m.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  return m;
+}
+
+TriangleMesh translated(TriangleMesh m, const V3& offset) {
+  for (V3& v : m.vertices) v += offset;
+  return m;
+}
+
+Aabb<double> boundsOf(const TriangleMesh& m) {
+  Aabb<double> b;
+  for (const auto& t : m.triangles)
+    for (std::uint32_t v : t) b.extend(m.vertices[v]);
+  return b;
+}
+
+// ---- Query boxes. ----
+
+struct BoxMaker {
+  std::mt19937 rng;
+  Aabb<double> region;  // the mesh's bounds, grown
+  double size;          // largest half extent
+
+  double logUniform(double lo, double hi) {
+    return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng));
+  }
+  Obb<double> random() {
+    Obb<double> b;
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int k = 0; k < 3; ++k) {
+      b.center[k] = region.min[k] + u(rng) * (region.max[k] - region.min[k]);
+      b.halfExtents[k] = rng() % 10 == 0 ? 0.0 : logUniform(1e-3, size);
+    }
+    if (rng() % 4 != 0) b.axes = testshapes::randomRotation(rng);
+    return b;
+  }
+  // An axis-aligned box with a corner on vertex v, extending away from it on random sides.
+  Obb<double> touching(const V3& v) {
+    Obb<double> b;
+    for (int k = 0; k < 3; ++k) {
+      b.halfExtents[k] = std::ldexp(1.0, -int(rng() % 8));  // 1 .. 1/128, exact
+      b.center[k] = v[k] + (rng() % 2 ? b.halfExtents[k] : -b.halfExtents[k]);
+    }
+    return b;
+  }
+};
+
+BoxMaker boxesAround(const TriangleMesh& m, unsigned seed) {
+  Aabb<double> region = boundsOf(m);
+  if (region.isEmpty()) region = {V3::Constant(-1), V3::Constant(1)};
+  const V3 grow = 0.3 * region.size() + V3::Constant(0.1);
+  const double size = std::max(0.5 * region.size().maxCoeff(), 0.01);
+  return {std::mt19937(seed), {region.min - grow, region.max + grow}, size};
+}
+
+// ---- Structure. ----
+
+template <class Volume>
+bool volumeHolds(const Volume& v, const V3& p);
+template <>
+bool volumeHolds(const Obb<double>& v, const V3& p) {
+  return v.contains(p);
+}
+template <>
+bool volumeHolds(const Kdop18& v, const V3& p) {
+  for (int k = 0; k < Kdop18::kDirections; ++k) {
+    const double s = kKdopDirections[k].dot(p);
+    if (s < v.min[k] || s > v.max[k]) return false;
+  }
+  return true;
+}
+
+template <class Tree>
+void checkStructure(const Tree& tree, const TriangleMesh& mesh, int leafSize) {
+  const auto& nodes = tree.nodes();
+  ASSERT_EQ(tree.triangles().size(), mesh.triangles.size());
+  if (mesh.triangles.empty()) {
+    EXPECT_TRUE(nodes.empty());
+    return;
+  }
+  // The tree's triangles are the mesh's, permuted.
+  auto key = [](const Triangle& t) { return std::vector<double>{t[0].x(), t[0].y(), t[0].z(), t[1].x(), t[1].y(), t[1].z(), t[2].x(), t[2].y(), t[2].z()}; };
+  std::vector<std::vector<double>> ours, theirs;
+  for (const Triangle& t : tree.triangles()) ours.push_back(key(t));
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) theirs.push_back(key(mesh.triangle(i)));
+  std::sort(ours.begin(), ours.end());
+  std::sort(theirs.begin(), theirs.end());
+  EXPECT_EQ(ours, theirs);
+  EXPECT_EQ(nodes[0].triangleCount, mesh.triangles.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const auto& n = nodes[i];
+    for (std::uint32_t t = n.firstTriangle; t < n.firstTriangle + n.triangleCount; ++t)
+      for (const V3& p : tree.triangles()[t]) ASSERT_TRUE(volumeHolds(n.volume, p)) << "node " << i << " triangle " << t;
+    if (n.isLeaf()) {
+      EXPECT_LE(n.triangleCount, std::uint32_t(leafSize));
+      continue;
+    }
+    const auto& left = nodes[i + 1];
+    const auto& right = nodes[n.secondChild];
+    EXPECT_GT(left.triangleCount, 0u);
+    EXPECT_GT(right.triangleCount, 0u);
+    EXPECT_EQ(left.firstTriangle, n.firstTriangle);
+    EXPECT_EQ(right.firstTriangle, n.firstTriangle + left.triangleCount);
+    EXPECT_EQ(left.triangleCount + right.triangleCount, n.triangleCount);
+  }
+  EXPECT_LE(tree.depth(), kMaxMeanSplitDepth + int(std::ceil(std::log2(double(mesh.triangles.size())))) + 1);
+}
+
+// ---- Agreement with brute force. ----
+
+struct Agreement {
+  int boxes = 0, contacts = 0;
+};
+
+template <class Tree>
+Agreement checkAgainstBruteForce(const Tree& tree, const TriangleMesh& mesh, unsigned seed, int overlapBoxes,
+                                 int distanceBoxes, const char* label) {
+  BoxMaker maker = boxesAround(mesh, seed);
+  Agreement a;
+  for (int n = 0; n < overlapBoxes; ++n) {
+    const bool touchingCase = !mesh.vertices.empty() && n % 5 == 0;
+    const Obb<double> box = touchingCase ? maker.touching(mesh.vertices[maker.rng() % mesh.vertices.size()]) : maker.random();
+    const bool reference = bruteForceOverlaps(mesh, box);
+    EXPECT_EQ(tree.overlaps(box), reference) << label << " box " << n;
+    ++a.boxes;
+    a.contacts += reference;
+  }
+  for (int n = 0; n < distanceBoxes; ++n) {
+    const Obb<double> box = maker.random();
+    const double reference = bruteForceDistance(mesh, box);
+    const double d = tree.distance(box);
+    if (std::isinf(reference)) {
+      EXPECT_TRUE(std::isinf(d)) << label;
+    } else {
+      EXPECT_NEAR(d, reference, 1e-12 * reference) << label << " distance box " << n;
+    }
+  }
+  return a;
+}
+
+struct NamedMesh {
+  const char* name;
+  TriangleMesh mesh;
+};
+
+std::vector<NamedMesh> testMeshes() {
+  return {{"icosphere", icosphere(3, 1.0)},
+          {"icosphere@utm", translated(icosphere(2, 1.0), V3(512345.0, 4476543.0, 1210.0))},
+          {"pole", pole()},
+          {"coplanar+degenerate", coplanarAndDegenerate()},
+          {"single", singleTriangle()},
+          {"empty", TriangleMesh{}},
+          {"exponential", exponentiallySpaced()}};
+}
+
+template <class Tree>
+void checkTree(const char* treeName) {
+  unsigned seed = 7;
+  for (const NamedMesh& m : testMeshes()) {
+    for (int leafSize : {1, kDefaultLeafSize}) {
+      const Tree tree(m.mesh, leafSize);
+      checkStructure(tree, m.mesh, leafSize);
+      const bool huge = std::string(m.name) == "exponential";  // coordinates up to 1e12: a few queries
+      // Leaves of one triangle: a smaller sample (the default leaves get the full one).
+      const int boxes = (huge ? 200 : 2000) / (leafSize == 1 ? 4 : 1), distanceBoxes = (huge ? 20 : 100) / (leafSize == 1 ? 4 : 1);
+      const Agreement a = checkAgainstBruteForce(tree, m.mesh, ++seed, boxes, distanceBoxes, m.name);
+      if (leafSize == kDefaultLeafSize)
+        std::printf("[%s] %-20s %5zu triangles, %5zu nodes, depth %2d: %d boxes, %d in contact, all as brute force\n",
+                    treeName, m.name, m.mesh.triangles.size(), tree.nodes().size(), tree.depth(), a.boxes, a.contacts);
+      if (!m.mesh.triangles.empty() && !huge) {
+        EXPECT_GT(a.contacts, a.boxes / 20) << m.name;
+        EXPECT_LT(a.contacts, a.boxes) << m.name;
+      }
+    }
+  }
+}
+
+TEST(MeshTree, ObbTreeAgreesWithBruteForce) { checkTree<ObbTree>("obb"); }
+TEST(MeshTree, KdopTreeAgreesWithBruteForce) { checkTree<KdopTree>("kdop18"); }
+
+TEST(MeshTree, EmptyMeshHasNothing) {
+  const TriangleMesh empty;
+  const Obb<double> box{V3::Zero(), Mat3<double>::Identity(), V3::Ones()};
+  MeshQueryCounters c;
+  EXPECT_FALSE(ObbTree(empty).overlaps(box, &c));
+  EXPECT_FALSE(KdopTree(empty).overlaps(box, &c));
+  EXPECT_TRUE(std::isinf(ObbTree(empty).distance(box, &c)));
+  EXPECT_TRUE(std::isinf(KdopTree(empty).distance(box, &c)));
+  EXPECT_EQ(c.nodeTests + c.triangleTests, 0u);
+}
+
+TEST(MeshTree, RejectsBadInput) {
+  TriangleMesh bad = singleTriangle();
+  bad.triangles.push_back({0, 1, 3});
+  EXPECT_THROW(ObbTree{bad}, std::invalid_argument);
+  TriangleMesh nan = singleTriangle();
+  nan.vertices[1].x() = std::nan("");
+  EXPECT_THROW(KdopTree{nan}, std::invalid_argument);
+  EXPECT_THROW(ObbTree(singleTriangle(), 0), std::invalid_argument);
+}
+
+// ---- Work and time against brute force on a 5120-triangle sphere. ----
+
+template <class Tree>
+void measure(const char* treeName, const Tree& tree, const TriangleMesh& mesh, const std::vector<Obb<double>>& far,
+             const std::vector<Obb<double>>& near) {
+  MeshQueryCounters farCount, nearCount;
+  for (const auto& b : far) {
+    MeshQueryCounters c;
+    tree.overlaps(b, &c);
+    // A far box costs a handful of tests, nothing like the triangles.
+    EXPECT_LT(c.nodeTests + c.triangleTests, mesh.triangles.size() / 10);
+    farCount.nodeTests += c.nodeTests;
+    farCount.triangleTests += c.triangleTests;
+  }
+  for (const auto& b : near) tree.overlaps(b, &nearCount);
+  const double perNear = double(nearCount.nodeTests + nearCount.triangleTests) / double(near.size());
+  EXPECT_LT(perNear, 0.1 * double(mesh.triangles.size()));
+
+  auto microseconds = [](auto&& fn, int repeats) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int r = 0; r < repeats; ++r) fn();
+    return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() / repeats;
+  };
+  int sink = 0;
+  const double nearUs = microseconds([&] { for (const auto& b : near) sink += tree.overlaps(b); }, 5) / double(near.size());
+  const double farUs = microseconds([&] { for (const auto& b : far) sink += tree.overlaps(b); }, 5) / double(far.size());
+  const double distUs = microseconds([&] { for (const auto& b : near) sink += tree.distance(b) > 0; }, 1) / double(near.size());
+  std::printf("[%s] near boxes: %.1f BV tests + %.1f triangle tests, %.2f us per overlaps(), %.2f us per distance(); "
+              "far boxes: %.1f + %.1f tests, %.3f us (sink %d)\n",
+              treeName, double(nearCount.nodeTests) / double(near.size()), double(nearCount.triangleTests) / double(near.size()),
+              nearUs, distUs, double(farCount.nodeTests) / double(far.size()), double(farCount.triangleTests) / double(far.size()),
+              farUs, sink);
+}
+
+TEST(MeshTree, FewTestsAndFastOnABigMesh) {
+  const TriangleMesh sphere = icosphere(4, 1.0);  // 5120 triangles
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> u(-1, 1), ext(0.05, 0.3);
+  std::vector<Obb<double>> far, near;
+  for (int i = 0; i < 300; ++i) {
+    const V3 dir = V3(u(rng), u(rng), u(rng)).normalized();
+    const V3 half(ext(rng), ext(rng), ext(rng));
+    far.push_back({dir * (2.5 + std::abs(u(rng))), testshapes::randomRotation(rng), half});
+    // Near the surface: centre within +-1 half extent of the sphere (about half touch it).
+    near.push_back({dir * (1.0 + u(rng) * half.norm()), testshapes::randomRotation(rng), half});
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const ObbTree obb(sphere);
+  const auto t1 = std::chrono::steady_clock::now();
+  const KdopTree kdop(sphere);
+  const auto t2 = std::chrono::steady_clock::now();
+  std::printf("[build] %zu triangles: obb tree %.1f ms (%zu nodes), kdop18 tree %.1f ms (%zu nodes)\n", sphere.triangles.size(),
+              std::chrono::duration<double, std::milli>(t1 - t0).count(), obb.nodes().size(),
+              std::chrono::duration<double, std::milli>(t2 - t1).count(), kdop.nodes().size());
+  measure("obb", obb, sphere, far, near);
+  measure("kdop18", kdop, sphere, far, near);
+
+  std::vector<char> contact;
+  const auto b0 = std::chrono::steady_clock::now();
+  for (const auto& b : near) contact.push_back(bruteForceOverlaps(sphere, b));
+  const double bruteUs = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - b0).count() / double(near.size());
+  const long contacts = std::count(contact.begin(), contact.end(), 1);
+  std::printf("[brute force] near boxes: %ld of %zu in contact, %.1f us per query (up to %zu triangle tests)\n", contacts,
+              near.size(), bruteUs, sphere.triangles.size());
+  EXPECT_GT(contacts, long(near.size()) / 5);
+  for (std::size_t i = 0; i < near.size(); ++i) {
+    ASSERT_EQ(obb.overlaps(near[i]), bool(contact[i])) << i;
+    ASSERT_EQ(kdop.overlaps(near[i]), bool(contact[i])) << i;
+  }
+}
+
+// ---- Meshes from OSG nodes. ----
+
+TEST(MeshTree, MeshFromNodeAppliesTransforms) {
+  osg::ref_ptr<osg::Geometry> geometry = new osg::Geometry;
+  osg::ref_ptr<osg::Vec3Array> points = new osg::Vec3Array;
+  points->push_back(osg::Vec3(0, 0, 0));
+  points->push_back(osg::Vec3(1, 0, 0));
+  points->push_back(osg::Vec3(1, 1, 0));
+  points->push_back(osg::Vec3(0, 1, 0));
+  points->push_back(osg::Vec3(0, 0, 1));
+  geometry->setVertexArray(points);
+  osg::ref_ptr<osg::DrawElementsUInt> quad = new osg::DrawElementsUInt(GL_TRIANGLES);
+  for (unsigned i : {0u, 1u, 2u, 0u, 2u, 3u}) quad->push_back(i);
+  geometry->addPrimitiveSet(quad);
+  geometry->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLE_STRIP, 2, 3));  // (2,3,4)
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(geometry);
+  osg::ref_ptr<osg::MatrixTransform> transform = new osg::MatrixTransform;
+  // OSG's row-vector convention: scale, then turn 90 degrees about z, then move.
+  transform->setMatrix(osg::Matrixd::scale(2, 2, 2) * osg::Matrixd::rotate(M_PI / 2, osg::Vec3d(0, 0, 1)) *
+                       osg::Matrixd::translate(10, 20, 30));
+  transform->addChild(geode);
+
+  const TriangleMesh mesh = meshFromNode(*transform);
+  ASSERT_EQ(mesh.triangles.size(), 3u);
+  auto expected = [](double x, double y, double z) { return V3(10 - 2 * y, 20 + 2 * x, 30 + 2 * z); };
+  const std::vector<Triangle> want = {{expected(0, 0, 0), expected(1, 0, 0), expected(1, 1, 0)},
+                                      {expected(0, 0, 0), expected(1, 1, 0), expected(0, 1, 0)},
+                                      {expected(1, 1, 0), expected(0, 1, 0), expected(0, 0, 1)}};
+  for (std::size_t t = 0; t < 3; ++t)
+    for (int i = 0; i < 3; ++i) EXPECT_LT((mesh.triangle(t)[i] - want[t][i]).norm(), 1e-12) << t << " " << i;
+
+  // A box touching the transformed quad's corner (10, 20, 30) from below.
+  const ObbTree tree(mesh);
+  EXPECT_TRUE(tree.overlaps({V3(9.5, 19.5, 29.5), Mat3<double>::Identity(), V3::Constant(0.5)}));
+  EXPECT_FALSE(tree.overlaps({V3(9.5, 19.5, 29.49), Mat3<double>::Identity(), V3::Constant(0.5)}));
+  EXPECT_NEAR(tree.distance({V3(9.5, 19.5, 29.49), Mat3<double>::Identity(), V3::Constant(0.5)}), 0.01, 1e-12);
+
+  const osg::ref_ptr<osg::Group> empty = new osg::Group;
+  EXPECT_THROW(meshFromNode(*empty), InputError);
+}
+
+// ---- The bundled equipment models. ----
+
+std::filesystem::path bundledModels() {
+  if (const char* env = std::getenv("NESTWALK_BUNDLED_SCENE"); env && *env) return std::filesystem::path(env) / "models";
+  return std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "models";
+}
+
+TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
+  const std::filesystem::path dir = bundledModels();
+  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent (build the bundled_scene target)";
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().extension() == ".osgt") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_FALSE(files.empty());
+  const V3 body(0.25, 0.25, 0.9);  // the bundled scene's viewer body half extents
+  for (const auto& file : files) {
+    const osg::ref_ptr<osg::Node> node = osgDB::readRefNodeFile(file.string());
+    ASSERT_TRUE(node) << file;
+    const TriangleMesh mesh = meshFromNode(*node);
+    const Obb<double> inner = fitObb(mesh.vertices, ObbFitter::HullSearch);
+    const ObbTree obbTree(mesh);
+    const KdopTree kdopTree(mesh);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1), yaw(0, 2 * M_PI);
+    const V3 reach = inner.halfExtents.cwiseAbs().maxCoeff() * V3::Ones() + body;
+    int obbContacts = 0, meshContacts = 0;
+    std::vector<double> falseContactGaps;
+    for (int n = 0; n < 1000; ++n) {
+      const Obb<double> box{inner.center + V3(u(rng), u(rng), u(rng)).cwiseProduct(reach),
+                            Eigen::AngleAxisd(yaw(rng), V3::UnitZ()).toRotationMatrix(), body};
+      const bool touchesMesh = bruteForceOverlaps(mesh, box);
+      const bool touchesObb = satObbObb(inner, box).overlap;
+      ASSERT_EQ(obbTree.overlaps(box), touchesMesh) << file << " box " << n;
+      ASSERT_EQ(kdopTree.overlaps(box), touchesMesh) << file << " box " << n;
+      ASSERT_TRUE(touchesObb || !touchesMesh) << file << " box " << n << ": a mesh contact outside the inner OBB";
+      obbContacts += touchesObb;
+      meshContacts += touchesMesh;
+      if (touchesObb && !touchesMesh) falseContactGaps.push_back(obbTree.distance(box));
+    }
+    std::sort(falseContactGaps.begin(), falseContactGaps.end());
+    const auto gap = [&](double q) { return falseContactGaps.empty() ? 0.0 : falseContactGaps[std::size_t(q * double(falseContactGaps.size() - 1))]; };
+    std::printf("[model] %-20s %4zu triangles: of 1000 body boxes %3d touch the inner OBB, %3d the triangles; "
+                "false contacts %3zu, gap to the real surface median %.3f m, max %.3f m\n",
+                file.filename().string().c_str(), mesh.triangles.size(), obbContacts, meshContacts,
+                falseContactGaps.size(), gap(0.5), gap(1.0));
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk

@@ -1,0 +1,169 @@
+// The exact walker methods on the bundled scene: nested+mesh (nested volumes, then an OBB tree over
+// the real triangles) and kdop18 (a k-DOP-18 tree right after the broad phase). Where the bench
+// patrol is blocked, the body stops within a millimetre of the real triangles and never touches
+// them (distance by FCL between the body box and the instances' triangles, independent of the
+// project's trees); both exact methods block on the same frames by the same units; the nested
+// volumes stop the walker earlier, never later, than the real geometry would.
+#include "engine/scene/scene.h"
+#include "engine/walker/flythrough.h"
+#include "engine/walker/mesh_world.h"
+#include "engine/walker/script_player.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/narrowphase/distance.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <limits>
+#include <memory>
+
+namespace nestwalk {
+namespace {
+
+const std::filesystem::path kScene = std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
+const std::filesystem::path kPatrol = std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts" / "bench_patrol.txt";
+
+/// FCL's view of one unit: its instances' triangles in the local frame, one BVH.
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fclUnit(const Scene& scene, std::size_t unit) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  model->beginModel();
+  for (std::uint32_t i : scene.units[unit].instances) {
+    const SceneInstance& inst = scene.instances[i];
+    const TriangleMesh mesh = meshFromNode(*scene.models[inst.model].node);
+    for (const auto& t : mesh.triangles) {
+      fcl::Vector3d p[3];
+      for (int k = 0; k < 3; ++k)
+        p[k] = inst.toLocal.scale * (inst.toLocal.rotation * mesh.vertices[t[std::size_t(k)]]) + inst.toLocal.translation;
+      model->addTriangle(p[0], p[1], p[2]);
+    }
+  }
+  model->endModel();
+  return model;
+}
+
+double fclDistance(const fcl::BVHModel<fcl::OBBRSSd>& mesh, const Obb<double>& body) {
+  const fcl::Boxd box(2 * body.halfExtents.x(), 2 * body.halfExtents.y(), 2 * body.halfExtents.z());
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.linear() = body.axes;
+  tf.translation() = body.center;
+  fcl::DistanceRequestd request;
+  request.enable_nearest_points = false;
+  fcl::DistanceResultd result;
+  return fcl::distance(&mesh, fcl::Transform3d::Identity(), &box, tf, request, result);
+}
+
+struct BlockedStep {
+  std::uint64_t frame;
+  std::int32_t unit;
+  Obb<double> body;
+};
+
+std::vector<BlockedStep> blockedSteps(const Scene& scene, const CollisionWorld& world, const Script& script) {
+  WalkerOptions options;
+  options.viewer = scene.spec.viewer;
+  options.timeParts = false;
+  Walker walker(*scene.terrain, world, scene.origin, options);
+  ScriptPlayer player(script, walker);
+  std::vector<BlockedStep> out;
+  player.run([&](const Walker& w, const StepReport&) {
+    const WalkerState& s = w.state();
+    if (s.blocked && s.reason == BlockReason::Equipment)
+      out.push_back({s.frame, s.blockedUnit, w.bodyVolume(s.feet, s.bodyYawDeg).inner});
+  });
+  return out;
+}
+
+class MeshMethods : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (std::filesystem::exists(kScene)) {
+      scene_ = std::make_unique<Scene>(loadScene(kScene.string()));
+      meshes_ = MeshWorld::fromScene(*scene_);
+    }
+  }
+  static void TearDownTestSuite() {
+    scene_.reset();
+    meshes_.reset();
+  }
+  void SetUp() override {
+    if (!scene_) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  }
+  static CollisionWorld world(VolumeMethod m) {
+    MethodSpec spec = scene_->spec.method;
+    spec.volumes = m;
+    return CollisionWorld::fromScene(*scene_, spec, meshes_);
+  }
+  static std::unique_ptr<Scene> scene_;
+  static std::shared_ptr<const MeshWorld> meshes_;
+};
+std::unique_ptr<Scene> MeshMethods::scene_;
+std::shared_ptr<const MeshWorld> MeshMethods::meshes_;
+
+TEST_F(MeshMethods, ExactMethodsStopWithinAMillimetreOfTheRealTriangles) {
+  const Script patrol = readScript(kPatrol.string());
+  std::vector<std::vector<BlockedStep>> runs;
+  for (VolumeMethod m : {VolumeMethod::NestedMesh, VolumeMethod::Kdop18, VolumeMethod::Nested}) {
+    const CollisionWorld w = world(m);
+    runs.push_back(blockedSteps(*scene_, w, patrol));
+    ASSERT_FALSE(runs.back().empty()) << volumeMethodName(m) << ": the patrol is blocked at the station";
+  }
+  std::map<std::int32_t, std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> fclUnits;
+  auto gapOf = [&](const BlockedStep& b) {
+    auto& model = fclUnits[b.unit];
+    if (!model) model = fclUnit(*scene_, std::size_t(b.unit));
+    return fclDistance(*model, b.body);
+  };
+  for (int k = 0; k < 2; ++k) {
+    double worst = 0;
+    for (const BlockedStep& b : runs[std::size_t(k)]) {
+      const double gap = gapOf(b);
+      EXPECT_GT(gap, 0.0) << "frame " << b.frame << ": the body touches the real triangles";
+      EXPECT_LE(gap, 1e-3) << "frame " << b.frame << ": stopped " << gap * 1000 << " mm from the real triangles";
+      worst = std::max(worst, gap);
+    }
+    std::printf("%s: %zu blocked frames, largest gap to the real triangles %.3f mm\n",
+                k == 0 ? "nested+mesh" : "kdop18", runs[std::size_t(k)].size(), worst * 1000);
+  }
+  // Both exact methods block on the same frames, by the same units.
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  for (std::size_t i = 0; i < runs[0].size(); ++i) {
+    EXPECT_EQ(runs[0][i].frame, runs[1][i].frame);
+    EXPECT_EQ(runs[0][i].unit, runs[1][i].unit);
+    EXPECT_NEAR((runs[0][i].body.center - runs[1][i].body.center).norm(), 0.0, 1e-3);
+  }
+  // The nested volumes stop earlier: their gap to the real triangles is larger.
+  double nestedMin = std::numeric_limits<double>::infinity();
+  for (const BlockedStep& b : runs[2]) nestedMin = std::min(nestedMin, gapOf(b));
+  std::printf("nested: %zu blocked frames, smallest gap to the real triangles %.1f mm\n", runs[2].size(),
+              nestedMin * 1000);
+  EXPECT_GT(nestedMin, 1e-3);
+}
+
+TEST_F(MeshMethods, NestedVolumesNeverLetTheBodyFurtherThanTheTriangles) {
+  // Every sweep of the nested method compared with the exact method on the same step.
+  const CollisionWorld exact = world(VolumeMethod::NestedMesh);
+  for (VolumeMethod m : {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb, VolumeMethod::Kdop18}) {
+    CollisionWorld w = world(m);
+    ReferenceTally tally;
+    w.compareWith(&exact, &tally);
+    WalkerOptions options;
+    options.viewer = scene_->spec.viewer;
+    options.timeParts = false;
+    runFlythrough(*scene_, w, readScript(kPatrol.string()), options);
+    EXPECT_GT(tally.sweeps, 1000u);
+    EXPECT_GT(tally.contacts, 0u);
+    EXPECT_EQ(tally.missed, 0u) << volumeMethodName(m);
+    EXPECT_EQ(tally.contacts, tally.referenceContacts + tally.earlyStops + tally.falseBlocks) << volumeMethodName(m);
+    if (m == VolumeMethod::Kdop18) {
+      EXPECT_EQ(tally.earlyStops + tally.falseBlocks, 0u);
+    }
+    std::printf("%s: %llu sweeps, %llu contacts (exact %llu), %llu missed, %llu early stops, %llu false blocks\n",
+                volumeMethodName(m), (unsigned long long)tally.sweeps, (unsigned long long)tally.contacts,
+                (unsigned long long)tally.referenceContacts, (unsigned long long)tally.missed,
+                (unsigned long long)tally.earlyStops, (unsigned long long)tally.falseBlocks);
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk
