@@ -4,7 +4,9 @@
 # display and no GPU needed, into build/runs/bench_patrol/: frames/ (PNG), flythrough.mp4,
 # frames.csv (per-step timings: ground, collision, rendering), summary.json, frame_times.png,
 # top_down.png and camera.path; then plays the other two flythroughs headlessly (no rendering)
-# into build/runs/<flythrough>/. Exits non-zero when a flythrough's expectations are not met.
+# into build/runs/<flythrough>/, and writes the speed-against-error report of every contact method
+# (nestwalk report, full settings) into build/runs/report/. Exits non-zero when a flythrough's
+# expectations are not met or the report cannot be made.
 # Extra arguments go to the rendered run (e.g. --size 640x360, --every 1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,8 +24,11 @@ for script in ramp_descent low_flight; do
     --out "$runs/$script" --overwrite || status=$?
   echo
 done
+build/tools/nestwalk report "$scene/scene.json" --out "$runs/report" --overwrite || status=$?
+echo
 echo "nestwalk: the rendered flythrough is in $(pwd)/$runs/bench_patrol:" \
      "flythrough.mp4, frames/, frames.csv, summary.json, frame_times.png, top_down.png, camera.path"
 echo "nestwalk: the other runs are in $(pwd)/$runs/{ramp_descent,low_flight} (replay one in osgviewer:" \
      "build/tools/nestwalk export $scene/scene.json $runs/scene.osgb && osgviewer $runs/scene.osgb -p $runs/low_flight/camera.path)"
+echo "nestwalk: the methods' speed against error: $(pwd)/$runs/report/report.md"
 exit $status

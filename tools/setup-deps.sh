@@ -8,7 +8,8 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev                                  # linear algebra, symmetric eigensolver
   libopenscenegraph-dev openscenegraph           # scene graph, model loading (osgDB plugins)
-  libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering
+  libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering (EGL)
+  xvfb xauth                                     # the X pbuffer fallback route, tested in CI
   libgdal-dev gdal-bin                           # raster I/O, reprojection
   libgtest-dev libgmock-dev libbenchmark-dev     # tests and benchmarks
   libfcl-dev libccd-dev libbullet-dev            # peers for benchmarks and test oracles

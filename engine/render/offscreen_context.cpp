@@ -27,9 +27,13 @@ std::string eglErrorText(const char* what) {
 
 std::unique_ptr<OffscreenContext> OffscreenContext::create(int width, int height) {
   std::unique_ptr<OffscreenContext> c(new OffscreenContext);
-  std::string whyEgl, whyPbuffer;
-  if (c->tryEgl(whyEgl)) return c;
-  if (c->tryPbuffer(width, height, whyPbuffer)) return c;
+  const char* forced = std::getenv("NESTWALK_OFFSCREEN");
+  const std::string route = forced ? forced : "auto";
+  if (route != "auto" && route != "egl" && route != "x11")
+    throw std::runtime_error("NESTWALK_OFFSCREEN: expected auto, egl or x11, got '" + route + "'");
+  std::string whyEgl = "not tried (NESTWALK_OFFSCREEN=x11)", whyPbuffer = "not tried (NESTWALK_OFFSCREEN=egl)";
+  if (route != "x11" && c->tryEgl(whyEgl)) return c;
+  if (route != "egl" && c->tryPbuffer(width, height, whyPbuffer)) return c;
   throw std::runtime_error("no offscreen OpenGL context: EGL surfaceless: " + whyEgl + "; X pbuffer: " + whyPbuffer +
                            " (install Mesa's EGL with tools/setup-deps.sh, or run under xvfb-run)");
 }

@@ -23,8 +23,9 @@ const char* offscreenRouteName(OffscreenRoute r);  // "egl-surfaceless", "x11-pb
 
 class OffscreenContext {
  public:
-  // Tries EGL first, then (when DISPLAY is set) an X pbuffer of width x height. Throws
-  // std::runtime_error saying what each route answered when neither works.
+  // Tries EGL first, then (when DISPLAY is set) an X pbuffer of width x height; the environment
+  // variable NESTWALK_OFFSCREEN=egl or =x11 allows only that route (auto: both). Throws
+  // std::runtime_error saying what each route answered when none works.
   static std::unique_ptr<OffscreenContext> create(int width, int height);
   ~OffscreenContext();
   OffscreenContext(const OffscreenContext&) = delete;

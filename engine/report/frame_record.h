@@ -97,10 +97,11 @@ void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const 
                      const std::vector<ExpectationResult>& expectations);
 
 // Frame-time plot: µs per frame for each part against the frame number, with p50/p99 lines and a
-// legend; PNG through osgDB's image writer (its png plugin). The y axis is log10 over whole
+// legend; when frames were rendered, the render time (total) through the rendered frames as well; PNG through osgDB's image writer (its png plugin). The y axis is log10 over whole
 // decades (parts differ by orders of magnitude; a time of 0 sits on the floor); the x axis runs
 // from the first record's frame to the last's. Colours (RGB): ground green (44,160,44), broad
-// blue (31,119,180), narrow orange (255,127,14), total red (214,39,40); p50 of the total a
+// blue (31,119,180), narrow orange (255,127,14), total red (214,39,40), render pink
+// (227,119,194); p50 of the (step) total a
 // dashed purple (148,103,189) line, p99 a dashed brown (140,86,75) one; white background, black
 // axes and labels, light grey (224,224,224) decade and frame grid. Throws InputError for a size
 // below 172 x 114 pixels or when the PNG cannot be written.

@@ -25,6 +25,7 @@ constexpr Rgb kPartColour[kStepParts] = {
     {255, 127, 14},  // narrow: orange
     {214, 39, 40},   // total: red
 };
+constexpr Rgb kRenderColour{227, 119, 194};  // rendering (run --render): pink, rendered frames only
 constexpr Rgb kP50Colour{148, 103, 189};  // p50 of total: purple, dashed
 constexpr Rgb kP99Colour{140, 86, 75};    // p99 of total: brown, dashed
 
@@ -73,12 +74,20 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
 
   // Log10 y axis over whole decades holding every positive time (at least one decade).
   double lo = HUGE_VAL, hi = 0;
-  for (const FrameRecord& r : records)
-    for (double us : r.micros)
-      if (us > 0 && std::isfinite(us)) {
-        lo = std::min(lo, std::max(us, kFloorMicros));
-        hi = std::max(hi, us);
-      }
+  bool rendered = false;
+  auto cover = [&](double us) {
+    if (us > 0 && std::isfinite(us)) {
+      lo = std::min(lo, std::max(us, kFloorMicros));
+      hi = std::max(hi, us);
+    }
+  };
+  for (const FrameRecord& r : records) {
+    for (double us : r.micros) cover(us);
+    if (r.render.rendered) {
+      rendered = true;
+      cover(r.render.micros[std::size_t(RenderPart::Total)]);
+    }
+  }
   int kLo = 0, kHi = 1;
   if (hi > 0) {
     kLo = int(std::floor(std::log10(lo)));
@@ -129,6 +138,19 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
       }
     }
   }
+  // Rendering, through the rendered frames only.
+  const FrameRecord* previous = nullptr;
+  for (const FrameRecord& r : records) {
+    if (!r.render.rendered) continue;
+    const int x = xOf(r.frame), y = yOf(r.render.micros[std::size_t(RenderPart::Total)]);
+    if (previous) {
+      canvas.line(xOf(previous->frame), yOf(previous->render.micros[std::size_t(RenderPart::Total)]), x, y,
+                  kRenderColour);
+    } else {
+      canvas.set(x, y, kRenderColour);
+    }
+    previous = &r;
+  }
   if (!records.empty()) {
     std::vector<double> total;
     total.reserve(records.size());
@@ -150,9 +172,10 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
     Rgb colour;
     bool dashed;
   };
-  const Entry entries[] = {{"GROUND", kPartColour[0], false}, {"BROAD", kPartColour[1], false},
-                           {"NARROW", kPartColour[2], false}, {"TOTAL", kPartColour[3], false},
-                           {"P50", kP50Colour, true},         {"P99", kP99Colour, true}};
+  std::vector<Entry> entries = {{"GROUND", kPartColour[0], false}, {"BROAD", kPartColour[1], false},
+                                {"NARROW", kPartColour[2], false}, {"TOTAL", kPartColour[3], false},
+                                {"P50", kP50Colour, true},         {"P99", kP99Colour, true}};
+  if (rendered) entries.push_back({"RENDER", kRenderColour, false});
   int x = px0 + 8;
   constexpr int kSwatch = 16;
   for (const Entry& e : entries) {

@@ -73,6 +73,7 @@ struct ViewerSpec {
 //              OBB tree: blocks only on real contact (exact reference)
 //   Kdop18     the body box against the real triangles through a k-DOP-18 tree, right after the
 //              broad phase (exact, no nested stage)
+// The mesh methods test a unit without any triangle (points or lines only) by its nested volumes.
 enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18 };
 inline bool usesMeshes(VolumeMethod m) { return m == VolumeMethod::NestedMesh || m == VolumeMethod::Kdop18; }
 

@@ -73,6 +73,11 @@ SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, 
   return r;
 }
 
+bool CollisionWorld::hasTriangles(std::uint32_t u) const {
+  if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
+  return meshes_->triangles(u) > 0;
+}
+
 bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
                                  CollisionCounters& counters) const {
   if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
@@ -93,7 +98,8 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
       ++counters.stageTests[2];
       return sweepInnerOnly(viewer, d, obj);
     case VolumeMethod::Kdop18:
-      return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), MeshTreeKind::Kdop18, counters);
+      if (hasTriangles(u)) return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), MeshTreeKind::Kdop18, counters);
+      break;  // no triangles (points, lines): the unit's nested volumes stand for it
     case VolumeMethod::Nested:
     case VolumeMethod::NestedMesh:
       break;
@@ -104,7 +110,7 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
   if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
   if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
   // The triangles lie inside both volumes: no real contact before the nested one.
-  if (method_.volumes == VolumeMethod::NestedMesh && r.contact)
+  if (method_.volumes == VolumeMethod::NestedMesh && r.contact && hasTriangles(u))
     return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
   return r;
 }
@@ -190,12 +196,16 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
         if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
         if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
         overlap = r.overlap;
-        if (overlap && method_.volumes == VolumeMethod::NestedMesh)
+        if (overlap && method_.volumes == VolumeMethod::NestedMesh && hasTriangles(u))
           overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);
         break;
       }
       case VolumeMethod::Kdop18:
-        overlap = meshOverlap(viewer, u, MeshTreeKind::Kdop18, counters);
+        if (hasTriangles(u)) {
+          overlap = meshOverlap(viewer, u, MeshTreeKind::Kdop18, counters);
+        } else {
+          overlap = testNested(viewer, units_[u]).overlap;
+        }
         break;
     }
     if (overlap && (found < 0 || std::int32_t(u) < found)) found = std::int32_t(u);

@@ -98,6 +98,9 @@ class CollisionWorld {
                               const Vec3<double>& normal, MeshTreeKind kind, CollisionCounters& counters) const;
   bool meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
                    CollisionCounters& counters) const;
+  // Whether unit u has triangles; the mesh methods test a unit without any (a point cloud, a
+  // wireframe) by its nested volumes instead.
+  bool hasTriangles(std::uint32_t u) const;
 
   std::vector<NestedVolume<double>> units_;
   std::vector<std::string> names_, groups_;

@@ -224,8 +224,13 @@ StepReport Walker::step(const StepInput& in) {
   state_.headingDeg = in.headingDeg;
   state_.pitchDeg = in.pitchDeg;
   if (state_.bodyYawDeg != in.headingDeg) {
+    // The body turns with the view unless the turned body would overlap equipment or its
+    // footprint would overhang a hole or the raster's edge (a pose place() refuses; from it, short
+    // steps would all fail their first ground sample and the walker would be stuck).
+    std::array<double, 5> h{};
     report.volumesUpdated += 2;
-    if (world_.overlapping(bodyVolume(state_.feet, in.headingDeg), report.counters) < 0)
+    if (footprintHeights(state_.feet.x(), state_.feet.y(), in.headingDeg, h) &&
+        world_.overlapping(bodyVolume(state_.feet, in.headingDeg), report.counters) < 0)
       state_.bodyYawDeg = in.headingDeg;
   }
 

@@ -119,6 +119,24 @@ TEST(FrameTimePlot, ReadsBackWithEveryPartDrawn) {
   EXPECT_GT(runs, 50);
 }
 
+TEST(FrameTimePlot, RenderTimesAboveTheStepsWhenFramesWereRendered) {
+  TempDir dir;
+  constexpr Rgb kRender{227, 119, 194};
+  std::vector<FrameRecord> records = sampleRecords(600);  // every third frame rendered, ~30 ms
+  writeFrameTimePlot(dir / "rendered.png", records, 1200, 500);
+  const osg::ref_ptr<osg::Image> img = readBack(dir / "rendered.png");
+  ASSERT_TRUE(img);
+  const Spread render = spreadOf(*img, kRender), total = spreadOf(*img, kParts[3]);
+  EXPECT_GT(render.count, 600u);
+  EXPECT_GT(render.maxX - render.minX, img->s() * 3 / 4);
+  EXPECT_GT(render.meanY(), total.meanY() + 100) << "render times (ms) lie far above the step totals (us)";
+  for (FrameRecord& r : records) r.render = RenderRecord{};
+  writeFrameTimePlot(dir / "plain.png", records, 1200, 500);
+  const osg::ref_ptr<osg::Image> plain = readBack(dir / "plain.png");
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(spreadOf(*plain, kRender).count, 0u);
+}
+
 TEST(FrameTimePlot, OtherSizesAndEmptyRun) {
   TempDir dir;
   writeFrameTimePlot(dir / "small.png", sampleRecords(5), 400, 200);

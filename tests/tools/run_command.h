@@ -63,19 +63,23 @@ inline std::filesystem::path tempFolder() {
   return dir;
 }
 
-/// `nestwalk ARGS` (ARGS already shell-quoted where needed), stdout and stderr captured apart.
-inline CommandResult runNestwalk(const std::string& args) {
+/// A shell command line, stdout and stderr captured apart.
+inline CommandResult runCommand(const std::string& commandLine) {
   temporaryFolders().folders.push_back(testFolderPath());
   const auto dir = testFolderPath() / "capture";
   std::filesystem::create_directories(dir);
-  const std::string cmd = std::string("'") + NESTWALK_BINARY + "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
-                          (dir / "err").string() + "'";
+  const std::string cmd = commandLine + " >'" + (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = readText(dir / "out");
   r.err = readText(dir / "err");
   return r;
+}
+
+/// `nestwalk ARGS` (ARGS already shell-quoted where needed), stdout and stderr captured apart.
+inline CommandResult runNestwalk(const std::string& args) {
+  return runCommand(std::string("'") + NESTWALK_BINARY + "' " + args);
 }
 
 /// The shared real data folder, or empty when it is absent (tests then skip and say so).

@@ -9,6 +9,7 @@
 #include <osgDB/ReadFile>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -129,6 +130,43 @@ TEST_F(RenderRun, WritesFramesVideoAndRenderTimes) {
   const auto again = runNestwalk(base + quoted(dir / "a"));
   EXPECT_EQ(again.exitCode, 1);
   EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
+}
+
+/// Mean absolute difference per channel between two PNGs of one size (-1 when they differ in size).
+double meanDifference(const fs::path& a, const fs::path& b) {
+  osg::ref_ptr<osg::Image> x = osgDB::readImageFile(a.string()), y = osgDB::readImageFile(b.string());
+  if (!x || !y || x->s() != y->s() || x->t() != y->t()) return -1;
+  double sum = 0;
+  for (int r = 0; r < x->t(); ++r)
+    for (int c = 0; c < x->s() * 3; ++c) sum += std::abs(int(x->data(0, r)[c]) - int(y->data(0, r)[c]));
+  return sum / (double(x->s()) * x->t() * 3);
+}
+
+TEST_F(RenderRun, FallsBackToAnXPbufferUnderXvfb) {
+  // The fallback route where EGL cannot be had: an X pbuffer on the display xvfb-run provides.
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (tools/setup-deps.sh installs it)";
+  const auto dir = tempFolder();
+  const std::string args = "run " + quoted(kScene) + " --script " + quoted(kFlight) +
+                           " --headless --quiet --render --size 320x180 --every 300 --no-video --out ";
+  const auto egl = runNestwalk(args + quoted(dir / "egl"));
+  ASSERT_EQ(egl.exitCode, 0) << egl.out << egl.err;
+  const auto x11 = runCommand("NESTWALK_OFFSCREEN=x11 xvfb-run -a -s '-screen 0 640x480x24' " +
+                              std::string(NESTWALK_BINARY) + " " + args + quoted(dir / "x11"));
+  ASSERT_EQ(x11.exitCode, 0) << x11.out << x11.err;
+  EXPECT_EQ(nlohmann::json::parse(readText(dir / "egl" / "summary.json"))["render"]["route"], "egl-surfaceless");
+  EXPECT_EQ(nlohmann::json::parse(readText(dir / "x11" / "summary.json"))["render"]["route"], "x11-pbuffer");
+  // The same frames, up to the rasteriser's rounding.
+  for (const char* frame : {"frame_000001.png", "frame_000301.png"}) {
+    const double diff = meanDifference(dir / "egl" / "frames" / frame, dir / "x11" / "frames" / frame);
+    EXPECT_GE(diff, 0.0) << frame;
+    EXPECT_LT(diff, 1.0) << frame;
+  }
+  // Asking for a route that cannot be had names the variable.
+  const auto none = runCommand("env -u DISPLAY NESTWALK_OFFSCREEN=x11 " + std::string(NESTWALK_BINARY) + " " + args +
+                               quoted(dir / "none"));
+  EXPECT_NE(none.exitCode, 0);
+  EXPECT_NE(none.err.find("DISPLAY"), std::string::npos) << none.err;
 }
 
 TEST_F(RenderRun, BadRenderOptionsAreRefused) {

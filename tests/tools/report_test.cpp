@@ -1,0 +1,108 @@
+// `nestwalk report` on the bundled mining-dump scene (generated at build time into
+// build/assets/mining_dump), quick settings: the report's files are written, every method ran over
+// every flythrough without a missed contact, nested+mesh has no false block and stops within 1 mm
+// of the real geometry, the plots read back as PNGs, and existing files are kept unless --overwrite.
+#include "tests/tools/run_command.h"
+
+#include <nlohmann/json.hpp>
+#include <osg/Image>
+#include <osgDB/ReadFile>
+
+#include <filesystem>
+
+namespace nestwalk::test {
+namespace {
+
+namespace fs = std::filesystem;
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
+const char* const kMethods[] = {"nested", "aabb", "obb", "nested+mesh", "kdop18"};
+const char* const kScripts[] = {"bench_patrol.txt", "low_flight.txt", "ramp_descent.txt"};
+
+class Report : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  }
+};
+
+TEST_F(Report, QuickReportOnTheBundledScene) {
+  const fs::path dir = tempFolder() / "report";
+  const auto r = runNestwalk("report --quick --out " + quoted(dir));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png"})
+    ASSERT_TRUE(fs::exists(dir / f)) << f << "\n" << r.out << r.err;
+
+  const auto j = nlohmann::json::parse(readText(dir / "report.json"));
+  ASSERT_EQ(j["methods"].size(), std::size(kMethods));
+  for (std::size_t m = 0; m < std::size(kMethods); ++m) {
+    const auto& method = j["methods"][m];
+    SCOPED_TRACE(kMethods[m]);
+    EXPECT_EQ(method["method"], kMethods[m]);
+    EXPECT_TRUE(method["complete"].get<bool>());
+    ASSERT_EQ(method["flythroughs"].size(), std::size(kScripts));
+    for (std::size_t s = 0; s < std::size(kScripts); ++s) {
+      const auto& play = method["flythroughs"][s];
+      SCOPED_TRACE(kScripts[s]);
+      EXPECT_EQ(play["script"], kScripts[s]);
+      ASSERT_FALSE(play.contains("error")) << play["error"];
+      EXPECT_GT(play["frames"].get<long>(), 10);
+      EXPECT_GT(play["sweeps"].get<long>(), 0);
+      EXPECT_EQ(play["missed"].get<long>(), 0);
+      if (method["method"] == "nested+mesh") {
+        EXPECT_EQ(play["false_blocks"].get<long>(), 0);
+        EXPECT_EQ(play["early_stops"].get<long>(), 0);
+        if (play["stop_gap_mm"]["samples"].get<long>() > 0) {
+          EXPECT_LE(play["stop_gap_mm"]["max"].get<double>(), 1.0);
+          EXPECT_GT(play["stop_gap_mm"]["max"].get<double>(), 0.0);  // never inside
+        }
+      }
+    }
+    EXPECT_EQ(method["missed"].get<long>(), 0);
+    EXPECT_GT(method["us_per_frame"]["p50"].get<double>(), 0.0);
+  }
+  // Exact methods: every step blocked by equipment on the bundled patrol stops within 1 mm.
+  const auto& exact = j["methods"][3];
+  EXPECT_GT(exact["stop_gap_mm"]["samples"].get<long>(), 0) << "nested+mesh was never blocked";
+  EXPECT_FALSE(j["terrain_lod"]["levels"].empty());
+  for (const auto& level : j["terrain_lod"]["levels"])
+    EXPECT_LE(level["max_error_m"].get<double>(), level["table_max_error_m"].get<double>() + 1e-6) << level["name"];
+  EXPECT_FALSE(j["fitters"]["models"].empty());
+  for (const auto& model : j["fitters"]["models"]) {
+    const auto& v = model["volume"];
+    EXPECT_LE(v["hull_search"].get<double>(), v["covariance"].get<double>() * (1 + 1e-9)) << model["model"];
+    EXPECT_GT(v["cgal_optimal"].get<double>(), 0.0) << model["model"];
+  }
+
+  const std::string md = readText(dir / "report.md");
+  for (const char* m : kMethods) EXPECT_NE(md.find(std::string("| ") + m + " |"), std::string::npos) << m;
+  EXPECT_NE(md.find("![time against stop gap](pareto.png)"), std::string::npos);
+  EXPECT_NE(md.find("Nested: false-block rate and stop gap per flythrough"), std::string::npos);
+  for (const char* s : kScripts) EXPECT_NE(md.find(std::string("| ") + s + " |"), std::string::npos) << s;
+
+  for (const char* png : {"pareto.png", "methods.png", "terrain_lod.png"}) {
+    osg::ref_ptr<osg::Image> image = osgDB::readImageFile((dir / png).string());
+    ASSERT_TRUE(image.valid()) << png;
+    EXPECT_GE(image->s(), 400) << png;
+    EXPECT_GE(image->t(), 300) << png;
+  }
+
+  // Existing files are kept unless --overwrite; the message names the file.
+  const auto again = runNestwalk("report --quick --out " + quoted(dir));
+  EXPECT_EQ(again.exitCode, 1);
+  EXPECT_NE(again.err.find((dir / "report.md").string()), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
+}
+
+TEST_F(Report, MissingScriptIsNamed) {
+  const fs::path dir = tempFolder();
+  const auto r = runNestwalk("report " + quoted(kScene) + " --scripts " + quoted(dir / "nope.txt") + " --out " +
+                             quoted(dir / "report"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("nope.txt"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "report" / "report.md"));
+}
+
+}  // namespace
+}  // namespace nestwalk::test

@@ -1,0 +1,272 @@
+// The methods report (method_report.h): the plays of every contact method over the flythroughs
+// (timing, and accuracy against the exact reference with the stop gaps), the aggregates and the
+// targets; then the files (report_writer.cpp).
+#include "tools/bench/method_report.h"
+
+#include "engine/core/input_error.h"
+#include "engine/scene/scene.h"
+#include "engine/walker/flythrough.h"
+#include "engine/walker/script_player.h"
+#include "tools/bench/bench_runner.h"
+#include "tools/bench/method_report_data.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <ostream>
+
+namespace nestwalk::bench {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Where to look for the nearest triangles after a step blocked by no named unit, metres.
+constexpr double kGapSearchRadius = 5.0;
+
+struct Settings {
+  int timingPlays;            // timing plays per method and flythrough (each frame: the least)
+  std::size_t terrainPoints;  // random map points of the terrain table
+  int terrainRepetitions;     // timed loops per level
+  int fitterRepetitions;      // fits per model and fitter
+};
+constexpr Settings kFull{25, 1'000'000, 3, 10};
+constexpr Settings kQuick{5, 20'000, 3, 3};
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The exact distance from the body box to the nearest unit's triangles: first to the unit that
+/// blocked (an upper bound), then to every unit whose outer AABB comes within that distance of the
+/// body's (a unit's triangles lie inside its outer AABB, so no closer one is left out).
+double stopGap(const CollisionWorld& world, const MeshWorld& meshes, const NestedVolume<double>& body,
+               std::int32_t blockedUnit, std::vector<std::uint32_t>& near) {
+  MeshQueryCounters counters;
+  double gap = blockedUnit >= 0 ? meshes.distance(std::uint32_t(blockedUnit), body.inner, MeshTreeKind::Obb, counters)
+                                : kGapSearchRadius;
+  const Vec3<double> grow = Vec3<double>::Constant(gap * (1 + 1e-9) + 1e-9);
+  near.clear();
+  world.tree().query(Aabb<double>{body.outer.min - grow, body.outer.max + grow}, near);
+  bool found = blockedUnit >= 0;
+  for (std::uint32_t u : near) {
+    gap = std::min(gap, meshes.distance(u, body.inner, MeshTreeKind::Obb, counters));
+    found = true;
+  }
+  return found ? gap : kNaN;
+}
+
+/// A timing play: the walker's own µs per step; each frame keeps the least over the plays.
+void timingPlay(const Scene& scene, const CollisionWorld& world, const Script& script, const WalkerOptions& options,
+                PlayStats& s) {
+  const FlythroughResult r = runFlythrough(scene, world, script, options);
+  const bool first = s.totalMicros.empty();
+  if (!first && r.records.size() != s.totalMicros.size())
+    throw std::logic_error("report: a timing play of " + script.path + " took a different number of steps");
+  s.frames = r.records.size();
+  s.totalMicros.resize(r.records.size());
+  s.collisionMicros.resize(r.records.size());
+  for (std::size_t i = 0; i < r.records.size(); ++i) {
+    const auto& us = r.records[i].micros;
+    const double total = us[std::size_t(StepPart::Total)];
+    const double collision = us[std::size_t(StepPart::BroadPhase)] + us[std::size_t(StepPart::Narrow)];
+    s.totalMicros[i] = first ? total : std::min(s.totalMicros[i], total);
+    s.collisionMicros[i] = first ? collision : std::min(s.collisionMicros[i], collision);
+  }
+}
+
+/// The accuracy play: every sweep compared with the reference's, counters, stop gaps.
+void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorld& reference, const MeshWorld& meshes,
+                  const Script& script, const WalkerOptions& options, PlayStats& s) {
+  world.compareWith(&reference, &s.tally);
+  struct Off {  // the comparison off again, however the play ends
+    CollisionWorld& w;
+    ~Off() { w.compareWith(nullptr, nullptr); }
+  } off{world};
+  Walker walker(*scene.terrain, world, scene.origin, options);
+  ScriptPlayer player(script, walker);
+  std::vector<std::uint32_t> near;
+  player.run([&](const Walker& w, const StepReport& report) {
+    s.bvTests += report.counters.nodeTests;
+    for (std::uint64_t n : report.counters.stageTests) s.bvTests += n;
+    s.triangleTests += report.counters.primitiveTests;
+    const WalkerState& st = w.state();
+    if (!st.blocked || st.reason != BlockReason::Equipment) return;
+    ++s.equipmentBlocks;
+    const double gap = stopGap(world, meshes, w.bodyVolume(st.feet, st.bodyYawDeg), st.blockedUnit, near);
+    if (std::isfinite(gap)) s.gapsMm.push_back(1000.0 * gap);
+  });
+}
+
+}  // namespace
+
+Aggregate aggregate(const std::vector<const PlayStats*>& plays) {
+  Aggregate a;
+  std::vector<double> total, collision;
+  for (const PlayStats* p : plays) {
+    if (!p->error.empty()) continue;
+    a.frames += p->frames;
+    total.insert(total.end(), p->totalMicros.begin(), p->totalMicros.end());
+    collision.insert(collision.end(), p->collisionMicros.begin(), p->collisionMicros.end());
+    a.sweeps += p->tally.sweeps;
+    a.blockedSweeps += p->tally.contacts;
+    a.referenceContacts += p->tally.referenceContacts;
+    a.missed += p->tally.missed;
+    a.earlyStops += p->tally.earlyStops;
+    a.falseBlocks += p->tally.falseBlocks;
+    a.equipmentBlocks += p->equipmentBlocks;
+    a.bvTests += p->bvTests;
+    a.triangleTests += p->triangleTests;
+    for (double g : p->gapsMm) {
+      a.gapMeanMm += g;
+      a.gapMaxMm = std::max(a.gapMaxMm, g);
+      ++a.gaps;
+    }
+  }
+  a.p50 = total.empty() ? kNaN : percentile(total, 50);
+  a.p99 = total.empty() ? kNaN : percentile(total, 99);
+  double sum = 0;
+  for (double us : total) sum += us;
+  a.mean = total.empty() ? kNaN : sum / double(total.size());
+  a.collisionP50 = collision.empty() ? kNaN : percentile(collision, 50);
+  a.gapMeanMm = a.gaps ? a.gapMeanMm / double(a.gaps) : kNaN;
+  if (!a.gaps) a.gapMaxMm = kNaN;
+  a.falseBlockPercent = a.blockedSweeps ? 100.0 * double(a.falseBlocks) / double(a.blockedSweeps) : 0.0;
+  a.earlyStopPercent = a.blockedSweeps ? 100.0 * double(a.earlyStops) / double(a.blockedSweeps) : 0.0;
+  a.bvPerFrame = a.frames ? double(a.bvTests) / double(a.frames) : kNaN;
+  a.trianglesPerFrame = a.frames ? double(a.triangleTests) / double(a.frames) : kNaN;
+  return a;
+}
+
+Aggregate MethodResult::overall() const {
+  std::vector<const PlayStats*> all;
+  for (const PlayStats& p : plays) all.push_back(&p);
+  return aggregate(all);
+}
+
+std::vector<Target> reportTargets(const ReportData& d) {
+  std::vector<Target> targets;
+  const MethodResult* nested = d.find(VolumeMethod::Nested);
+  const MethodResult* exact = d.find(VolumeMethod::NestedMesh);
+  for (const MethodResult& m : d.methods) {
+    const Aggregate a = m.overall();
+    targets.push_back({std::string("missed contacts, ") + volumeMethodName(m.method), "= 0", double(a.missed),
+                       a.missed == 0 && m.complete()});
+  }
+  if (exact) {
+    const Aggregate a = exact->overall();
+    targets.push_back({"nested+mesh false blocks (early stops included)", "= 0", double(a.falseBlocks + a.earlyStops),
+                       a.falseBlocks + a.earlyStops == 0 && exact->complete()});
+    targets.push_back({"nested+mesh max stop gap (mm)", "<= 1", a.gapMaxMm, !(a.gapMaxMm > 1.0) && exact->complete()});
+    if (nested) {
+      const double ratio = a.p50 / nested->overall().p50;
+      targets.push_back({"nested+mesh us per frame p50 / nested's", "<= 2", ratio, ratio <= 2.0});
+    }
+  }
+  return targets;
+}
+
+const MethodResult* ReportData::find(VolumeMethod m) const {
+  for (const MethodResult& r : methods)
+    if (r.method == m) return &r;
+  return nullptr;
+}
+
+int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
+  const fs::path out(o.out);
+  if (!o.overwrite)
+    for (const std::string& f : reportFiles())
+      if (fs::exists(out / f))
+        throw InputError((out / f).string() + ": exists; pass --overwrite to replace the report's files");
+  if (o.scripts.empty()) throw InputError("--scripts: give the flythroughs to run the methods over");
+  const Settings settings = o.quick ? kQuick : kFull;
+  const auto start = std::chrono::steady_clock::now();
+
+  ReportData d;
+  d.scene = o.scene;
+  d.quick = o.quick;
+  d.cpu = cpuModel();
+  d.timingPlays = settings.timingPlays;
+  std::vector<Script> scripts;
+  for (const std::string& s : o.scripts) {
+    scripts.push_back(readScript(s));
+    d.scripts.push_back(fs::path(s).filename().string());
+  }
+  const Scene scene = loadScene(o.scene);
+  d.units = scene.units.size();
+  d.instances = scene.instances.size();
+  d.hierarchy = describe(scene.spec.method);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw InputError(out.string() + ": cannot create the folder: " + ec.message());
+
+  // One MeshWorld for every mesh method and the reference; one world per method.
+  const std::shared_ptr<const MeshWorld> meshes = MeshWorld::fromScene(scene);
+  auto worldFor = [&](VolumeMethod m) {
+    MethodSpec spec = scene.spec.method;
+    spec.volumes = m;
+    return std::make_unique<CollisionWorld>(CollisionWorld::fromScene(scene, spec, meshes));
+  };
+  const std::unique_ptr<CollisionWorld> reference = worldFor(VolumeMethod::NestedMesh);
+  std::vector<std::unique_ptr<CollisionWorld>> worlds;
+  for (VolumeMethod m : kReportMethods) {
+    worlds.push_back(worldFor(m));
+    MethodResult r;
+    r.method = m;
+    r.plays.resize(scripts.size());
+    for (std::size_t s = 0; s < scripts.size(); ++s) r.plays[s].script = d.scripts[s];
+    d.methods.push_back(std::move(r));
+  }
+  WalkerOptions options;
+  options.viewer = scene.spec.viewer;
+  d.hz = 1.0 / options.dt;
+
+  // Timing plays, interleaved (repeat, flythrough, method) so that a slow spell of the machine
+  // falls on every method alike.
+  auto t0 = std::chrono::steady_clock::now();
+  options.timeParts = true;
+  for (auto& w : worlds) w->setTiming(true);
+  for (int rep = 0; rep < settings.timingPlays; ++rep)
+    for (std::size_t s = 0; s < scripts.size(); ++s)
+      for (std::size_t m = 0; m < worlds.size(); ++m) {
+        PlayStats& p = d.methods[m].plays[s];
+        if (!p.error.empty()) continue;
+        try {
+          timingPlay(scene, *worlds[m], scripts[s], options, p);
+        } catch (const InputError& e) {  // e.g. a start inside a unit's AABB for this method
+          p.error = e.what();
+        }
+      }
+  d.seconds.timing = secondsSince(t0);
+
+  // Accuracy plays against the exact reference.
+  t0 = std::chrono::steady_clock::now();
+  options.timeParts = false;
+  for (auto& w : worlds) w->setTiming(false);
+  for (std::size_t m = 0; m < worlds.size(); ++m)
+    for (std::size_t s = 0; s < scripts.size(); ++s) {
+      PlayStats& p = d.methods[m].plays[s];
+      if (p.error.empty()) accuracyPlay(scene, *worlds[m], *reference, *meshes, scripts[s], options, p);
+    }
+  d.seconds.accuracy = secondsSince(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  d.terrainPoints = settings.terrainPoints;
+  d.lod = measureTerrainLod(*scene.terrain, settings.terrainPoints, settings.terrainRepetitions);
+  d.seconds.terrain = secondsSince(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  d.fitterRepetitions = settings.fitterRepetitions;
+  d.fitters = measureFitters(scene, settings.fitterRepetitions);
+  d.seconds.fitters = secondsSince(t0);
+
+  d.targets = reportTargets(d);
+  d.seconds.total = secondsSince(start);
+  writeReportFiles(d, out.string());
+  printReportSummary(d, out.string(), log);
+  return 0;
+}
+
+}  // namespace nestwalk::bench

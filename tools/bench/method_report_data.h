@@ -1,0 +1,88 @@
+// What the methods report (method_report.h) measured, between the plays (method_report.cpp) and
+// the files written from it (report_writer.cpp).
+#pragma once
+
+#include "engine/walker/collision_world.h"
+#include "tools/bench/bench_runner.h"
+#include "tools/bench/method_report.h"
+
+#include <cstdint>
+#include <iosfwd>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace nestwalk::bench {
+
+/// The methods in the report's order.
+inline constexpr VolumeMethod kReportMethods[] = {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb,
+                                                  VolumeMethod::NestedMesh, VolumeMethod::Kdop18};
+
+/// One method on one flythrough.
+struct PlayStats {
+  std::string script;                               // file name
+  std::size_t frames = 0;
+  std::vector<double> totalMicros, collisionMicros;  // per frame, least over the timing plays
+                                                    // (collision: broad + narrow phase)
+  std::uint64_t bvTests = 0, triangleTests = 0;     // accuracy play: summed over its frames
+  ReferenceTally tally;                             // accuracy play against the exact reference
+  std::size_t equipmentBlocks = 0;                  // steps that ended blocked by equipment
+  std::vector<double> gapsMm;                       // the stop gap after each of them
+  std::string error;                                // why the flythrough could not be played ("": it was)
+};
+
+/// Plays summed up (one flythrough, or all of a method's).
+struct Aggregate {
+  std::size_t frames = 0;
+  double p50 = 0, p99 = 0, mean = 0, collisionP50 = 0;  // µs per frame
+  std::uint64_t sweeps = 0, blockedSweeps = 0, referenceContacts = 0, missed = 0;
+  std::uint64_t earlyStops = 0, falseBlocks = 0;  // ReferenceTally's: blocked, the real geometry not
+                                                  // touched, but (early stop) or not within
+                                                  // kEarlyStopHorizon further on
+  double falseBlockPercent = 0, earlyStopPercent = 0;  // of the blocked sweeps
+  std::size_t equipmentBlocks = 0, gaps = 0;
+  double gapMeanMm = 0, gapMaxMm = 0;         // NaN without a gap
+  std::uint64_t bvTests = 0, triangleTests = 0;
+  double bvPerFrame = 0, trianglesPerFrame = 0;
+};
+Aggregate aggregate(const std::vector<const PlayStats*>& plays);
+
+struct MethodResult {
+  VolumeMethod method = VolumeMethod::Nested;
+  std::vector<PlayStats> plays;  // one per flythrough, in the scripts' order
+  Aggregate overall() const;
+  bool complete() const {
+    for (const PlayStats& p : plays)
+      if (!p.error.empty()) return false;
+    return true;
+  }
+};
+
+struct ReportData {
+  std::string scene, cpu, hierarchy;
+  std::vector<std::string> scripts;  // file names
+  bool quick = false;
+  double hz = 60;
+  std::size_t units = 0, instances = 0;
+  int timingPlays = 1, fitterRepetitions = 1;
+  std::size_t terrainPoints = 0;
+  std::vector<MethodResult> methods;  // kReportMethods' order
+  std::vector<TerrainLodRow> lod;
+  std::vector<FitterRow> fitters;
+  std::vector<Target> targets;
+  struct {
+    double timing = 0, accuracy = 0, terrain = 0, fitters = 0, total = 0;
+  } seconds;
+  const MethodResult* find(VolumeMethod m) const;
+};
+
+/// The targets: no missed contact for any method; nested+mesh: no false block, stop gap
+/// at most 1 mm, p50 µs per frame at most twice nested's (the same run).
+std::vector<Target> reportTargets(const ReportData& d);
+
+/// report.md, report.json, pareto.png, methods.png and terrain_lod.png in `folder` (report_writer.cpp).
+void writeReportFiles(const ReportData& d, const std::string& folder);
+/// The method table, the targets and the files written, as plain text.
+void printReportSummary(const ReportData& d, const std::string& folder, std::ostream& out);
+
+}  // namespace nestwalk::bench

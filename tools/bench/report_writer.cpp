@@ -1,0 +1,376 @@
+// The methods report's files (method_report_data.h): report.md (Markdown), report.json (the
+// numbers), pareto.png (µs per frame against stop gap), methods.png (µs per frame per method) and
+// terrain_lod.png (height error against ns per query per level), and the summary printed at the end.
+#include "tools/bench/method_report_data.h"
+
+#include "engine/report/output_file.h"
+#include "tools/bench/report_plot.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace nestwalk::bench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Table = std::vector<std::vector<std::string>>;  // header row first
+
+Rgb methodColour(VolumeMethod m) {
+  switch (m) {
+    case VolumeMethod::Nested: return {31, 119, 180};      // blue
+    case VolumeMethod::Aabb: return {255, 127, 14};        // orange
+    case VolumeMethod::Obb: return {44, 160, 44};          // green
+    case VolumeMethod::NestedMesh: return {214, 39, 40};   // red
+    case VolumeMethod::Kdop18: return {148, 103, 189};     // purple
+  }
+  return {0, 0, 0};
+}
+
+std::string count(std::uint64_t n) { return std::to_string(n); }
+
+/// "12 (3.4 %)": a count and its share of the blocked sweeps.
+std::string ofBlocked(std::uint64_t n, double percent) { return count(n) + " (" + fmt(percent, 1) + " %)"; }
+
+std::string gap(const Aggregate& a) {
+  return a.gaps ? fmt(a.gapMeanMm, 3) + " / " + fmt(a.gapMaxMm, 3) : "- (no block)";
+}
+
+/// A number with 3 significant digits (whole numbers in full), "-" for NaN.
+std::string num(double v) {
+  if (std::isnan(v)) return "-";
+  const double a = std::abs(v);
+  if (a == 0) return "0";
+  if (a < 1e-4) {
+    std::ostringstream s;
+    s << std::setprecision(2) << std::scientific << v;
+    return s.str();
+  }
+  return fmt(v, std::max(0, 2 - int(std::floor(std::log10(a)))));
+}
+
+Table methodTable(const ReportData& d) {
+  Table t{{"method", "us/frame p50", "p99", "mean", "x nested", "missed", "blocked sweeps", "early stops (%)",
+           "false blocks (%)", "stop gap mean / max mm", "BV tests/frame", "triangle tests/frame"}};
+  const MethodResult* nested = d.find(VolumeMethod::Nested);
+  const double base = nested ? nested->overall().p50 : std::nan("");
+  for (const MethodResult& m : d.methods) {
+    const Aggregate a = m.overall();
+    t.push_back({std::string(volumeMethodName(m.method)) + (m.complete() ? "" : " (incomplete)"), fmt(a.p50, 2),
+                 fmt(a.p99, 2), fmt(a.mean, 2), fmt(a.p50 / base, 2), count(a.missed), count(a.blockedSweeps),
+                 ofBlocked(a.earlyStops, a.earlyStopPercent), ofBlocked(a.falseBlocks, a.falseBlockPercent), gap(a),
+                 fmt(a.bvPerFrame, 1), fmt(a.trianglesPerFrame, 1)});
+  }
+  return t;
+}
+
+Table flythroughTable(const ReportData& d) {
+  Table t{{"flythrough", "method", "frames", "us/frame p50", "p99", "collision us p50", "missed", "blocked sweeps",
+           "early stops", "false blocks", "blocked steps", "stop gap mean / max mm", "BV tests/frame"}};
+  for (std::size_t s = 0; s < d.scripts.size(); ++s)
+    for (const MethodResult& m : d.methods) {
+      const PlayStats& p = m.plays[s];
+      if (!p.error.empty()) {
+        std::vector<std::string> row(t[0].size(), "-");
+        row[0] = d.scripts[s];
+        row[1] = volumeMethodName(m.method);
+        row[2] = "not played: " + p.error;
+        t.push_back(row);
+        continue;
+      }
+      const Aggregate a = aggregate({&p});
+      t.push_back({d.scripts[s], volumeMethodName(m.method), count(a.frames), fmt(a.p50, 2), fmt(a.p99, 2),
+                   fmt(a.collisionP50, 2), count(a.missed), count(a.blockedSweeps), count(a.earlyStops),
+                   count(a.falseBlocks), count(a.equipmentBlocks), gap(a), fmt(a.bvPerFrame, 1)});
+    }
+  return t;
+}
+
+Table nestedTable(const ReportData& d) {
+  Table t{{"flythrough", "blocked sweeps", "early stops", "false blocks", "false-block rate",
+           "stopped-short rate (early stops + false blocks)", "steps blocked by equipment", "stop gap mean mm",
+           "stop gap max mm"}};
+  const MethodResult* nested = d.find(VolumeMethod::Nested);
+  if (!nested) return t;
+  for (std::size_t s = 0; s < d.scripts.size(); ++s) {
+    const Aggregate a = aggregate({&nested->plays[s]});
+    const bool blocked = a.blockedSweeps > 0;
+    t.push_back({d.scripts[s], count(a.blockedSweeps), count(a.earlyStops), count(a.falseBlocks),
+                 blocked ? fmt(a.falseBlockPercent, 1) + " %" : "- (no blocked sweep)",
+                 blocked ? fmt(a.falseBlockPercent + a.earlyStopPercent, 1) + " %" : "-", count(a.equipmentBlocks),
+                 fmt(a.gapMeanMm, 3), fmt(a.gapMaxMm, 3)});
+  }
+  return t;
+}
+
+Table lodTable(const ReportData& d) {
+  Table t{{"level", "step", "tiles", "max error m (table)", "measured max m", "measured mean m", "points",
+           "ns/query"}};
+  for (const TerrainLodRow& r : d.lod)
+    t.push_back({r.level < 0 ? "full resolution (Heightfield::groundHeight)" : r.name, std::to_string(r.step),
+                 r.level < 0 ? "-" : count(r.tiles), r.level < 0 ? "0" : num(r.tableMaxError), num(r.maxError),
+                 num(r.meanError), count(r.points), fmt(r.nsPerQuery, 1)});
+  return t;
+}
+
+Table fitterTable(const ReportData& d) {
+  Table t{{"model", "triangles", "vertices", "hull points", "covariance m3", "hull-search m3", "CGAL optimal m3",
+           "covariance / optimal", "hull-search / optimal", "covariance us", "hull-search us", "CGAL us"}};
+  for (const FitterRow& r : d.fitters)
+    t.push_back({r.model, count(r.triangles), count(r.vertices), count(r.hullPoints), num(r.covarianceVolume),
+                 num(r.hullSearchVolume), num(r.optimalVolume), fmt(r.covarianceVolume / r.optimalVolume, 4),
+                 fmt(r.hullSearchVolume / r.optimalVolume, 4), fmt(r.covarianceMicros, 0), fmt(r.hullSearchMicros, 0),
+                 fmt(r.optimalMicros, 0)});
+  return t;
+}
+
+/// A Markdown table; columns after the first `textColumns` are right-aligned.
+std::string markdown(const Table& t, std::size_t textColumns = 1) {
+  std::ostringstream s;
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    s << "|";
+    for (const std::string& cell : t[r]) s << " " << cell << " |";
+    s << "\n";
+    if (r == 0) {
+      s << "|";
+      for (std::size_t c = 0; c < t[0].size(); ++c) s << (c < textColumns ? "---|" : "---:|");
+      s << "\n";
+    }
+  }
+  return s.str();
+}
+
+/// A plain-text table with padded columns.
+std::string plain(const Table& t) {
+  std::vector<std::size_t> w;
+  for (const auto& row : t)
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      if (w.size() <= c) w.push_back(0);
+      w[c] = std::max(w[c], row[c].size());
+    }
+  std::ostringstream s;
+  for (const auto& row : t) {
+    for (std::size_t c = 0; c < row.size(); ++c)
+      s << (c ? "  " : "") << (c ? std::right : std::left) << std::setw(int(w[c])) << row[c];
+    s << "\n";
+  }
+  return s.str();
+}
+
+std::string targetLines(const std::vector<Target>& targets) {
+  std::ostringstream s;
+  for (const Target& x : targets)
+    s << "- " << x.name << ": "
+      << (std::isnan(x.value)                ? "none (no step blocked by equipment)"
+          : x.value == std::floor(x.value) ? fmt(x.value, 0)
+                                           : num(x.value))
+      << " (target " << x.what << "): **" << (x.met ? "met" : "NOT met") << "**\n";
+  return s.str();
+}
+
+std::string reportMarkdown(const ReportData& d) {
+  std::ostringstream s;
+  s << "# nestwalk methods report\n\n";
+  s << "- scene: `" << d.scene << "` (" << d.units << " collision units, " << d.instances << " instances; method "
+    << "settings of the scene: " << d.hierarchy << ")\n";
+  s << "- flythroughs:";
+  const MethodResult* nested = d.find(VolumeMethod::Nested);
+  for (std::size_t i = 0; i < d.scripts.size(); ++i)
+    s << (i ? ", " : " ") << "`" << d.scripts[i] << "` (" << (nested ? count(nested->plays[i].frames) : "?")
+      << " frames)";
+  s << " with nested (the frame counts of the other methods differ where they stop elsewhere), fixed step at "
+    << fmt(d.hz, 0) << " Hz\n";
+  s << "- settings: " << (d.quick ? "quick" : "full") << ": " << d.timingPlays
+    << " timing play(s) per method and flythrough (each frame's time is the least over the plays), " << d.terrainPoints
+    << " terrain points, " << d.fitterRepetitions << " fit(s) per model and fitter\n";
+  s << "- cpu: " << d.cpu << "\n";
+  s << "- run time: timing " << fmt(d.seconds.timing, 1) << " s, accuracy " << fmt(d.seconds.accuracy, 1)
+    << " s, terrain " << fmt(d.seconds.terrain, 1) << " s, fitters " << fmt(d.seconds.fitters, 1) << " s, total "
+    << fmt(d.seconds.total, 1) << " s\n\n";
+
+  s << "## Contact methods\n\n"
+    << "Every method plays every flythrough in timing plays and one accuracy play. The timing plays measure the "
+       "walker's own µs per step (ground following, broad and narrow phase; each frame's time is the least over "
+       "the plays, which step alike). The accuracy play runs every sweep also on the exact "
+       "reference (nested+mesh: the body box against the models' real triangles) and compares: a contact is "
+       "*missed* when the reference touches the real geometry before the method's contact (or the method finds "
+       "none). A sweep the method stops while its path touches no triangle is an *early stop* when the real "
+       "geometry lies further along the same direction (within "
+    << num(kEarlyStopHorizon) << " m: the volumes stop the body short of it) and a "
+       "*false block* when it does not (the body is stopped where nothing real is in the way); percentages are of "
+       "the method's blocked sweeps. The *stop gap* is "
+       "the exact distance from the body box to the nearest triangles after each step that ended blocked by "
+       "equipment. BV tests: the hierarchy's nodes, the three nested stages and the mesh trees' nodes; triangle "
+       "tests: the mesh methods' box-triangle tests. `x nested`: p50 µs per frame over nested's, same run. Most "
+       "frames are far from any equipment, where a step is mostly ground following and every method costs the "
+       "same: differences of a few hundredths of a µs in p50 are the timer's and the machine's noise; the mean "
+       "and p99 show the frames near equipment.\n\n";
+  s << markdown(methodTable(d)) << "\n";
+  s << "### Targets\n\n" << targetLines(d.targets) << "\n";
+  s << "### Nested: false-block rate and stop gap per flythrough\n\n" << markdown(nestedTable(d)) << "\n";
+  s << "### Every method per flythrough\n\n" << markdown(flythroughTable(d), 2) << "\n";
+  s << "### Time against stop gap\n\n"
+    << "Mean µs per frame (over all frames of all flythroughs: the cost of the frames near equipment shows, "
+       "where the median is mostly the ground following's) against the mean stop gap (log scales); the grey "
+       "line joins the Pareto front "
+       "(no other method is both faster and closer). A method that was never blocked has no gap and no point.\n\n"
+    << "![time against stop gap](pareto.png)\n\n![µs per frame per method](methods.png)\n\n";
+
+  s << "## Ground following: terrain levels of detail\n\n"
+    << "The terrain cut into tiles of 128 cells as the renderer does (terrain/terrain_mesh.h); at " << d.terrainPoints
+    << " random map points (those with ground) the height of each level's surface against the full-resolution "
+       "surface (Heightfield::groundHeight). The table's maximum error is the level's exact error; ns per query "
+       "is the least over the timed loops.\n\n"
+    << markdown(lodTable(d)) << "\n![height error against ns per query](terrain_lod.png)\n\n";
+
+  s << "## OBB fitters\n\n"
+    << "Per model of the scene, the boxes fitted to all of its vertices (convex hull included in the time), "
+       "against CGAL's optimal oriented bounding box (CGAL::oriented_bounding_box, fixed seed). Volumes in the "
+       "model's units cubed; times are the least over the fits.\n\n"
+    << markdown(fitterTable(d)) << "\n";
+  return s.str();
+}
+
+Json aggregateJson(const Aggregate& a) {
+  Json j;
+  j["frames"] = a.frames;
+  j["us_per_frame"] = {{"p50", numOrNull(a.p50)}, {"p99", numOrNull(a.p99)}, {"mean", numOrNull(a.mean)}};
+  j["collision_us_p50"] = numOrNull(a.collisionP50);
+  j["sweeps"] = a.sweeps;
+  j["blocked_sweeps"] = a.blockedSweeps;
+  j["reference_contacts"] = a.referenceContacts;
+  j["missed"] = a.missed;
+  j["early_stops"] = a.earlyStops;
+  j["early_stop_percent"] = a.earlyStopPercent;
+  j["false_blocks"] = a.falseBlocks;
+  j["false_block_percent"] = a.falseBlockPercent;
+  j["steps_blocked_by_equipment"] = a.equipmentBlocks;
+  j["stop_gap_mm"] = {{"samples", a.gaps}, {"mean", numOrNull(a.gapMeanMm)}, {"max", numOrNull(a.gapMaxMm)}};
+  j["bv_tests_per_frame"] = numOrNull(a.bvPerFrame);
+  j["triangle_tests_per_frame"] = numOrNull(a.trianglesPerFrame);
+  return j;
+}
+
+Json reportJson(const ReportData& d) {
+  Json j;
+  j["scene"] = d.scene;
+  j["scripts"] = d.scripts;
+  j["quick"] = d.quick;
+  j["cpu"] = d.cpu;
+  j["hz"] = d.hz;
+  j["units"] = d.units;
+  j["timing_plays"] = d.timingPlays;
+  j["seconds"] = {{"timing", d.seconds.timing}, {"accuracy", d.seconds.accuracy}, {"terrain", d.seconds.terrain},
+                  {"fitters", d.seconds.fitters}, {"total", d.seconds.total}};
+  const MethodResult* nested = d.find(VolumeMethod::Nested);
+  Json methods = Json::array();
+  for (const MethodResult& m : d.methods) {
+    Json jm = {{"method", volumeMethodName(m.method)}, {"complete", m.complete()}};
+    jm.update(aggregateJson(m.overall()));
+    jm["ratio_to_nested_p50"] = nested ? numOrNull(m.overall().p50 / nested->overall().p50) : Json(nullptr);
+    Json plays = Json::array();
+    for (const PlayStats& p : m.plays) {
+      Json jp = {{"script", p.script}};
+      if (!p.error.empty()) jp["error"] = p.error;
+      else jp.update(aggregateJson(aggregate({&p})));
+      plays.push_back(jp);
+    }
+    jm["flythroughs"] = plays;
+    methods.push_back(jm);
+  }
+  j["methods"] = methods;
+  Json lod = Json::array();
+  for (const TerrainLodRow& r : d.lod)
+    lod.push_back({{"name", r.name}, {"level", r.level}, {"step", r.step}, {"tiles", r.tiles},
+                   {"table_max_error_m", r.tableMaxError}, {"points", r.points}, {"max_error_m", r.maxError},
+                   {"mean_error_m", r.meanError}, {"ns_per_query", numOrNull(r.nsPerQuery)}});
+  j["terrain_lod"] = {{"points", d.terrainPoints}, {"levels", lod}};
+  Json fitters = Json::array();
+  for (const FitterRow& r : d.fitters)
+    fitters.push_back({{"model", r.model}, {"triangles", r.triangles}, {"vertices", r.vertices},
+                       {"hull_points", r.hullPoints},
+                       {"volume", {{"covariance", r.covarianceVolume}, {"hull_search", r.hullSearchVolume},
+                                   {"cgal_optimal", r.optimalVolume}}},
+                       {"fit_us", {{"covariance", r.covarianceMicros}, {"hull_search", r.hullSearchMicros},
+                                   {"cgal_optimal", r.optimalMicros}}}});
+  j["fitters"] = {{"repetitions", d.fitterRepetitions}, {"models", fitters}};
+  j["targets"] = targetsJson(d.targets);
+  return j;
+}
+
+void writePareto(const ReportData& d, const std::string& path) {
+  std::vector<PlotSeries> series;
+  std::vector<PlotPoint> points;
+  for (const MethodResult& m : d.methods) {
+    const Aggregate a = m.overall();
+    PlotSeries s{volumeMethodName(m.method), methodColour(m.method), {}};
+    if (a.gaps && std::isfinite(a.mean)) {
+      s.points.push_back({a.mean, a.gapMeanMm, volumeMethodName(m.method)});
+      points.push_back(s.points.back());
+    }
+    series.push_back(s);
+  }
+  // The front: by time, each point closer than every faster one.
+  std::sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
+  PlotSeries front{"", {160, 160, 160}, {}, true, false};
+  for (const PlotPoint& p : points)
+    if (front.points.empty() || p.y < front.points.back().y) front.points.push_back({p.x, p.y, ""});
+  series.insert(series.begin(), front);
+  writeScatterPlot(path, "time per frame against stop gap (" + std::string(d.quick ? "quick" : "full") + ")",
+                   {"mean us per frame", true}, {"mean stop gap mm", true}, series);
+}
+
+void writeMethodBars(const ReportData& d, const std::string& path) {
+  std::vector<PlotBarGroup> groups;
+  for (const MethodResult& m : d.methods) {
+    const Aggregate a = m.overall();
+    groups.push_back({volumeMethodName(m.method), {a.p50, a.mean, a.p99}});
+  }
+  writeBarPlot(path, "us per frame per method over the flythroughs",
+               {{"p50", {31, 119, 180}}, {"mean", {255, 127, 14}}, {"p99", {214, 39, 40}}}, {"us per frame", true},
+               groups);
+}
+
+void writeTerrainPlot(const ReportData& d, const std::string& path) {
+  PlotSeries maxError{"measured max error", {214, 39, 40}, {}, true};
+  PlotSeries meanError{"measured mean error", {31, 119, 180}, {}, true};
+  PlotSeries full{"full resolution", {0, 0, 0}, {}};
+  for (const TerrainLodRow& r : d.lod) {
+    if (r.level < 0) {
+      full.points.push_back({r.nsPerQuery, 0.0, "full"});
+      continue;
+    }
+    maxError.points.push_back({r.nsPerQuery, r.maxError, r.name});
+    meanError.points.push_back({r.nsPerQuery, r.meanError, ""});
+  }
+  writeScatterPlot(path, "terrain levels: height error against time per query (below 0.1 mm on the floor)",
+                   {"ns per query", true}, {"error m", true, 1e-4}, {maxError, meanError, full});
+}
+
+}  // namespace
+
+void writeReportFiles(const ReportData& d, const std::string& folder) {
+  const std::filesystem::path dir(folder);
+  writeFileAtomically((dir / "report.json").string(), reportJson(d).dump(2) + "\n");
+  writePareto(d, (dir / "pareto.png").string());
+  writeMethodBars(d, (dir / "methods.png").string());
+  writeTerrainPlot(d, (dir / "terrain_lod.png").string());
+  writeFileAtomically((dir / "report.md").string(), reportMarkdown(d));
+}
+
+void printReportSummary(const ReportData& d, const std::string& folder, std::ostream& out) {
+  out << "methods over " << d.scripts.size() << " flythroughs of " << d.scene << " (" << (d.quick ? "quick" : "full")
+      << ", " << fmt(d.seconds.total, 1) << " s):\n"
+      << plain(methodTable(d));
+  printTargets(out, d.targets, 50, 6);
+  out << "\nwrote " << folder << "/{";
+  for (std::size_t i = 0; i < reportFiles().size(); ++i) out << (i ? ", " : "") << reportFiles()[i];
+  out << "}\n";
+}
+
+}  // namespace nestwalk::bench
