@@ -146,6 +146,7 @@ ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
   far_ = 1.5 * std::hypot(width, height) + 1000.0;
   const double aspect = double(options_.width) / double(options_.height);
   projection_ = osg::Matrixd::perspective(options_.fovYDegrees, aspect, near_, far_);
+  localToMap_ = osg::Matrixd::translate(scene_.origin.x(), scene_.origin.y(), scene_.origin.z());
   terrainOffset_ = hf.origin();
 
   SceneGraphOptions graph;
@@ -154,6 +155,7 @@ ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
   graph.terrainLod.fovYDegrees = options_.fovYDegrees;
   graph.terrainLod.screenHeightPx = options_.height;
   graph.terrainLod.maxPixels = options_.lodMaxPixels;
+  pixelsPerRadian_ = graph.terrainLod.pixelsPerRadian();
   root_ = new osg::Group;
   root_->addChild(buildSceneGraph(scene_, graph, &parts_));
 
@@ -331,7 +333,7 @@ void ViewRenderer::updateOverlay(const ViewPose& pose) {
 
   const bool show = options_.blockedOverlay && pose.blocked;
   blockedFrame_->setNodeMask(show ? ~0u : 0u);
-  if (show) static_cast<osgText::Text*>(blockedText_.get())->setText("BLOCKED by " + pose.blockedBy);
+  if (show) blockedText_->setText("BLOCKED by " + pose.blockedBy);
 }
 
 osg::Matrixd ViewRenderer::viewMatrix(const ViewPose& pose) const {
@@ -368,8 +370,7 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     osg::Polytope osgFrustum;  // what OSG's own culling tests the instances' spheres against
     if (!culler_) {
       osgFrustum.setToUnitFrustum();
-      osgFrustum.transformProvidingInverse(
-          osg::Matrixd::translate(scene_.origin.x(), scene_.origin.y(), scene_.origin.z()) * view_ * projection_);
+      osgFrustum.transformProvidingInverse(localToMap_ * view_ * projection_);
     }
     for (std::size_t i = 0; i < scene_.instances.size(); ++i) {
       const bool drawn =
@@ -389,11 +390,6 @@ void ViewRenderer::measureTerrain(const Eigen::Vector3d& eyeMap) {
   frustum.setToUnitFrustum();
   frustum.transformProvidingInverse(meshToMap * view_ * projection_);
   const osg::Vec3d eye(eyeMap.x() - terrainOffset_.x(), eyeMap.y() - terrainOffset_.y(), eyeMap.z());
-  terrain::LodRule rule;
-  rule.fovYDegrees = options_.fovYDegrees;
-  rule.screenHeightPx = options_.height;
-  rule.maxPixels = options_.lodMaxPixels;
-  const double pixelsPerRadian = rule.pixelsPerRadian();
   for (std::size_t i = 0; i < parts_.terrainTiles.size(); ++i) {
     const osg::LOD* lod = parts_.terrainTiles[i].get();
     if (!lod) continue;
@@ -415,14 +411,13 @@ void ViewRenderer::measureTerrain(const Eigen::Vector3d& eyeMap) {
     const double error = tile.maxError[std::size_t(level)];
     stats_.terrainErrorM = std::max(stats_.terrainErrorM, error);
     const double nearest = std::max(d - lod->getRadius(), near_);
-    stats_.terrainErrorPx = std::max(stats_.terrainErrorPx, error * pixelsPerRadian / nearest);
+    stats_.terrainErrorPx = std::max(stats_.terrainErrorPx, error * pixelsPerRadian_ / nearest);
   }
 }
 
 Frustum ViewRenderer::frustumLocal() const {
   // local -> map is a translation by the origin.
-  return Frustum::fromMatrices(osg::Matrixd::translate(scene_.origin.x(), scene_.origin.y(), scene_.origin.z()) * view_,
-                               projection_);
+  return Frustum::fromMatrices(localToMap_ * view_, projection_);
 }
 
 std::vector<osg::BoundingSphere> ViewRenderer::instanceSpheres() const {

@@ -35,6 +35,10 @@
 #include <optional>
 #include <string>
 
+namespace osgText {
+class Text;
+}
+
 namespace nestwalk {
 
 struct RenderOptions {
@@ -124,11 +128,13 @@ class ViewRenderer {
   osg::ref_ptr<osg::Group> overlay_;
   osg::ref_ptr<osg::Geometry> sky_;
   osg::ref_ptr<osg::Node> blockedFrame_;
-  osg::ref_ptr<osg::Referenced> blockedText_;
+  osg::ref_ptr<osgText::Text> blockedText_;
   std::unique_ptr<NestedFrustumCuller> culler_;
   std::shared_ptr<Timing> timing_;
   osg::Matrixd projection_, view_;
+  osg::Matrixd localToMap_;                                  // translation by the scene's origin
   Eigen::Vector2d terrainOffset_ = Eigen::Vector2d::Zero();  // map x, y of the mesh frame's origin
+  double pixelsPerRadian_ = 0;                               // the LOD rule's, for the drawn error
   double near_ = 0.1, far_ = 10000;
   RenderFrameStats stats_;
 };

@@ -11,10 +11,22 @@
 #include <map>
 
 namespace nestwalk {
+namespace {
+
+using json = nlohmann::ordered_json;  // keys in the order written, for people reading the file
+
+/// {"p50", "p95", "p99", "max"} of a list of times (nearest rank).
+json percentiles(const std::vector<double>& values) {
+  return {{"p50", percentile(values, 50)},
+          {"p95", percentile(values, 95)},
+          {"p99", percentile(values, 99)},
+          {"max", percentile(values, 100)}};
+}
+
+}  // namespace
 
 void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const std::vector<FrameRecord>& records,
                      const std::vector<ExpectationResult>& expectations) {
-  using json = nlohmann::ordered_json;  // keys in the order written, for people reading the file
   json out;
   out["scene"] = info.scene;
   out["script"] = info.script;
@@ -29,10 +41,7 @@ void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const 
     std::vector<double> us;
     us.reserve(records.size());
     for (const FrameRecord& r : records) us.push_back(r.micros[std::size_t(part)]);
-    steps[stepPartName(StepPart(part))] = {{"p50", percentile(us, 50)},
-                                           {"p95", percentile(us, 95)},
-                                           {"p99", percentile(us, 99)},
-                                           {"max", percentile(us, 100)}};
+    steps[stepPartName(StepPart(part))] = percentiles(us);
   }
   out["step_us"] = steps;
 
@@ -47,10 +56,7 @@ void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const 
       std::vector<double> v;
       v.reserve(rendered.size());
       for (const FrameRecord* r : rendered) v.push_back(r->render.micros[std::size_t(part)] / 1000.0);
-      ms[renderPartName(RenderPart(part))] = {{"p50", percentile(v, 50)},
-                                              {"p95", percentile(v, 95)},
-                                              {"p99", percentile(v, 99)},
-                                              {"max", percentile(v, 100)}};
+      ms[renderPartName(RenderPart(part))] = percentiles(v);
     }
     render["ms"] = ms;
     std::uint64_t triangles = 0, maxTriangles = 0, drawn = 0, byAabb = 0, byObb = 0;

@@ -56,9 +56,8 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
 SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
                                             double t0, const Vec3<double>& normal, MeshTreeKind kind,
                                             CollisionCounters& counters) const {
-  if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
   MeshQueryCounters mc;
-  const std::optional<MeshWorld::Contact> c = meshes_->firstContact(u, viewer.inner, d, t0, kind, mc);
+  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, kind, mc);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   SweptNestedResult r;
@@ -73,16 +72,19 @@ SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, 
   return r;
 }
 
-bool CollisionWorld::hasTriangles(std::uint32_t u) const {
+const MeshWorld& CollisionWorld::meshWorld() const {
   if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
-  return meshes_->triangles(u) > 0;
+  return *meshes_;
+}
+
+bool CollisionWorld::hasTriangles(std::uint32_t u) const {
+  return meshWorld().triangles(u) > 0;
 }
 
 bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
                                  CollisionCounters& counters) const {
-  if (!meshes_) throw std::logic_error("CollisionWorld: a mesh method without meshes (setMeshes)");
   MeshQueryCounters mc;
-  const bool overlap = meshes_->overlaps(u, viewer.inner, kind, mc);
+  const bool overlap = meshWorld().overlaps(u, viewer.inner, kind, mc);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   return overlap;

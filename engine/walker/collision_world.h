@@ -101,6 +101,8 @@ class CollisionWorld {
   // Whether unit u has triangles; the mesh methods test a unit without any (a point cloud, a
   // wireframe) by its nested volumes instead.
   bool hasTriangles(std::uint32_t u) const;
+  // The meshes, for the mesh methods; throws std::logic_error when they were never set.
+  const MeshWorld& meshWorld() const;
 
   std::vector<NestedVolume<double>> units_;
   std::vector<std::string> names_, groups_;
