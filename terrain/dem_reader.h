@@ -19,7 +19,7 @@
 // sample is bad input (InputError), as is a raster with no valid sample at all.
 #pragma once
 
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <memory>
 #include <optional>

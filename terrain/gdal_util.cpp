@@ -1,7 +1,7 @@
-#include "terrain/gdal_util.h"
+#include "nestwalk/terrain/gdal_util.h"
 
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
 
 #include <cpl_error.h>
 

@@ -5,7 +5,7 @@
 // front to back over the ray's 2D projection; at the cells the two triangles are tested with the
 // watertight ray/triangle test of Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection",
 // JCGT 2(1), 2013, evaluated in double in the local frame.
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <algorithm>
 #include <cmath>

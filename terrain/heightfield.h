@@ -109,4 +109,4 @@ class Heightfield {
 
 }  // namespace nestwalk::terrain
 
-#include "terrain/heightfield_inline.h"  // IWYU pragma: export
+#include "nestwalk/terrain/heightfield_inline.h"  // IWYU pragma: export

@@ -1,7 +1,7 @@
 // Heightfield::groundHeight, inline (the fast path of the O(1) lookup); included by heightfield.h.
 #pragma once
 
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <algorithm>
 #include <cmath>

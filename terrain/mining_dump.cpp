@@ -1,4 +1,4 @@
-#include "terrain/mining_dump.h"
+#include "nestwalk/terrain/mining_dump.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
-#include "terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_import.h"
 
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
-#include "terrain/gdal_util.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/gdal_util.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>

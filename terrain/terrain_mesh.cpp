@@ -20,7 +20,7 @@
 // direction the coarse diagonal would cut through fine cells and the maximum could fall inside a
 // fine triangle; with a step that does not divide the tile the coarse cells would not be square
 // and their diagonals would not follow fine diagonals: hence the power-of-two levels per tile.)
-#include "terrain/terrain_mesh.h"
+#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <osg/Geode>
 #include <osg/Array>

@@ -23,7 +23,7 @@
 // the meshes here carry no skirts.
 #pragma once
 
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <osg/Geometry>
 #include <osg/LOD>

@@ -14,7 +14,7 @@
 // against the generated heights.
 #pragma once
 
-#include "terrain/mining_dump.h"
+#include "nestwalk/terrain/mining_dump.h"
 
 #include <Eigen/Core>
 

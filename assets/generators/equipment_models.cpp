@@ -1,7 +1,7 @@
 #include "assets/generators/equipment_models.h"
 
 #include "assets/generators/mesh_builder.h"
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <osg/Geode>
 #include <osg/Geometry>

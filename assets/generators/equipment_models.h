@@ -22,7 +22,7 @@
 // Every model has a few hundred triangles at most.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <osg/Node>
 #include <osg/ref_ptr>

@@ -1,8 +1,8 @@
 #include "assets/generators/scene_generator.h"
 
-#include "engine/core/input_error.h"
-#include "terrain/heightfield.h"
-#include "terrain/terrain_import.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_import.h"
 
 #include <nlohmann/json.hpp>
 

@@ -22,7 +22,7 @@
 
 #include "assets/generators/dump_geometry.h"
 #include "assets/generators/equipment_models.h"
-#include "terrain/mining_dump.h"
+#include "nestwalk/terrain/mining_dump.h"
 
 #include <Eigen/Core>
 

@@ -1,4 +1,4 @@
-#include "engine/core/csv_reader.h"
+#include "nestwalk/core/csv_reader.h"
 
 #include <charconv>
 #include <cmath>

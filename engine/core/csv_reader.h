@@ -3,7 +3,7 @@
 // names the file and the line.
 #pragma once
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <istream>
 #include <string>

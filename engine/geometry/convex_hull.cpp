@@ -9,7 +9,7 @@
 //   kFlatnessTolerance * L, coplanar when dist(p3, plane) <= kFlatnessTolerance * L.
 // All the work is done on points minus their centroid, so models at map coordinates (UTM,
 // 1e6..1e7 m) lose no digits in the differences.
-#include "engine/geometry/convex_hull.h"
+#include "nestwalk/geometry/convex_hull.h"
 
 #include <Eigen/Geometry>
 #include <libqhull_r/qhull_ra.h>

@@ -1,7 +1,7 @@
 // Convex hull of a point set (through qhull), with its dimension, for OBB fitting.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <array>
 #include <vector>

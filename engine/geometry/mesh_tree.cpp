@@ -1,12 +1,10 @@
 // Bounding-volume trees over a model's triangles (OBB tree, 18-DOP tree): top-down construction,
 // overlap and distance queries against a box. See mesh_tree.h for the rules and guarantees.
-#include "engine/geometry/mesh_tree.h"
+#include "nestwalk/geometry/mesh_tree.h"
 
-#include "engine/geometry/obb_fit.h"
-#include "engine/geometry/sat.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/geometry/sat.h"
 
-#include <osg/Node>
 
 #include <algorithm>
 #include <cmath>
@@ -261,11 +259,6 @@ struct StackEntry {
 };
 
 }  // namespace
-
-TriangleMesh meshFromNode(const osg::Node& node) {
-  ModelGeometry geometry = collectModelGeometry(node, node.getName().empty() ? std::string("node") : node.getName());
-  return {std::move(geometry.vertices), std::move(geometry.triangles)};
-}
 
 bool bruteForceOverlaps(const TriangleMesh& mesh, const Obb<double>& box) {
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)

@@ -44,33 +44,15 @@
 // distance is +infinity.
 #pragma once
 
-#include "engine/geometry/triangle_box.h"
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/triangle_box.h"
+#include "nestwalk/geometry/triangle_mesh.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
-namespace osg {
-class Node;
-}
-
 namespace nestwalk {
-
-/// A triangle mesh in its model frame: corners by index (degenerate triangles allowed).
-struct TriangleMesh {
-  std::vector<Vec3<double>> vertices;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-
-  Triangle triangle(std::size_t i) const {
-    return {vertices[triangles[i][0]], vertices[triangles[i][1]], vertices[triangles[i][2]]};
-  }
-};
-
-/// The triangles under an OSG node, with the node's transforms applied (the walk of
-/// collectModelGeometry, model_geometry.h: OSG's triangulation of every primitive set). Throws
-/// InputError when the node holds no vertex at all, as collectModelGeometry does.
-TriangleMesh meshFromNode(const osg::Node& node);
 
 /// The reference loops the trees must agree with: every triangle tested.
 bool bruteForceOverlaps(const TriangleMesh& mesh, const Obb<double>& box);

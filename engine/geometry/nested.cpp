@@ -1,4 +1,4 @@
-#include "engine/geometry/nested.h"
+#include "nestwalk/geometry/nested.h"
 
 namespace nestwalk {
 

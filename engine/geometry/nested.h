@@ -7,7 +7,8 @@
 // Both volumes of an object must contain the object; they need not contain each other.
 #pragma once
 
-#include "engine/geometry/sat.h"
+#include "nestwalk/core/enum_array.h"
+#include "nestwalk/geometry/sat.h"
 
 #include <array>
 #include <cstdint>
@@ -26,6 +27,10 @@ struct NestedVolume {
 enum class OverlapStage : std::uint8_t { AabbAabb = 0, AabbObb = 1, ObbObb = 2 };
 inline constexpr int kStageCount = 3;
 const char* stageName(OverlapStage s);  // "aabb-aabb", "aabb-obb", "obb-obb"
+
+/// A count per stage, indexed by the stage: tests run at each stage are the Nv terms of the cost
+/// model T = Nv Cv + Np Cp + Nu Cu, stage by stage.
+using StageCounts = EnumArray<OverlapStage, kStageCount, std::uint64_t>;
 
 struct NestedResult {
   bool overlap;

@@ -51,7 +51,7 @@
 // (__builtin_cpu_supports); NESTWALK_SIMD=portable in the environment forces the SSE path. The
 // double fallbacks are compiled for the base instruction set only (no FMA contraction), so they
 // are the very functions of sat.h / nested.h.
-#include "engine/geometry/obb_batch.h"
+#include "nestwalk/geometry/obb_batch.h"
 
 #include <algorithm>
 #include <cmath>

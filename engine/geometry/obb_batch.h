@@ -17,7 +17,7 @@
 // environment variable NESTWALK_SIMD=portable forces the SSE ones (the verdicts are the same).
 #pragma once
 
-#include "engine/geometry/nested.h"
+#include "nestwalk/geometry/nested.h"
 
 #include <cstdint>
 #include <utility>

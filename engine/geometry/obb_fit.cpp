@@ -59,9 +59,9 @@
 //  Measured (Release, one core of the build machine): shared models (64..290 hull vertices)
 //  2..7 ms including the hull; 1500 hull vertices ~30 ms; 3000 hull vertices (~6000 faces)
 //  ~120 ms; 5000 (~10000 faces) ~100-200 ms. The covariance fitter: 1..25 ms on the same inputs.
-#include "engine/geometry/obb_fit.h"
+#include "nestwalk/geometry/obb_fit.h"
 
-#include "engine/geometry/convex_hull.h"
+#include "nestwalk/geometry/convex_hull.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>

@@ -18,21 +18,13 @@
 // points' AABB centre.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/obb_fitter.h"
+#include "nestwalk/geometry/volumes.h"
 
-#include <optional>
 #include <string>
 #include <vector>
 
 namespace nestwalk {
-
-enum class ObbFitter {
-  Covariance,  // Gottschalk 1996
-  HullSearch,  // the tighter fitter (see obb_fit.cpp for the method and its cost)
-};
-
-const char* fitterName(ObbFitter f);                      // "covariance", "hull-search"
-std::optional<ObbFitter> parseFitter(const std::string& name);
 
 /// The fitted box of `points` (throws std::invalid_argument when `points` is empty or holds a
 /// non-finite coordinate).

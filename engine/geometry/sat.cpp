@@ -1,4 +1,4 @@
-#include "engine/geometry/sat.h"
+#include "nestwalk/geometry/sat.h"
 
 namespace nestwalk {
 

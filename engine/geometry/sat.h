@@ -24,7 +24,7 @@
 //    may be a separation smaller than the bands above (1e-12 relative in double).
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-#include "engine/geometry/swept.h"
+#include "nestwalk/geometry/swept.h"
 
 #include <Eigen/Geometry>
 

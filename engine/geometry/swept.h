@@ -18,7 +18,7 @@
 // of sat.h early (1e-12 relative).
 #pragma once
 
-#include "engine/geometry/nested.h"
+#include "nestwalk/geometry/nested.h"
 
 #include <cstdint>
 #include <limits>

@@ -1,6 +1,6 @@
 // Triangle-box overlap (13-axis SAT with exact signs) and distance; see triangle_box.h for the
 // method and its guarantees.
-#include "engine/geometry/triangle_box.h"
+#include "nestwalk/geometry/triangle_box.h"
 
 #include <Eigen/Geometry>
 

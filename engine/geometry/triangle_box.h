@@ -40,7 +40,7 @@
 // box's frame: relative error ~1e-15 of the distance plus ~1e-16 of |p - center|.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <array>
 #include <limits>

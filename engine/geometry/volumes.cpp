@@ -1,4 +1,4 @@
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <Eigen/LU>
 #include <Eigen/SVD>

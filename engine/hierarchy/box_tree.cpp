@@ -1,6 +1,6 @@
 // BoxTree's accessors and inspection (the build is in box_tree_build.cpp, the query in
 // box_tree_query.cpp).
-#include "engine/hierarchy/box_tree_layout.h"
+#include "nestwalk/hierarchy/box_tree_layout.h"
 
 #include <stdexcept>
 

@@ -37,7 +37,8 @@
 // A built tree is immutable and may be queried from several threads at once.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
+#include "nestwalk/hierarchy/tree_options.h"
 
 #include <cstdint>
 #include <memory>
@@ -46,19 +47,6 @@
 #include <vector>
 
 namespace nestwalk {
-
-enum class SplitAxis : std::uint8_t { LongestSide, Splatter };
-enum class SplitPoint : std::uint8_t { Mean, Median };
-
-const char* splitAxisName(SplitAxis a);    // "longest", "splatter"
-const char* splitPointName(SplitPoint p);  // "mean", "median"
-
-struct AutoTreeOptions {
-  int degree = 8;  // delta: 2, 4 or 8 children per inner node (8: fewest node tests per query, see
-                   // `nestwalk bench walker`)
-  SplitAxis axis = SplitAxis::LongestSide;
-  SplitPoint point = SplitPoint::Median;
-};
 
 /// Template trees: a group with more than `wideGroupChildren` children (units and subgroups) gets
 /// its children arranged under helper nodes, built like an automatic 4-ary longest-side/median

@@ -16,7 +16,7 @@
 // afterwards, bottom up, as the exact union of the children's outward-rounded float boxes, and
 // the per-node double boxes (NodeInfo::box) as the exact union of the double unit boxes.
 // The build is iterative (explicit work stack), so deep trees cannot overflow the call stack.
-#include "engine/hierarchy/box_tree_layout.h"
+#include "nestwalk/hierarchy/box_tree_layout.h"
 
 #include <algorithm>
 #include <array>

@@ -7,8 +7,8 @@
 // Float boxes are relative to `origin` and rounded outward (see box_tree_query.cpp).
 #pragma once
 
-#include "engine/geometry/volumes.h"
-#include "engine/hierarchy/box_tree.h"
+#include "nestwalk/geometry/volumes.h"
+#include "nestwalk/hierarchy/box_tree.h"
 
 #include <bit>
 #include <cmath>

@@ -24,7 +24,7 @@
 // Memory: a fixed stack of kStackEntries pending nodes on the call stack; when it is full (only in
 // very deep or very wide trees) the node is traversed by a recursive call instead, so nothing is
 // allocated and every node is still visited.
-#include "engine/hierarchy/box_tree_layout.h"
+#include "nestwalk/hierarchy/box_tree_layout.h"
 
 #include <bit>
 

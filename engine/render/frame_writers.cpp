@@ -1,7 +1,7 @@
 // PNG sequences and MP4 video from rendered frames (frame_writers.h).
-#include "engine/render/frame_writers.h"
+#include "nestwalk/render/frame_writers.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <osgDB/Options>
 #include <osgDB/WriteFile>

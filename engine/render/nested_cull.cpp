@@ -1,9 +1,9 @@
 // Nested view-frustum culling (nested_cull.h): the frustum from OSG matrices, the AABB stage over
 // flat arrays, the OBB stage for the undecided instances, the cull callbacks, and OSG's own
 // bounding-sphere test for comparison.
-#include "engine/render/nested_cull.h"
+#include "nestwalk/render/nested_cull.h"
 
-#include "engine/scene/scene.h"
+#include "nestwalk/scene/scene.h"
 
 #include <Eigen/Geometry>
 #include <osg/NodeCallback>

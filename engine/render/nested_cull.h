@@ -11,7 +11,7 @@
 // (OSG row-vector convention: local -> map -> eye).
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <osg/BoundingSphere>
 #include <osg/Group>

@@ -1,5 +1,5 @@
 // The windowless OpenGL context (offscreen_context.h): EGL surfaceless, or an X pbuffer.
-#include "engine/render/offscreen_context.h"
+#include "nestwalk/render/offscreen_context.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

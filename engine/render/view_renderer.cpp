@@ -1,5 +1,5 @@
 // The offscreen view renderer (view_renderer.h).
-#include "engine/render/view_renderer.h"
+#include "nestwalk/render/view_renderer.h"
 
 #include <osg/BlendFunc>
 #include <osg/Depth>

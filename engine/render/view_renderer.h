@@ -19,9 +19,9 @@
 // Threading: SingleThreaded, on the creating thread (the offscreen context is current there).
 #pragma once
 
-#include "engine/render/nested_cull.h"
-#include "engine/render/offscreen_context.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/render/nested_cull.h"
+#include "nestwalk/render/offscreen_context.h"
+#include "nestwalk/scene/scene.h"
 
 #include <osg/Geometry>
 #include <osg/Image>

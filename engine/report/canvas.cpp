@@ -1,8 +1,8 @@
 // The report pictures' pixel canvas and its 5x7 bitmap font (see canvas.h).
-#include "engine/report/canvas.h"
+#include "nestwalk/report/canvas.h"
 
-#include "engine/core/input_error.h"
-#include "engine/report/output_file.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
 
 #include <osg/GL>
 #include <osgDB/WriteFile>

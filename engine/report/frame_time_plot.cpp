@@ -2,14 +2,17 @@
 // osg::Image and written as PNG by osgDB's image writer plugin. Colours, scale and layout are
 // documented in frame_record.h. Pixels are addressed y-up (row 0 is the bottom row, as in
 // osg::Image; the PNG plugin flips rows on writing and reading); the canvas and font are canvas.h's.
-#include "engine/report/frame_record.h"
+#include "nestwalk/report/frame_time_plot.h"
 
-#include "engine/core/input_error.h"
-#include "engine/report/canvas.h"
+#include "nestwalk/core/statistics.h"
+
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/report/canvas.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace nestwalk {
@@ -38,8 +41,8 @@ constexpr int kBottomMargin = 2 * kGlyphHeight + 14;  // tick labels, then "FRAM
 constexpr int kTickLength = 4;
 constexpr int kDataInset = 3;  // data starts this far inside the axes, so the axes never hide it
 constexpr int kDashOn = 6, kDashOff = 4;  // percentile lines
-constexpr int kMinWidth = kLeftMargin + kRightMargin + 100;
-constexpr int kMinHeight = kTopMargin + kBottomMargin + 60;
+
+
 // Below this the log axis stops (a part that took 0 µs, e.g. with timing off, sits on the floor).
 constexpr double kFloorMicros = 1e-3;
 constexpr int kFrameTicksWanted = 8;
@@ -63,11 +66,12 @@ std::uint64_t niceStep(std::uint64_t span, int wanted) {
 
 }  // namespace
 
-void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>& records, int width, int height) {
-  if (width < kMinWidth || height < kMinHeight)
+void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>& records,
+                        std::span<const RenderRecord> renders, int width, int height) {
+  if (width < kMinFrameTimePlotWidth || height < kMinFrameTimePlotHeight)
     throw InputError(path + ": frame-time plot of " + std::to_string(width) + " x " + std::to_string(height) +
-                     " pixels is too small (at least " + std::to_string(kMinWidth) + " x " +
-                     std::to_string(kMinHeight) + ")");
+                     " pixels is too small (at least " + std::to_string(kMinFrameTimePlotWidth) + " x " +
+                     std::to_string(kMinFrameTimePlotHeight) + ")");
   Canvas canvas(width, height, kBackground);
   const int px0 = kLeftMargin, px1 = width - 1 - kRightMargin;   // plot area, columns
   const int py0 = kBottomMargin, py1 = height - 1 - kTopMargin;  // plot area, rows (y up)
@@ -81,13 +85,13 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
       hi = std::max(hi, us);
     }
   };
-  for (const FrameRecord& r : records) {
+  for (const FrameRecord& r : records)
     for (double us : r.micros) cover(us);
-    if (r.render.rendered) {
+  for (const RenderRecord& r : renders)
+    if (r.rendered) {
       rendered = true;
-      cover(r.render.micros[std::size_t(RenderPart::Total)]);
+      cover(r.micros[RenderPart::Total]);
     }
-  }
   int kLo = 0, kHi = 1;
   if (hi > 0) {
     kLo = int(std::floor(std::log10(lo)));
@@ -127,34 +131,34 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
   }
 
   // The parts, total first so that the parts it contains are drawn over it.
-  for (int part : {3, 2, 1, 0}) {
-    const Rgb c = kPartColour[part];
+  for (StepPart part : {StepPart::Total, StepPart::Narrow, StepPart::BroadPhase, StepPart::Ground}) {
+    const Rgb c = kPartColour[std::size_t(part)];
     for (std::size_t i = 0; i < records.size(); ++i) {
-      const int x = xOf(records[i].frame), y = yOf(records[i].micros[std::size_t(part)]);
+      const int x = xOf(records[i].frame), y = yOf(records[i].micros[part]);
       if (i == 0) {
         canvas.set(x, y, c);
       } else {
-        canvas.line(xOf(records[i - 1].frame), yOf(records[i - 1].micros[std::size_t(part)]), x, y, c);
+        canvas.line(xOf(records[i - 1].frame), yOf(records[i - 1].micros[part]), x, y, c);
       }
     }
   }
   // Rendering, through the rendered frames only.
-  const FrameRecord* previous = nullptr;
-  for (const FrameRecord& r : records) {
-    if (!r.render.rendered) continue;
-    const int x = xOf(r.frame), y = yOf(r.render.micros[std::size_t(RenderPart::Total)]);
+  std::optional<std::size_t> previous;
+  for (std::size_t i = 0; i < renders.size(); ++i) {
+    if (!renders[i].rendered) continue;
+    const int x = xOf(records[i].frame), y = yOf(renders[i].micros[RenderPart::Total]);
     if (previous) {
-      canvas.line(xOf(previous->frame), yOf(previous->render.micros[std::size_t(RenderPart::Total)]), x, y,
+      canvas.line(xOf(records[*previous].frame), yOf(renders[*previous].micros[RenderPart::Total]), x, y,
                   kRenderColour);
     } else {
       canvas.set(x, y, kRenderColour);
     }
-    previous = &r;
+    previous = i;
   }
   if (!records.empty()) {
     std::vector<double> total;
     total.reserve(records.size());
-    for (const FrameRecord& r : records) total.push_back(r.micros[std::size_t(StepPart::Total)]);
+    for (const FrameRecord& r : records) total.push_back(r.micros[StepPart::Total]);
     canvas.dashedHLine(px0, px1, yOf(percentile(total, 50)), kP50Colour, kDashOn, kDashOff);
     canvas.dashedHLine(px0, px1, yOf(percentile(total, 99)), kP99Colour, kDashOn, kDashOff);
   } else {

@@ -1,14 +1,14 @@
-// The run's summary JSON (nlohmann_json): what ran, how long each part of a step took, how much
-// work the collision tests did, what blocked the viewer and whether the script's expectations
-// held. Key layout in frame_record.h.
-#include "engine/report/frame_record.h"
+// The run's summary JSON (nlohmann_json); key layout in run_summary.h.
+#include "nestwalk/report/run_summary.h"
 
-#include "engine/report/output_file.h"
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/core/statistics.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 
 namespace nestwalk {
 namespace {
@@ -23,10 +23,62 @@ json percentiles(const std::vector<double>& values) {
           {"max", percentile(values, 100)}};
 }
 
+json renderSection(const RunSummaryInfo& info, std::span<const RenderRecord> renders) {
+  std::vector<const RenderRecord*> rendered;
+  for (const RenderRecord& r : renders)
+    if (r.rendered) rendered.push_back(&r);
+  if (rendered.empty()) return nullptr;
+  json render = info.renderInfoJson.empty() ? json::object() : json::parse(info.renderInfoJson);
+  render["frames"] = rendered.size();
+  json ms = json::object();
+  for (RenderPart part : kAllRenderParts) {
+    std::vector<double> v;
+    v.reserve(rendered.size());
+    for (const RenderRecord* r : rendered) v.push_back(r->micros[part] / 1000.0);
+    ms[renderPartName(part)] = percentiles(v);
+  }
+  render["ms"] = ms;
+  std::uint64_t triangles = 0, maxTriangles = 0, drawn = 0, byAabb = 0, byObb = 0;
+  double maxError = 0;
+  for (const RenderRecord* r : rendered) {
+    triangles += r->triangles;
+    maxTriangles = std::max(maxTriangles, r->triangles);
+    drawn += r->instancesDrawn;
+    byAabb += r->culledByAabb;
+    byObb += r->culledByObb;
+    maxError = std::max(maxError, r->terrainErrorPx);
+  }
+  const double m = double(rendered.size());
+  render["mean_triangles"] = double(triangles) / m;
+  render["max_triangles"] = maxTriangles;
+  render["max_terrain_error_px"] = maxError;
+  render["mean_instances_drawn"] = double(drawn) / m;
+  render["mean_culled_aabb"] = double(byAabb) / m;
+  render["mean_culled_obb"] = double(byObb) / m;
+  return render;
+}
+
+/// The work counters per frame, in the summary's order and names.
+struct CounterColumn {
+  const char* name;
+  std::uint64_t (*of)(const FrameRecord&);
+};
+constexpr CounterColumn kCounters[] = {
+    {"node_tests", [](const FrameRecord& r) { return r.nodeTests; }},
+    {"aabb_aabb", [](const FrameRecord& r) { return r.stageTests[OverlapStage::AabbAabb]; }},
+    {"aabb_obb", [](const FrameRecord& r) { return r.stageTests[OverlapStage::AabbObb]; }},
+    {"obb_obb", [](const FrameRecord& r) { return r.stageTests[OverlapStage::ObbObb]; }},
+    {"np", [](const FrameRecord& r) { return r.primitiveTests; }},
+    {"nu", [](const FrameRecord& r) { return r.volumesUpdated; }},
+};
+
 }  // namespace
 
 void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const std::vector<FrameRecord>& records,
-                     const std::vector<ExpectationResult>& expectations) {
+                     const std::vector<ExpectationResult>& expectations, std::span<const RenderRecord> renders) {
+  if (!renders.empty() && renders.size() != records.size())
+    throw std::invalid_argument("writeRunSummary: " + std::to_string(renders.size()) + " render records for " +
+                                std::to_string(records.size()) + " frames");
   json out;
   out["scene"] = info.scene;
   out["script"] = info.script;
@@ -37,71 +89,33 @@ void writeRunSummary(const std::string& path, const RunSummaryInfo& info, const 
   out["simulated_seconds"] = records.empty() ? 0.0 : records.back().time;
 
   json steps = json::object();
-  for (int part = 0; part < kStepParts; ++part) {
+  for (StepPart part : kAllStepParts) {
     std::vector<double> us;
     us.reserve(records.size());
-    for (const FrameRecord& r : records) us.push_back(r.micros[std::size_t(part)]);
-    steps[stepPartName(StepPart(part))] = percentiles(us);
+    for (const FrameRecord& r : records) us.push_back(r.micros[part]);
+    steps[stepPartName(part)] = percentiles(us);
   }
   out["step_us"] = steps;
-
-  std::vector<const FrameRecord*> rendered;
-  for (const FrameRecord& r : records)
-    if (r.render.rendered) rendered.push_back(&r);
-  if (!rendered.empty()) {
-    json render = info.renderInfoJson.empty() ? json::object() : json::parse(info.renderInfoJson);
-    render["frames"] = rendered.size();
-    json ms = json::object();
-    for (int part = 0; part < kRenderParts; ++part) {
-      std::vector<double> v;
-      v.reserve(rendered.size());
-      for (const FrameRecord* r : rendered) v.push_back(r->render.micros[std::size_t(part)] / 1000.0);
-      ms[renderPartName(RenderPart(part))] = percentiles(v);
-    }
-    render["ms"] = ms;
-    std::uint64_t triangles = 0, maxTriangles = 0, drawn = 0, byAabb = 0, byObb = 0;
-    double maxError = 0;
-    for (const FrameRecord* r : rendered) {
-      triangles += r->render.triangles;
-      maxTriangles = std::max(maxTriangles, r->render.triangles);
-      drawn += r->render.instancesDrawn;
-      byAabb += r->render.culledByAabb;
-      byObb += r->render.culledByObb;
-      maxError = std::max(maxError, r->render.terrainErrorPx);
-    }
-    const double m = double(rendered.size());
-    render["mean_triangles"] = double(triangles) / m;
-    render["max_triangles"] = maxTriangles;
-    render["max_terrain_error_px"] = maxError;
-    render["mean_instances_drawn"] = double(drawn) / m;
-    render["mean_culled_aabb"] = double(byAabb) / m;
-    render["mean_culled_obb"] = double(byObb) / m;
-    out["render"] = render;
-  }
+  if (json render = renderSection(info, renders); !render.is_null()) out["render"] = render;
 
   // Sums in 64-bit integers (exact), divided once at the end.
-  std::uint64_t sums[6] = {};
+  const double n = records.empty() ? 1.0 : double(records.size());
+  json means = json::object();
+  for (const CounterColumn& c : kCounters) {
+    std::uint64_t sum = 0;
+    for (const FrameRecord& r : records) sum += c.of(r);
+    means[c.name] = double(sum) / n;
+  }
+  out["mean_per_frame"] = means;
+
+  // Blockers by frames blocked, most first; ties by name (std::map order), so the file is stable.
   std::uint64_t blocked = 0;
   std::map<std::string, std::uint64_t> blockers;
-  for (const FrameRecord& r : records) {
-    sums[0] += r.nodeTests;
-    sums[1] += r.stageTests[0];
-    sums[2] += r.stageTests[1];
-    sums[3] += r.stageTests[2];
-    sums[4] += r.primitiveTests;
-    sums[5] += r.volumesUpdated;
+  for (const FrameRecord& r : records)
     if (r.blocked) {
       ++blocked;
       ++blockers[r.blockedBy];
     }
-  }
-  const double n = records.empty() ? 1.0 : double(records.size());
-  const char* counterNames[6] = {"node_tests", "aabb_aabb", "aabb_obb", "obb_obb", "np", "nu"};
-  json means = json::object();
-  for (int i = 0; i < 6; ++i) means[counterNames[i]] = double(sums[i]) / n;
-  out["mean_per_frame"] = means;
-
-  // Blockers by frames blocked, most first; ties by name (std::map order), so the file is stable.
   std::vector<std::pair<std::string, std::uint64_t>> byCount(blockers.begin(), blockers.end());
   std::stable_sort(byCount.begin(), byCount.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   json blockerList = json::array();

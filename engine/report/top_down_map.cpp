@@ -3,10 +3,10 @@
 // in which colours, is documented in top_down_map.h. Map coordinates are UTM-sized, so every
 // position goes through TopDownFrame (a difference from the image's corner, in double) before it
 // becomes a pixel.
-#include "engine/report/top_down_map.h"
+#include "nestwalk/report/top_down_map.h"
 
-#include "engine/core/input_error.h"
-#include "engine/report/canvas.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/report/canvas.h"
 
 #include <algorithm>
 #include <cctype>

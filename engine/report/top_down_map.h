@@ -43,8 +43,8 @@
 //    then a scale bar (a 1-2-5 length in metres, as long as fits the column) at the bottom.
 #pragma once
 
-#include "engine/report/frame_record.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/walker/frame_record.h"
+#include "nestwalk/scene/scene.h"
 
 #include <Eigen/Core>
 

@@ -1,6 +1,6 @@
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/scene/model_geometry.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <osg/Geometry>
 #include <osg/NodeVisitor>
@@ -23,7 +23,7 @@ struct TriangleCollector {
 
 class GeometryCollector : public osg::NodeVisitor {
  public:
-  explicit GeometryCollector(ModelGeometry& out)
+  explicit GeometryCollector(TriangleMesh& out)
       : osg::NodeVisitor(osg::NodeVisitor::TRAVERSE_ALL_CHILDREN), out_(out) {}
 
   void apply(osg::Drawable& drawable) override {
@@ -91,13 +91,13 @@ class GeometryCollector : public osg::NodeVisitor {
     }
   }
 
-  ModelGeometry& out_;
+  TriangleMesh& out_;
 };
 
 }  // namespace
 
-ModelGeometry collectModelGeometry(const osg::Node& node, const std::string& name) {
-  ModelGeometry geometry;
+TriangleMesh collectModelGeometry(const osg::Node& node, const std::string& name) {
+  TriangleMesh geometry;
   GeometryCollector collector(geometry);
   const_cast<osg::Node&>(node).accept(collector);
   if (geometry.vertices.empty())
@@ -105,7 +105,7 @@ ModelGeometry collectModelGeometry(const osg::Node& node, const std::string& nam
   return geometry;
 }
 
-ModelGeometry loadModelGeometry(const std::string& path) {
+TriangleMesh loadModelGeometry(const std::string& path) {
   if (!osgDB::fileExists(path)) throw InputError(path + ": no such file");
   if (osgDB::fileType(path) == osgDB::DIRECTORY) throw InputError(path + ": is a directory, not a model file");
   osg::ref_ptr<osg::Node> node = osgDB::readRefNodeFile(path);

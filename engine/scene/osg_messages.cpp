@@ -1,4 +1,4 @@
-#include "engine/scene/osg_messages.h"
+#include "nestwalk/scene/osg_messages.h"
 
 #include <osg/Notify>
 

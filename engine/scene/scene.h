@@ -8,10 +8,10 @@
 // contacts.
 #pragma once
 
-#include "engine/geometry/nested.h"
-#include "engine/scene/scene_file.h"
-#include "terrain/heightfield.h"
-#include "terrain/terrain_mesh.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/scene/scene_file.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <osg/LOD>
 #include <osg/MatrixTransform>

@@ -1,8 +1,8 @@
 // Reading a scene file (scene_file.h): JSON through nlohmann_json, then every field checked by hand
 // so that each error names the file and the field path ("equipment[12].scale").
-#include "engine/scene/scene_file.h"
+#include "nestwalk/scene/scene_file.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <nlohmann/json.hpp>
 
@@ -294,38 +294,6 @@ void checkNames(const SceneReader& r, std::vector<EquipmentSpec>& equipment, con
 }
 
 }  // namespace
-
-const char* volumeMethodName(VolumeMethod m) {
-  switch (m) {
-    case VolumeMethod::Nested: return "nested";
-    case VolumeMethod::Aabb: return "aabb";
-    case VolumeMethod::Obb: return "obb";
-    case VolumeMethod::NestedMesh: return "nested+mesh";
-    case VolumeMethod::Kdop18: return "kdop18";
-  }
-  return "?";
-}
-
-bool parseVolumeMethod(const std::string& name, VolumeMethod& out) {
-  for (VolumeMethod m : {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb, VolumeMethod::NestedMesh,
-                         VolumeMethod::Kdop18})
-    if (name == volumeMethodName(m)) {
-      out = m;
-      return true;
-    }
-  return false;
-}
-
-std::string describe(const MethodSpec& m) {
-  std::string s = std::string(volumeMethodName(m.volumes)) + ", ";
-  if (m.templateHierarchy) {
-    s += "template";
-  } else {
-    s += "auto delta=" + std::to_string(m.autoTree.degree) + " " + splitAxisName(m.autoTree.axis) + "/" +
-         splitPointName(m.autoTree.point);
-  }
-  return s + ", " + fitterName(m.fitter);
-}
 
 SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   const SceneReader r(path, fs::path(path).parent_path());

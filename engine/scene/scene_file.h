@@ -34,8 +34,7 @@
 // "<model stem>#<index>" (index: the entry's position in "equipment", from 0).
 #pragma once
 
-#include "engine/geometry/obb_fit.h"
-#include "engine/hierarchy/box_tree.h"
+#include "nestwalk/scene/method_spec.h"
 
 #include <Eigen/Core>
 
@@ -65,29 +64,6 @@ struct ViewerSpec {
   double speed = 1.4;                                       // default m/s
   double flyClearance = 2.0;                                // flying: lowest body bottom above ground
 };
-
-// The walker's contact test against each unit (after the broad phase over the outer AABBs):
-//   Nested     outer AABB, then AABB-OBB, then OBB-OBB (seed 004; the default)
-//   Aabb       outer AABB only;  Obb  inner OBB only
-//   NestedMesh the nested test, then the body box against the model's real triangles through an
-//              OBB tree: blocks only on real contact (exact reference)
-//   Kdop18     the body box against the real triangles through a k-DOP-18 tree, right after the
-//              broad phase (exact, no nested stage)
-// The mesh methods test a unit without any triangle (points or lines only) by its nested volumes.
-enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18 };
-inline bool usesMeshes(VolumeMethod m) { return m == VolumeMethod::NestedMesh || m == VolumeMethod::Kdop18; }
-
-struct MethodSpec {
-  VolumeMethod volumes = VolumeMethod::Nested;
-  bool templateHierarchy = false;  // "hierarchy": "template"
-  AutoTreeOptions autoTree;        // used when !templateHierarchy
-  ObbFitter fitter = ObbFitter::HullSearch;
-};
-
-const char* volumeMethodName(VolumeMethod m);  // "nested", "aabb", "obb", "nested+mesh", "kdop18"
-// The method named so (the names above); false for an unknown name.
-bool parseVolumeMethod(const std::string& name, VolumeMethod& out);
-std::string describe(const MethodSpec& m);     // e.g. "nested, auto delta=4 longest/median, hull-search"
 
 struct SceneSpec {
   std::string path;        // the scene file as given

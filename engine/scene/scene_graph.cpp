@@ -1,6 +1,6 @@
 // The OpenSceneGraph graph of a loaded scene (scene.h, buildSceneGraph).
-#include "engine/scene/scene.h"
-#include "terrain/terrain_mesh.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <osg/Geode>
 #include <osg/Geometry>

@@ -1,10 +1,11 @@
 // Loading a scene (scene.h): terrain, models once per file, instance transforms and volumes, and
 // the collision units.
-#include "engine/core/input_error.h"
-#include "engine/geometry/convex_hull.h"
-#include "engine/scene/model_geometry.h"
-#include "engine/scene/scene.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/geometry/convex_hull.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/terrain/dem_reader.h"
 
 #include <osgDB/Registry>
 
@@ -156,7 +157,7 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
                      " could not be read: " + list);
   }
   for (auto& m : scene.models) {
-    ModelGeometry g;
+    TriangleMesh g;
     try {
       g = collectModelGeometry(*m.node, m.path);
     } catch (const InputError& e) {

@@ -8,10 +8,10 @@
 //   forward = (sin H cos P, cos H cos P, sin P),  right = (cos H, -sin H, 0),
 // which is the rotation Rz(-H) * Rx(90 + P): Rx(90) turns the camera's -Z onto north and its +Y
 // onto up; Rx(P) pitches about east; Rz(-H) turns clockwise seen from above.
-#include "engine/walker/script.h"
+#include "nestwalk/walker/script.h"
 
-#include "engine/core/input_error.h"
-#include "engine/report/output_file.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
 
 #include <Eigen/Geometry>
 

@@ -1,6 +1,6 @@
-#include "engine/walker/collision_world.h"
+#include "nestwalk/walker/collision_world.h"
 
-#include "engine/scene/scene.h"
+#include "nestwalk/scene/scene.h"
 
 #include <algorithm>
 #include <chrono>
@@ -97,7 +97,7 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
     case VolumeMethod::Aabb:
       return sweepOuterOnly(viewer, d, obj);
     case VolumeMethod::Obb:
-      ++counters.stageTests[2];
+      ++counters.stageTests[OverlapStage::ObbObb];
       return sweepInnerOnly(viewer, d, obj);
     case VolumeMethod::Kdop18:
       if (hasTriangles(u)) return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), MeshTreeKind::Kdop18, counters);
@@ -109,8 +109,8 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
   // Stage 1 ran in the broad phase as a static test of the swept box (counted there); its
   // interval is recomputed here because contact needs all three stages at the same t.
   const SweptNestedResult r = sweepNested(viewer, d, obj);
-  if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
-  if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
+  if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
+  if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
   // The triangles lie inside both volumes: no real contact before the nested one.
   if (method_.volumes == VolumeMethod::NestedMesh && r.contact && hasTriangles(u))
     return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
@@ -133,7 +133,7 @@ SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<do
   BroadPhaseCounters bc;
   tree_.query(swept, scratch_, &bc);
   counters.nodeTests += bc.nodeTests;
-  counters.stageTests[0] += bc.leafTests;
+  counters.stageTests[OverlapStage::AabbAabb] += bc.leafTests;
   if (timing_) t1 = Clock::now();
 
   SweepHit hit;
@@ -155,22 +155,7 @@ SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<do
     counters.broadMicros += micros(t0, t1);
     counters.narrowMicros += micros(t1, t2);
   }
-  if (reference_ && tally_) {
-    CollisionCounters ignored;
-    const SweepHit exact = reference_->sweep(viewer, d, ignored);
-    const double slack = 2.0 * kMeshContactTolerance / std::max(d.norm(), 1e-300);
-    ++tally_->sweeps;
-    tally_->contacts += hit.contact;
-    tally_->referenceContacts += exact.contact;
-    if (exact.contact && (!hit.contact || hit.t > exact.t + slack)) ++tally_->missed;
-    if (hit.contact && !exact.contact) {
-      // Would the real geometry stop the body further along the same direction?
-      const double length = d.norm();
-      const SweepHit further =
-          length > 0.0 ? reference_->sweep(viewer, d * (std::max(length, kEarlyStopHorizon) / length), ignored) : exact;
-      ++(further.contact ? tally_->earlyStops : tally_->falseBlocks);
-    }
-  }
+  if (observer_) observer_->onSweep(viewer, d, hit);
   return hit;
 }
 
@@ -180,7 +165,7 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
   const Aabb<double> box = method_.volumes == VolumeMethod::Obb ? aabbOf(viewer.inner) : viewer.outer;
   tree_.query(box, scratch_, &bc);
   counters.nodeTests += bc.nodeTests;
-  counters.stageTests[0] += bc.leafTests;
+  counters.stageTests[OverlapStage::AabbAabb] += bc.leafTests;
   std::int32_t found = -1;
   for (std::uint32_t u : scratch_) {
     bool overlap = false;
@@ -189,14 +174,14 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
         overlap = true;  // the broad phase's leaf test was the AABB-AABB test
         break;
       case VolumeMethod::Obb:
-        ++counters.stageTests[2];
+        ++counters.stageTests[OverlapStage::ObbObb];
         overlap = satObbObb(viewer.inner, units_[u].inner).overlap;
         break;
       case VolumeMethod::Nested:
       case VolumeMethod::NestedMesh: {
         const NestedResult r = testNested(viewer, units_[u]);
-        if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[1];
-        if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[2];
+        if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
+        if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
         overlap = r.overlap;
         if (overlap && method_.volumes == VolumeMethod::NestedMesh && hasTriangles(u))
           overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);

@@ -3,10 +3,10 @@
 // from a loaded scene; the per-step queries allocate nothing once their scratch has grown.
 #pragma once
 
-#include "engine/geometry/swept.h"
-#include "engine/hierarchy/box_tree.h"
-#include "engine/scene/scene_file.h"
-#include "engine/walker/mesh_world.h"
+#include "nestwalk/geometry/swept.h"
+#include "nestwalk/hierarchy/box_tree.h"
+#include "nestwalk/scene/scene_file.h"
+#include "nestwalk/walker/mesh_world.h"
 
 #include <array>
 #include <cstdint>
@@ -22,7 +22,8 @@ struct Scene;
 struct CollisionCounters {
   std::uint64_t nodeTests = 0;              // hierarchy inner-node tests (broad phase, and the
                                             // mesh trees' BV tests for the mesh methods)
-  std::array<std::uint64_t, 3> stageTests{};  // AABB-AABB, AABB-OBB, OBB-OBB
+  StageCounts stageTests;                   // per nested stage (the broad phase's leaf tests are
+                                            // stage 1, AABB-AABB)
   std::uint64_t primitiveTests = 0;         // triangle tests (mesh methods)
   double broadMicros = 0, narrowMicros = 0;   // wall-clock, when the world times its queries
   void clear() { *this = {}; }
@@ -35,20 +36,14 @@ struct SweepHit {
   Vec3<double> normal = Vec3<double>::Zero();
 };
 
-// A method's sweeps compared with an exact reference's on the very same steps (compareWith).
-struct ReferenceTally {
-  std::uint64_t sweeps = 0;             // sweeps compared
-  std::uint64_t contacts = 0;           // the method found a contact within the step
-  std::uint64_t referenceContacts = 0;  // the reference did
-  std::uint64_t missed = 0;             // the reference's contact came before the method's, or the
-                                        // method found none: the viewer would go into real geometry
-  std::uint64_t earlyStops = 0;         // the method stopped the step, the real geometry did not,
-                                        // but would further along the same direction (within
-                                        // kEarlyStopHorizon): the volumes stop the body short
-  std::uint64_t falseBlocks = 0;        // the method stopped the step, and the real geometry is not
-                                        // met along that direction within kEarlyStopHorizon either
+/// Watches the sweeps a CollisionWorld answers, for accuracy studies (the report compares every
+/// sweep with an exact reference: engine/report/reference_comparison.h). Called after the sweep's
+/// own (timed) work, on the thread that swept, with the sweep's input and answer.
+class SweepObserver {
+ public:
+  virtual ~SweepObserver() = default;
+  virtual void onSweep(const NestedVolume<double>& viewer, const Vec3<double>& d, const SweepHit& hit) = 0;
 };
-inline constexpr double kEarlyStopHorizon = 1.0;  // metres
 
 class CollisionWorld {
  public:
@@ -72,15 +67,10 @@ class CollisionWorld {
   const MethodSpec& method() const { return method_; }
   // Measure broad and narrow phase separately (two clock reads per phase and query).
   void setTiming(bool on) { timing_ = on; }
-  // Every sweep is also run on `reference` (an exact world over the same units) and the two are
-  // compared into `tally` (after the timed part; for accuracy runs, not for timing ones). A
-  // contact counts as missed when the reference's comes earlier by more than the mesh contact
-  // tolerance (both exact methods stop within it); a contact the reference does not have within
-  // the step is an early stop or a false block (ReferenceTally). Null turns it off.
-  void compareWith(const CollisionWorld* reference, ReferenceTally* tally) {
-    reference_ = reference;
-    tally_ = tally;
-  }
+  // Reports every sweep to `observer` (null: none). The world does not own it: the observer must
+  // outlive every sweep made while it is set (ObservedSweeps sets it for a scope). Not to be
+  // changed while another thread sweeps.
+  void setObserver(SweepObserver* observer) { observer_ = observer; }
 
   // First contact of the viewer's volumes moving by d (local frame) with any unit. A unit the
   // viewer already touches at t = 0 counts only if d presses into it (against the normal of the
@@ -109,10 +99,22 @@ class CollisionWorld {
   MethodSpec method_;
   BoxTree tree_;
   std::shared_ptr<const MeshWorld> meshes_;
-  const CollisionWorld* reference_ = nullptr;
-  ReferenceTally* tally_ = nullptr;
+  SweepObserver* observer_ = nullptr;  // not owned (setObserver)
   mutable std::vector<std::uint32_t> scratch_;
   bool timing_ = false;
+};
+
+/// Sets an observer on a world for the lifetime of this object and clears it again, however the
+/// scope ends. The observer and the world must outlive it.
+class ObservedSweeps {
+ public:
+  ObservedSweeps(CollisionWorld& world, SweepObserver& observer) : world_(world) { world_.setObserver(&observer); }
+  ~ObservedSweeps() { world_.setObserver(nullptr); }
+  ObservedSweeps(const ObservedSweeps&) = delete;
+  ObservedSweeps& operator=(const ObservedSweeps&) = delete;
+
+ private:
+  CollisionWorld& world_;
 };
 
 }  // namespace nestwalk

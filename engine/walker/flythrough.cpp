@@ -1,7 +1,7 @@
-#include "engine/walker/flythrough.h"
+#include "nestwalk/walker/flythrough.h"
 
-#include "engine/scene/scene.h"
-#include "engine/walker/script_player.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/script_player.h"
 
 namespace nestwalk {
 
@@ -36,7 +36,7 @@ FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report) {
 }
 
 FlythroughResult runFlythrough(const Scene& scene, const CollisionWorld& world, const Script& script,
-                               const WalkerOptions& options, const std::function<void(FrameRecord&)>& onRecord) {
+                               const WalkerOptions& options, const std::function<void(const FrameRecord&)>& onRecord) {
   FlythroughResult out;
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);

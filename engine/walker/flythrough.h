@@ -1,10 +1,10 @@
 // One flythrough: a script played on a scene's walker, with a record per step (what `nestwalk run`
-// writes, what the report and the benchmarks aggregate). No files here: see report/frame_record.h.
+// writes, what the report and the benchmarks aggregate). No files here: the report side writes them (engine/report).
 #pragma once
 
-#include "engine/report/frame_record.h"
-#include "engine/walker/script.h"
-#include "engine/walker/walker.h"
+#include "nestwalk/walker/frame_record.h"
+#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/walker.h"
 
 #include <functional>
 #include <vector>
@@ -21,11 +21,11 @@ struct FlythroughResult {
 };
 
 // Plays `script` on a walker over `scene` and `world`; calls `onRecord` after each step with the
-// step's record, which it may complete (rendering fills FrameRecord::render) before it is kept.
+// step's record (as kept in the result; a renderer draws the frame from it).
 // Throws InputError (script file and line) for a start that cannot be.
 FlythroughResult runFlythrough(const Scene& scene, const CollisionWorld& world, const Script& script,
                                const WalkerOptions& options,
-                               const std::function<void(FrameRecord&)>& onRecord = {});
+                               const std::function<void(const FrameRecord&)>& onRecord = {});
 
 // The record of the walker's current state after a step.
 FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report);

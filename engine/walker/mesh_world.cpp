@@ -1,7 +1,8 @@
 // The equipment's triangles for the exact methods (mesh_world.h).
-#include "engine/walker/mesh_world.h"
+#include "nestwalk/walker/mesh_world.h"
 
-#include "engine/scene/scene.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/scene.h"
 
 #include <algorithm>
 #include <limits>
@@ -12,7 +13,7 @@ std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
   world->models_.reserve(scene.models.size());
   for (const SceneModel& m : scene.models) {
-    const TriangleMesh mesh = meshFromNode(*m.node);
+    const TriangleMesh mesh = collectModelGeometry(*m.node, m.path);
     world->models_.push_back({ObbTree(mesh), KdopTree(mesh), mesh.triangles.size()});
   }
   world->unitParts_.resize(scene.units.size());

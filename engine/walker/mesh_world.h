@@ -16,7 +16,7 @@
 // the box is taken into each model's frame by the inverse, the distance scaled back.
 #pragma once
 
-#include "engine/geometry/mesh_tree.h"
+#include "nestwalk/geometry/mesh_tree.h"
 
 #include <cstdint>
 #include <memory>

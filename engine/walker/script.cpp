@@ -1,9 +1,9 @@
 // Flythrough script parser (format in script.h). Strict: every line is one command with exactly
 // the arguments its form takes; anything else is an InputError "FILE:LINE: KEYWORD: problem".
 // Numbers go through std::from_chars, so a script reads the same under any C/C++ locale.
-#include "engine/walker/script.h"
+#include "nestwalk/walker/script.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <algorithm>
 #include <cctype>

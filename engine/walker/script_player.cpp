@@ -1,6 +1,6 @@
-#include "engine/walker/script_player.h"
+#include "nestwalk/walker/script_player.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <cmath>
 #include <cstdio>

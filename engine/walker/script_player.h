@@ -11,9 +11,9 @@
 // ceil(T / dt) steps.
 #pragma once
 
-#include "engine/report/frame_record.h"
-#include "engine/walker/script.h"
-#include "engine/walker/walker.h"
+#include "nestwalk/walker/frame_record.h"
+#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/walker.h"
 
 #include <functional>
 #include <vector>

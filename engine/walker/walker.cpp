@@ -1,4 +1,4 @@
-#include "engine/walker/walker.h"
+#include "nestwalk/walker/walker.h"
 
 #include <algorithm>
 #include <chrono>
@@ -175,7 +175,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   Clock::time_point t1;
   if (options_.timeParts) {
     t1 = Clock::now();
-    report.micros[0] += micros(t0, t1);
+    report.micros[StepPart::Ground] += micros(t0, t1);
   }
 
   // 2. The equipment: the swept nested test along the straight leg start -> target.
@@ -271,10 +271,10 @@ StepReport Walker::step(const StepInput& in) {
   state_.time = double(state_.frame) * options_.dt;
   if (options_.timeParts) {
     const Clock::time_point t1 = Clock::now();
-    report.micros[0] += micros(tg, t1);
-    report.micros[1] = report.counters.broadMicros;
-    report.micros[2] = report.counters.narrowMicros;
-    report.micros[3] = micros(t0, t1);
+    report.micros[StepPart::Ground] += micros(tg, t1);
+    report.micros[StepPart::BroadPhase] = report.counters.broadMicros;
+    report.micros[StepPart::Narrow] = report.counters.narrowMicros;
+    report.micros[StepPart::Total] = micros(t0, t1);
   }
   return report;
 }

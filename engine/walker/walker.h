@@ -15,9 +15,10 @@
 // Frames: the state is in map coordinates (double); volumes are built in the scene's local frame.
 #pragma once
 
-#include "engine/scene/scene_file.h"
-#include "engine/walker/collision_world.h"
-#include "terrain/heightfield.h"
+#include "nestwalk/scene/scene_file.h"
+#include "nestwalk/walker/collision_world.h"
+#include "nestwalk/walker/frame_record.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <Eigen/Core>
 
@@ -73,7 +74,7 @@ struct StepInput {
 struct StepReport {
   CollisionCounters counters;
   std::uint64_t volumesUpdated = 0;  // Nu: viewer volumes rebuilt
-  std::array<double, 4> micros{};    // µs: ground, broad phase, narrow phase, total (StepPart order)
+  StepTimes micros;                  // µs per part of the step
 };
 
 class Walker {

@@ -3,8 +3,8 @@
 // the real-world sizes the models stand for (written here from the equipment's specifications,
 // not from the generator's constants).
 #include "assets/generators/equipment_models.h"
-#include "engine/core/input_error.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/scene/model_geometry.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -49,13 +49,13 @@ fs::path tempDir() {
   return d;
 }
 
-ModelGeometry writeAndLoad(ModelKind m) {
+TriangleMesh writeAndLoad(ModelKind m) {
   const fs::path p = tempDir() / modelFileName(m);
   writeModel(m, p.string());
   return loadModelGeometry(p.string());
 }
 
-Aabb<double> boundsOf(const ModelGeometry& g, double zLo = -1e9, double zHi = 1e9) {
+Aabb<double> boundsOf(const TriangleMesh& g, double zLo = -1e9, double zHi = 1e9) {
   Aabb<double> b;
   for (const auto& v : g.vertices)
     if (v.z() >= zLo && v.z() <= zHi) b.extend(v);
@@ -65,7 +65,7 @@ Aabb<double> boundsOf(const ModelGeometry& g, double zLo = -1e9, double zHi = 1e
 TEST(EquipmentModels, LoadWithOsgDbAndHaveTheirRealSizes) {
   for (const Expected& e : kExpected) {
     SCOPED_TRACE(modelStem(e.model));
-    const ModelGeometry g = writeAndLoad(e.model);
+    const TriangleMesh g = writeAndLoad(e.model);
     EXPECT_GT(g.triangles.size(), 10u);
     EXPECT_LE(g.triangles.size(), 400u);  // a few hundred at most
     const Aabb<double> b = boundsOf(g);
@@ -85,7 +85,7 @@ TEST(EquipmentModels, LoadWithOsgDbAndHaveTheirRealSizes) {
 
 /// Bounds of the vertices of the triangles spanning exactly z0 .. z1: the side faces of a prism
 /// standing from z0 to z1.
-Aabb<double> sideBounds(const ModelGeometry& g, double z0, double z1, double radius) {
+Aabb<double> sideBounds(const TriangleMesh& g, double z0, double z1, double radius) {
   Aabb<double> b;
   for (const auto& t : g.triangles) {
     double lo = 1e9, hi = -1e9;
@@ -104,7 +104,7 @@ TEST(EquipmentModels, PoleIsFiveCentimetresAndCylindersAreRound) {
   const Aabb<double> pole = sideBounds(writeAndLoad(ModelKind::SensorPole), 0.0, 3.0, 0.025);
   EXPECT_NEAR(pole.size().x(), 0.05, kSizeTol);
   EXPECT_NEAR(pole.size().y(), 0.05, kSizeTol);
-  const ModelGeometry mastModel = writeAndLoad(ModelKind::WeatherStation);
+  const TriangleMesh mastModel = writeAndLoad(ModelKind::WeatherStation);
   const Aabb<double> mast = sideBounds(mastModel, 0.0, 3.0, 0.03);
   EXPECT_NEAR(mast.size().x(), 0.06, kSizeTol);
   EXPECT_NEAR(mast.size().y(), 0.06, kSizeTol);
@@ -121,7 +121,7 @@ TEST(EquipmentModels, PoleIsFiveCentimetresAndCylindersAreRound) {
 }
 
 TEST(EquipmentModels, SolarPanelIsTiltedThirtyDegreesFacingForward) {
-  const ModelGeometry g = writeAndLoad(ModelKind::SolarPanel);
+  const TriangleMesh g = writeAndLoad(ModelKind::SolarPanel);
   // The panel's top face: the triangles of area above 0.5 m^2 facing up.
   int found = 0;
   for (const auto& t : g.triangles) {

@@ -4,11 +4,11 @@
 // standing on flat berm at its bench's level, distinct groups apart, the scripts' lanes as they
 // claim (blocked where the patrol expects, free on the ramp), and the same bytes from the same seed.
 #include "assets/generators/scene_generator.h"
-#include "engine/core/input_error.h"
-#include "engine/geometry/nested.h"
-#include "engine/geometry/obb_fit.h"
-#include "engine/scene/model_geometry.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/terrain/dem_reader.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -104,7 +104,7 @@ const std::vector<Piece>& pieces() {
       p.heading = e.value("heading", 0.0);
       const std::string model = (w.dir / e["model"].get<std::string>()).string();
       if (!models.count(model)) {
-        const ModelGeometry g = loadModelGeometry(model);
+        const TriangleMesh g = loadModelGeometry(model);
         Aabb<double> b;
         for (const auto& v : g.vertices) b.extend(v);
         models[model] = {fitObb(g.vertices, ObbFitter::HullSearch), b};

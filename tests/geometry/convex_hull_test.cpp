@@ -5,7 +5,7 @@
 // Euler's formula for a triangulated sphere (F = 2V - 4), and containment checked point by point
 // against every face plane. Containment tolerance: 1e-10 x the points' AABB diagonal (qhull merges
 // facets within its own precision, ~1e-15 relative; 1e-10 leaves five orders of margin).
-#include "engine/geometry/convex_hull.h"
+#include "nestwalk/geometry/convex_hull.h"
 
 #include <Eigen/Geometry>
 #include "tests/geometry/test_shapes.h"

@@ -12,15 +12,16 @@
 // bit); the node volumes hold their triangles; the counters stay far below brute force (far boxes
 // under 10% of the triangle count, as are near boxes on average). Timings are printed.
 // The bundled equipment models (NESTWALK_BUNDLED_SCENE_DIR/models, or the folder the environment
-// variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through meshFromNode and
+// variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through collectModelGeometry (scene/model_geometry.h) and
 // walked into by body-sized boxes: both trees equal brute force, every mesh contact is an inner-OBB
 // contact, and the OBB's false contacts (OBB touched, triangles not) are printed with how far
 // from the real surface they stop the viewer: the error the exact reference measures.
-#include "engine/geometry/mesh_tree.h"
+#include "nestwalk/geometry/mesh_tree.h"
 
-#include "engine/core/input_error.h"
-#include "engine/geometry/obb_fit.h"
-#include "engine/geometry/sat.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/geometry/sat.h"
+#include "nestwalk/scene/model_geometry.h"
 #include "tests/geometry/test_shapes.h"
 
 #include <gtest/gtest.h>
@@ -430,7 +431,7 @@ TEST(MeshTree, MeshFromNodeAppliesTransforms) {
                        osg::Matrixd::translate(10, 20, 30));
   transform->addChild(geode);
 
-  const TriangleMesh mesh = meshFromNode(*transform);
+  const TriangleMesh mesh = collectModelGeometry(*transform, "transformed quad");
   ASSERT_EQ(mesh.triangles.size(), 3u);
   auto expected = [](double x, double y, double z) { return V3(10 - 2 * y, 20 + 2 * x, 30 + 2 * z); };
   const std::vector<Triangle> want = {{expected(0, 0, 0), expected(1, 0, 0), expected(1, 1, 0)},
@@ -446,7 +447,7 @@ TEST(MeshTree, MeshFromNodeAppliesTransforms) {
   EXPECT_NEAR(tree.distance({V3(9.5, 19.5, 29.49), Mat3<double>::Identity(), V3::Constant(0.5)}), 0.01, 1e-12);
 
   const osg::ref_ptr<osg::Group> empty = new osg::Group;
-  EXPECT_THROW(meshFromNode(*empty), InputError);
+  EXPECT_THROW(collectModelGeometry(*empty, "empty group"), InputError);
 }
 
 // ---- The bundled equipment models. ----
@@ -468,7 +469,7 @@ TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
   for (const auto& file : files) {
     const osg::ref_ptr<osg::Node> node = osgDB::readRefNodeFile(file.string());
     ASSERT_TRUE(node) << file;
-    const TriangleMesh mesh = meshFromNode(*node);
+    const TriangleMesh mesh = collectModelGeometry(*node, file.string());
     const Obb<double> inner = fitObb(mesh.vertices, ObbFitter::HullSearch);
     const ObbTree obbTree(mesh);
     const KdopTree kdopTree(mesh);

@@ -1,7 +1,7 @@
 // Tests of the float SIMD batches (engine/geometry/obb_batch.h): the conservative float boxes, and
 // the verdicts of ObbPairBatch and NestedBoxSet, which must be exactly those of the scalar double
 // tests of sat.h / nested.h, on both SIMD paths (AVX2 where the machine has it, and the portable one).
-#include "engine/geometry/obb_batch.h"
+#include "nestwalk/geometry/obb_batch.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 //    contract in obb_fit.h: "to rounding: 1e-9 relative to the points' extent");
 //  - axes: orthonormal within kAxesTolerance<double> (1e-13, volumes.h) and right-handed;
 //  - exact volumes (cube, known box, regular prism): 1e-9 relative.
-#include "engine/geometry/obb_fit.h"
+#include "nestwalk/geometry/obb_fit.h"
 
 #include <Eigen/Geometry>
 #include "tests/geometry/test_shapes.h"

@@ -38,8 +38,8 @@
 //   down to ~1e-5, so the documented band (eps S + slack) / sin(theta) can exceed 1e-9 * size.
 #include "tests/geometry/sat_reference.h"
 
-#include "engine/geometry/nested.h"
-#include "engine/geometry/sat.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/sat.h"
 
 #include <Eigen/Geometry>
 #include <fcl/math/bv/AABB.h>

@@ -26,8 +26,8 @@
 // touching boxes, see the comment at each): regression tests.
 #include "tests/geometry/sat_reference.h"
 
-#include "engine/geometry/nested.h"
-#include "engine/geometry/sat.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/sat.h"
 
 #include <gtest/gtest.h>
 

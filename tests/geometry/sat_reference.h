@@ -41,7 +41,7 @@
 //    'reps' fudge is added to |B| in exactly the same places).
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <algorithm>
 #include <array>

@@ -2,7 +2,7 @@
 // every sampled t the static verdict must agree with "t lies in the swept interval", except within
 // a hair of the interval's ends. Plus the cases the walker relies on: a thin pole passed at 50 m/s
 // in one step, grazing motion, no motion, map coordinates at UTM magnitudes.
-#include "engine/geometry/swept.h"
+#include "nestwalk/geometry/swept.h"
 #include "tests/geometry/test_shapes.h"
 
 #include <gtest/gtest.h>

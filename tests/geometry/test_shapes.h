@@ -1,7 +1,7 @@
 // Small helpers shared by the geometry tests: random rotations and point-set sizes.
 #pragma once
 
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <Eigen/Geometry>
 

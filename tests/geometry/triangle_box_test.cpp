@@ -20,7 +20,7 @@
 //    errors (distances above 1 um) are printed.
 //  - the same case at the origin and at UTM magnitudes: identical verdicts and distances within
 //    1e-9 relative.
-#include "engine/geometry/triangle_box.h"
+#include "nestwalk/geometry/triangle_box.h"
 
 #include "tests/geometry/test_shapes.h"
 

@@ -1,7 +1,7 @@
 // Tests of engine/geometry/volumes.h: Aabb, Obb, aabbOf, Similarity, orthonormalized, axesError.
 // Expected values are hand-computed or come from long double recomputations written here (corners,
 // polar decomposition by Newton iteration), not from the code under test.
-#include "engine/geometry/volumes.h"
+#include "nestwalk/geometry/volumes.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

@@ -11,9 +11,9 @@
 // Real models come from the shared data folder: NESTWALK_SHARED_DATA (environment) or else the
 // compile definition NESTWALK_SHARED_DATA_DIR; the model tests skip when the folder is absent.
 
-#include "engine/geometry/obb_fit.h"
+#include "nestwalk/geometry/obb_fit.h"
 #include "tests/geometry/test_shapes.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/scene/model_geometry.h"
 
 #include <CGAL/Aff_transformation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -117,7 +117,7 @@ TEST_P(ObbFitCgalModels, HullSearchIsWithinTenPercentOfCgal) {
   const std::filesystem::path model = dir / GetParam();
   ASSERT_TRUE(std::filesystem::exists(model))
       << "model missing from the shared data folder: " << model.string();
-  const ModelGeometry g = loadModelGeometry(model.string());
+  const TriangleMesh g = loadModelGeometry(model.string());
   ASSERT_FALSE(g.vertices.empty());
   compareWithCgal(model.filename().string(), g.vertices);
 }

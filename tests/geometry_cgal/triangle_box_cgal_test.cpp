@@ -21,7 +21,7 @@
 //   offGrid      arbitrary doubles (box and triangle moved off the grids by up to 1 mm), one
 //                vertex on the face as rounded in double (c + h), within half an ulp of it.
 // The boxes include flat (zero half extent) ones. Centres near the origin and at UTM magnitudes.
-#include "engine/geometry/triangle_box.h"
+#include "nestwalk/geometry/triangle_box.h"
 
 #include <CGAL/Exact_rational.h>
 #include <CGAL/Simple_cartesian.h>

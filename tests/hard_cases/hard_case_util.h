@@ -7,12 +7,12 @@
 // the construction (closed forms), from OSG's own reader, from Eigen and from FCL.
 #pragma once
 
-#include "engine/geometry/volumes.h"
-#include "engine/scene/scene.h"
-#include "engine/walker/collision_world.h"
-#include "engine/walker/mesh_world.h"
-#include "engine/walker/walker.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/geometry/volumes.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/collision_world.h"
+#include "nestwalk/walker/mesh_world.h"
+#include "nestwalk/walker/walker.h"
+#include "nestwalk/terrain/dem_reader.h"
 #include "tests/terrain/gdal_test_util.h"
 
 #include <Eigen/Geometry>

@@ -8,11 +8,11 @@
 // in-plane decisions are kept far (>= 5 cm) from any edge; elsewhere FCL's distance to the triangles
 // as OSG's reader returns them (hard_case_util.h) and the long double SAT of sat_reference.h on the
 // boxes given to the engine.
-#include "engine/geometry/nested.h"
-#include "engine/geometry/sat.h"
-#include "engine/scene/scene.h"
-#include "engine/walker/mesh_world.h"
-#include "engine/walker/walker.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/sat.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/mesh_world.h"
+#include "nestwalk/walker/walker.h"
 #include "tests/geometry/sat_reference.h"
 #include "tests/hard_cases/hard_case_util.h"
 

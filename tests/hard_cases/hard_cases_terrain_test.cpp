@@ -6,9 +6,9 @@
 // in closed form; the ground rule of heightfield.h (a point has ground iff the samples of the
 // smallest closed simplex holding it are valid) is implemented here on its own (GridRule) from the
 // samples' validity and heights, and compared point by point.
-#include "engine/walker/walker.h"
-#include "terrain/dem_reader.h"
-#include "terrain/heightfield.h"
+#include "nestwalk/walker/walker.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/heightfield.h"
 #include "tests/hard_cases/hard_case_util.h"
 
 #include <gtest/gtest.h>

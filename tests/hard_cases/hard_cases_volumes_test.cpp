@@ -11,10 +11,10 @@
 // overlapping, and must separate wherever the reference separates by more than the path's
 // documented band (sat.h: |R| + eps and a rounding slack; float: eps 1e-6, slack 2e-6 relative,
 // plus the conservative rounding of the boxes to float).
-#include "engine/geometry/nested.h"
-#include "engine/geometry/obb_batch.h"
-#include "engine/geometry/sat.h"
-#include "engine/geometry/swept.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/obb_batch.h"
+#include "nestwalk/geometry/sat.h"
+#include "nestwalk/geometry/swept.h"
 #include "tests/geometry/sat_reference.h"
 
 #include <Eigen/Geometry>

@@ -8,10 +8,10 @@
 // the walker's body box to the model's triangles as OSG's reader returns them, placed by this
 // suite's own transform (Eigen, the documented heading/pitch/roll/scale convention); closed forms
 // where the geometry is axis-aligned. The engine's trees are not consulted for any reference.
-#include "engine/scene/scene.h"
-#include "engine/walker/collision_world.h"
-#include "engine/walker/mesh_world.h"
-#include "engine/walker/walker.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/collision_world.h"
+#include "nestwalk/walker/mesh_world.h"
+#include "nestwalk/walker/walker.h"
 #include "tests/hard_cases/hard_case_util.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // the units whose double boxes overlap the query box (closed), for every automatic rule and for
 // template trees, at the origin and at UTM magnitudes; plus the structure (node boxes are the exact
 // unions of their units, at most delta children, template nodes one per group prefix).
-#include "engine/hierarchy/box_tree.h"
+#include "nestwalk/hierarchy/box_tree.h"
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,8 @@
 // between the frustum (its 8 corners) and a box, point-in-frustum for the geometry itself, OSG's own
 // frustum (osg::Polytope::setToUnitFrustum through the matrices), and a real osgUtil cull traversal
 // (SceneView, no GL context needed for culling) that shows which instances get traversed.
-#include "engine/render/nested_cull.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/render/nested_cull.h"
+#include "nestwalk/scene/scene.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>

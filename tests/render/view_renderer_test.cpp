@@ -3,9 +3,9 @@
 // and sky where it meets nothing; a piece of equipment shows where its box is; the shaded frame is
 // neither empty nor black, follows the walker, is stable across runs, keeps the near ground and
 // near equipment, and nested culling draws exactly what OSG's own culling draws.
-#include "engine/render/view_renderer.h"
+#include "nestwalk/render/view_renderer.h"
 
-#include "engine/scene/scene.h"
+#include "nestwalk/scene/scene.h"
 
 #include <gtest/gtest.h>
 

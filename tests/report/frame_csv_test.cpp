@@ -1,8 +1,8 @@
-// The per-frame CSV (engine/report/frame_record.h): parsed back field by field with an RFC 4180
+// The per-frame CSV (engine/report/frame_csv.h): parsed back field by field with an RFC 4180
 // reader written here, and byte-identical once the timing columns are cut when only timings differ.
-#include "engine/report/frame_record.h"
+#include "nestwalk/report/frame_csv.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -75,8 +75,9 @@ double num(const std::string& s) {
 TEST(FrameCsv, ParsesBackToTheRecords) {
   TempDir dir;
   const std::vector<FrameRecord> records = sampleRecords(200);
+  const std::vector<RenderRecord> renders = testing::sampleRenders(200);
   const std::string path = dir / "frames.csv";
-  writeFrameCsv(path, records);
+  writeFrameCsv(path, records, renders);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"frames.csv"});
 
   const auto rows = parseCsv(readFile(path));
@@ -86,6 +87,7 @@ TEST(FrameCsv, ParsesBackToTheRecords) {
   constexpr double kPositionTol = 0.5e-4, kAngleTol = 0.5e-6, kTimeTol = 0.5e-6, kMicrosTol = 0.5e-3;
   for (std::size_t i = 0; i < records.size(); ++i) {
     const FrameRecord& r = records[i];
+    const RenderRecord& rr = renders[i];
     const std::vector<std::string>& f = rows[i + 1];
     ASSERT_EQ(f.size(), kHeader.size()) << "row " << i + 1;
     EXPECT_EQ(f[0], std::to_string(r.frame));
@@ -103,20 +105,19 @@ TEST(FrameCsv, ParsesBackToTheRecords) {
     EXPECT_EQ(f[10], r.blocked ? "1" : "0");
     EXPECT_EQ(f[11], r.blockedBy);  // including the name with a comma and quotes
     EXPECT_EQ(f[12], std::to_string(r.nodeTests));
-    EXPECT_EQ(f[13], std::to_string(r.stageTests[0]));
-    EXPECT_EQ(f[14], std::to_string(r.stageTests[1]));
-    EXPECT_EQ(f[15], std::to_string(r.stageTests[2]));
+    EXPECT_EQ(f[13], std::to_string(r.stageTests[OverlapStage::AabbAabb]));
+    EXPECT_EQ(f[14], std::to_string(r.stageTests[OverlapStage::AabbObb]));
+    EXPECT_EQ(f[15], std::to_string(r.stageTests[OverlapStage::ObbObb]));
     EXPECT_EQ(f[16], std::to_string(r.primitiveTests));
     EXPECT_EQ(f[17], std::to_string(r.volumesUpdated));
-    EXPECT_EQ(f[18], r.render.rendered ? "1" : "0");
-    EXPECT_EQ(f[19], std::to_string(r.render.triangles));
-    EXPECT_EQ(f[20], std::to_string(r.render.instancesDrawn));
-    EXPECT_EQ(f[21], std::to_string(r.render.culledByAabb));
-    EXPECT_EQ(f[22], std::to_string(r.render.culledByObb));
-    EXPECT_NEAR(num(f[23]), r.render.terrainErrorPx, 0.5e-4);
-    for (int k = 0; k < kStepParts; ++k) EXPECT_NEAR(num(f[24 + std::size_t(k)]), r.micros[std::size_t(k)], kMicrosTol);
-    for (int k = 0; k < kRenderParts; ++k)
-      EXPECT_NEAR(num(f[28 + std::size_t(k)]), r.render.micros[std::size_t(k)], kMicrosTol);
+    EXPECT_EQ(f[18], rr.rendered ? "1" : "0");
+    EXPECT_EQ(f[19], std::to_string(rr.triangles));
+    EXPECT_EQ(f[20], std::to_string(rr.instancesDrawn));
+    EXPECT_EQ(f[21], std::to_string(rr.culledByAabb));
+    EXPECT_EQ(f[22], std::to_string(rr.culledByObb));
+    EXPECT_NEAR(num(f[23]), rr.terrainErrorPx, 0.5e-4);
+    for (std::size_t k = 0; k < kStepParts; ++k) EXPECT_NEAR(num(f[24 + k]), r.micros.values[k], kMicrosTol);
+    for (std::size_t k = 0; k < kRenderParts; ++k) EXPECT_NEAR(num(f[28 + k]), rr.micros.values[k], kMicrosTol);
   }
 }
 
@@ -127,7 +128,7 @@ TEST(FrameCsv, FixedDecimalsAtUtmMagnitudes) {
   r.time = 0.125;
   r.eye = Eigen::Vector3d(512345.67891, 4412345.12344, -3.5);
   r.headingDeg = 359.9999994;
-  r.micros = {0.0625, 1.5, 2.25, 10.0};
+  r.micros = {{0.0625, 1.5, 2.25, 10.0}};
   writeFrameCsv(dir / "f.csv", {r});
   const auto rows = parseCsv(readFile(dir / "f.csv"));
   ASSERT_EQ(rows.size(), 2u);

@@ -1,8 +1,8 @@
 // The frame-time plot (engine/report/frame_record.h), read back with osgDB's own PNG reader: size,
 // drawn pixels inside the plot, each documented colour present where it belongs.
-#include "engine/report/frame_record.h"
+#include "nestwalk/report/frame_time_plot.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -67,7 +67,7 @@ TEST(FrameTimePlot, ReadsBackWithEveryPartDrawn) {
   TempDir dir;
   const std::vector<FrameRecord> records = sampleRecords(600);
   const std::string path = dir / "frame_times.png";
-  writeFrameTimePlot(path, records, 1200, 500);
+  writeFrameTimePlot(path, records, {}, 1200, 500);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"frame_times.png"});
   const osg::ref_ptr<osg::Image> img = readBack(path);
   ASSERT_TRUE(img);
@@ -122,16 +122,15 @@ TEST(FrameTimePlot, ReadsBackWithEveryPartDrawn) {
 TEST(FrameTimePlot, RenderTimesAboveTheStepsWhenFramesWereRendered) {
   TempDir dir;
   constexpr Rgb kRender{227, 119, 194};
-  std::vector<FrameRecord> records = sampleRecords(600);  // every third frame rendered, ~30 ms
-  writeFrameTimePlot(dir / "rendered.png", records, 1200, 500);
+  std::vector<FrameRecord> records = sampleRecords(600);
+  writeFrameTimePlot(dir / "rendered.png", records, testing::sampleRenders(600), 1200, 500);  // every third frame, ~30 ms
   const osg::ref_ptr<osg::Image> img = readBack(dir / "rendered.png");
   ASSERT_TRUE(img);
   const Spread render = spreadOf(*img, kRender), total = spreadOf(*img, kParts[3]);
   EXPECT_GT(render.count, 600u);
   EXPECT_GT(render.maxX - render.minX, img->s() * 3 / 4);
   EXPECT_GT(render.meanY(), total.meanY() + 100) << "render times (ms) lie far above the step totals (us)";
-  for (FrameRecord& r : records) r.render = RenderRecord{};
-  writeFrameTimePlot(dir / "plain.png", records, 1200, 500);
+  writeFrameTimePlot(dir / "plain.png", records, {}, 1200, 500);
   const osg::ref_ptr<osg::Image> plain = readBack(dir / "plain.png");
   ASSERT_TRUE(plain);
   EXPECT_EQ(spreadOf(*plain, kRender).count, 0u);
@@ -139,14 +138,14 @@ TEST(FrameTimePlot, RenderTimesAboveTheStepsWhenFramesWereRendered) {
 
 TEST(FrameTimePlot, OtherSizesAndEmptyRun) {
   TempDir dir;
-  writeFrameTimePlot(dir / "small.png", sampleRecords(5), 400, 200);
+  writeFrameTimePlot(dir / "small.png", sampleRecords(5), {}, 400, 200);
   osg::ref_ptr<osg::Image> img = readBack(dir / "small.png");
   ASSERT_TRUE(img);
   EXPECT_EQ(img->s(), 400);
   EXPECT_EQ(img->t(), 200);
   EXPECT_GT(spreadOf(*img, kParts[3]).count, 0u);
 
-  writeFrameTimePlot(dir / "empty.png", {}, 600, 300);
+  writeFrameTimePlot(dir / "empty.png", {}, {}, 600, 300);
   img = readBack(dir / "empty.png");
   ASSERT_TRUE(img);
   EXPECT_EQ(img->s(), 600);
@@ -165,7 +164,7 @@ TEST(FrameTimePlot, BadSizeOrFolderNamesTheFile) {
   TempDir dir;
   const std::string tiny = dir / "tiny.png";
   try {
-    writeFrameTimePlot(tiny, sampleRecords(5), 20, 10);
+    writeFrameTimePlot(tiny, sampleRecords(5), {}, 20, 10);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(tiny), std::string::npos) << e.what();

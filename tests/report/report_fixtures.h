@@ -1,7 +1,8 @@
 // Shared by the report tests: a temporary folder and a run's worth of varied frame records.
 #pragma once
 
-#include "engine/report/frame_record.h"
+#include "nestwalk/report/render_record.h"
+#include "nestwalk/walker/frame_record.h"
 
 #include <unistd.h>
 
@@ -73,24 +74,36 @@ inline std::vector<FrameRecord> sampleRecords(std::size_t n) {
       r.blockedBy = "terrain:step";
     }
     r.nodeTests = 10 + i % 7;
-    r.stageTests = {5 + i % 3, 2 + i % 2, i % 4 == 0 ? 1u : 0u};
+    r.stageTests = {{5 + i % 3, 2 + i % 2, i % 4 == 0 ? 1u : 0u}};
     r.primitiveTests = i % 5;
     r.volumesUpdated = 1;
     const double spike = i % 37 == 0 ? 8.0 : 1.0;
-    r.micros[0] = (0.1 + 0.001 * double(i % 13)) * spike;
-    r.micros[1] = (1.0 + 0.01 * double(i % 11)) * spike;
-    r.micros[2] = (5.0 + 0.05 * double(i % 7)) * spike;
-    r.micros[3] = r.micros[0] + r.micros[1] + r.micros[2] + 3.0 + 0.1 * double(i % 5);
-    if (i % 3 == 0) {  // every third frame rendered
-      r.render.rendered = true;
-      r.render.triangles = 400000 + 37 * i;
-      r.render.instancesDrawn = 100 + i % 9;
-      r.render.culledByAabb = 700 - i % 9;
-      r.render.culledByObb = i % 4;
-      r.render.terrainErrorPx = 0.25 + 0.001 * double(i % 100);
-      r.render.micros = {1500.0 + double(i), 30000.0 + 10.0 * double(i), 2500.0, 34000.0 + 11.0 * double(i)};
-    }
+    r.micros[StepPart::Ground] = (0.1 + 0.001 * double(i % 13)) * spike;
+    r.micros[StepPart::BroadPhase] = (1.0 + 0.01 * double(i % 11)) * spike;
+    r.micros[StepPart::Narrow] = (5.0 + 0.05 * double(i % 7)) * spike;
+    r.micros[StepPart::Total] = r.micros[StepPart::Ground] + r.micros[StepPart::BroadPhase] +
+                                r.micros[StepPart::Narrow] + 3.0 + 0.1 * double(i % 5);
     out.push_back(r);
+  }
+  return out;
+}
+
+/// One render record per frame of sampleRecords(n): every third frame rendered, with its counts and
+/// times (cull ~1.5 ms, draw ~30 ms, readback 2.5 ms, total ~34 ms).
+inline std::vector<RenderRecord> sampleRenders(std::size_t n) {
+  std::vector<RenderRecord> out(n);
+  for (std::size_t i = 0; i < n; i += 3) {
+    RenderRecord& r = out[i];
+    r.rendered = true;
+    r.triangles = 400000 + 37 * i;
+    r.instancesDrawn = 100 + i % 9;
+    r.culledByAabb = 700 - i % 9;
+    r.culledByObb = i % 4;
+    r.terrainErrorPx = 0.25 + 0.001 * double(i % 100);
+    r.micros[RenderPart::Cull] = 1500.0 + double(i);
+    r.micros[RenderPart::Draw] = 30000.0 + 10.0 * double(i);
+    r.micros[RenderPart::Readback] = 2500.0;
+    r.micros[RenderPart::Total] = 34000.0 + 11.0 * double(i);
   }
   return out;
 }

@@ -1,8 +1,9 @@
-// The summary JSON and the nearest-rank percentile (engine/report/frame_record.h), against values
+// The summary JSON (engine/report/run_summary.h) and the nearest-rank percentile (core/statistics.h), against values
 // computed here independently: sorted lists indexed by integer rank, sums, counts.
-#include "engine/report/frame_record.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/report/run_summary.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -80,9 +81,9 @@ TEST(RunSummary, ValuesAgainstIndependentComputation) {
   EXPECT_EQ(j["simulated_seconds"].get<double>(), records.back().time);
 
   const char* parts[] = {"ground", "broad", "narrow", "total"};
-  for (int part = 0; part < kStepParts; ++part) {
+  for (std::size_t part = 0; part < kStepParts; ++part) {
     std::vector<double> us;
-    for (const FrameRecord& r : records) us.push_back(r.micros[std::size_t(part)]);
+    for (const FrameRecord& r : records) us.push_back(r.micros.values[part]);
     const nlohmann::json& s = j["step_us"][parts[part]];
     EXPECT_EQ(s["p50"].get<double>(), nearestRank(us, 50)) << parts[part];
     EXPECT_EQ(s["p95"].get<double>(), nearestRank(us, 95)) << parts[part];
@@ -95,9 +96,9 @@ TEST(RunSummary, ValuesAgainstIndependentComputation) {
   int blocked = 0;
   for (const FrameRecord& r : records) {
     sums[0] += double(r.nodeTests);
-    sums[1] += double(r.stageTests[0]);
-    sums[2] += double(r.stageTests[1]);
-    sums[3] += double(r.stageTests[2]);
+    sums[1] += double(r.stageTests[OverlapStage::AabbAabb]);
+    sums[2] += double(r.stageTests[OverlapStage::AabbObb]);
+    sums[3] += double(r.stageTests[OverlapStage::ObbObb]);
     sums[4] += double(r.primitiveTests);
     sums[5] += double(r.volumesUpdated);
     if (r.blocked) {
@@ -163,9 +164,10 @@ namespace {
 TEST(RunSummary, RenderSectionOverRenderedFramesOnly) {
   testing::TempDir dir;
   const std::vector<FrameRecord> records = testing::sampleRecords(300);
+  const std::vector<RenderRecord> renders = testing::sampleRenders(300);
   RunSummaryInfo info{"s.json", "p.txt", "nested", 1.0 / 60.0, 7, ""};
   info.renderInfoJson = R"({"route": "egl-surfaceless", "size": [640, 360]})";
-  writeRunSummary(dir / "summary.json", info, records, {});
+  writeRunSummary(dir / "summary.json", info, records, {}, renders);
   const nlohmann::json j = nlohmann::json::parse(testing::readFile(dir / "summary.json"));
   ASSERT_TRUE(j.contains("render"));
   const nlohmann::json& r = j["render"];
@@ -174,13 +176,13 @@ TEST(RunSummary, RenderSectionOverRenderedFramesOnly) {
   std::size_t frames = 0;
   double triangles = 0, maxError = 0;
   std::vector<double> totalMs, drawMs;
-  for (const FrameRecord& f : records)
-    if (f.render.rendered) {
+  for (const RenderRecord& f : renders)
+    if (f.rendered) {
       ++frames;
-      triangles += double(f.render.triangles);
-      maxError = std::max(maxError, f.render.terrainErrorPx);
-      totalMs.push_back(f.render.micros[3] / 1000.0);
-      drawMs.push_back(f.render.micros[1] / 1000.0);
+      triangles += double(f.triangles);
+      maxError = std::max(maxError, f.terrainErrorPx);
+      totalMs.push_back(f.micros[RenderPart::Total] / 1000.0);
+      drawMs.push_back(f.micros[RenderPart::Draw] / 1000.0);
     }
   EXPECT_EQ(r["frames"], frames);
   EXPECT_EQ(frames, 100u);
@@ -191,9 +193,7 @@ TEST(RunSummary, RenderSectionOverRenderedFramesOnly) {
   EXPECT_EQ(r["ms"]["total"]["max"].get<double>(), *std::max_element(totalMs.begin(), totalMs.end()));
 
   // Without rendered frames there is no render section.
-  std::vector<FrameRecord> plain = records;
-  for (FrameRecord& f : plain) f.render = RenderRecord{};
-  writeRunSummary(dir / "plain.json", info, plain, {});
+  writeRunSummary(dir / "plain.json", info, records, {}, std::vector<RenderRecord>(records.size()));
   EXPECT_FALSE(nlohmann::json::parse(testing::readFile(dir / "plain.json")).contains("render"));
 }
 

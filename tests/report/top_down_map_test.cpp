@@ -3,9 +3,9 @@
 // a rotated container and a pole) and a run over it; the image's size and north-up frame, the
 // hillshade against the plane's own Lambert shade, the hole, the path, blocked frames, the blocking
 // unit's outline, expectations and footprints are checked at pixels computed from the construction.
-#include "engine/report/top_down_map.h"
+#include "nestwalk/report/top_down_map.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Model loading: geometry built in memory with known vertices, transforms and primitive types,
 // then collected; expected values are worked out by hand from the construction.
-#include "engine/core/input_error.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/scene/model_geometry.h"
 
 #include <gtest/gtest.h>
 #include <osg/Geode>
@@ -48,7 +48,7 @@ std::set<std::array<double, 3>> asSet(const std::vector<Vec3<double>>& v) {
 TEST(ModelGeometry, QuadIsTwoTrianglesAndUnusedVerticesAreLeftOut) {
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->addDrawable(quadGeometry(new osg::DrawArrays(GL_QUADS, 0, 4), unitSquarePlusUnused()));
-  const ModelGeometry m = collectModelGeometry(*geode, "quad");
+  const TriangleMesh m = collectModelGeometry(*geode, "quad");
   EXPECT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
 }
@@ -61,7 +61,7 @@ TEST(ModelGeometry, TransformsAreAppliedInDouble) {
   geode->addDrawable(quadGeometry(new osg::DrawArrays(GL_TRIANGLE_FAN, 0, 4), unitSquarePlusUnused()));
   inner->addChild(geode);
   outer->addChild(inner);
-  const ModelGeometry m = collectModelGeometry(*outer, "fan");
+  const TriangleMesh m = collectModelGeometry(*outer, "fan");
   EXPECT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{550000.125, 4650000.25, 0},
                                                                {550002.125, 4650000.25, 0},
@@ -79,7 +79,7 @@ TEST(ModelGeometry, SharedSubgraphCountsOncePerPath) {
     t->addChild(geode);
     root->addChild(t);
   }
-  const ModelGeometry m = collectModelGeometry(*root, "instanced");
+  const TriangleMesh m = collectModelGeometry(*root, "instanced");
   EXPECT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(m.vertices.size(), 6u);
   for (const auto& t : m.triangles) {
@@ -94,7 +94,7 @@ TEST(ModelGeometry, PointsAndLinesGiveVerticesButNoTriangles) {
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->addDrawable(quadGeometry(new osg::DrawArrays(GL_POINTS, 0, 2), unitSquarePlusUnused()));
   geode->addDrawable(quadGeometry(new osg::DrawArrays(GL_LINES, 2, 2), unitSquarePlusUnused()));
-  const ModelGeometry m = collectModelGeometry(*geode, "cloud");
+  const TriangleMesh m = collectModelGeometry(*geode, "cloud");
   EXPECT_TRUE(m.triangles.empty());
   EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
 }
@@ -102,7 +102,7 @@ TEST(ModelGeometry, PointsAndLinesGiveVerticesButNoTriangles) {
 TEST(ModelGeometry, DegenerateTrianglesAreDropped) {
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->addDrawable(quadGeometry(elements(GL_TRIANGLES, {0, 0, 1, 0, 1, 2}), unitSquarePlusUnused()));
-  const ModelGeometry m = collectModelGeometry(*geode, "degenerate");
+  const TriangleMesh m = collectModelGeometry(*geode, "degenerate");
   EXPECT_EQ(m.triangles.size(), 1u);
 }
 
@@ -125,7 +125,7 @@ TEST(ModelGeometry, RoundTripThroughAnOsgFile) {
   t->addChild(geode);
   const auto path = std::filesystem::temp_directory_path() / ("nestwalk-model-" + std::to_string(::getpid()) + ".osgt");
   ASSERT_TRUE(osgDB::writeNodeFile(*t, path.string()));
-  const ModelGeometry m = loadModelGeometry(path.string());
+  const TriangleMesh m = loadModelGeometry(path.string());
   std::filesystem::remove(path);
   EXPECT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{1, 2, 3}, {2, 2, 3}, {2, 3, 3}, {1, 3, 3}}));

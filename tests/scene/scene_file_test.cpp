@@ -1,6 +1,6 @@
 // Scene files: defaults, path resolution, and every kind of bad input, each with the exact message
 // (file, field path, problem). Files only need to exist here: nothing is loaded.
-#include "engine/scene/scene_file.h"
+#include "nestwalk/scene/scene_file.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <nlohmann/json.hpp>

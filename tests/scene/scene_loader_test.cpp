@@ -2,9 +2,9 @@
 // at the origin and at UTM magnitudes. Expected values come from the construction (the plane's
 // formula), from Eigen's own AngleAxis/Affine transforms of the model's vertices read separately,
 // and from OSG's matrix stack for the graph.
-#include "engine/geometry/volumes.h"
-#include "engine/scene/model_geometry.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/geometry/volumes.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/scene.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>
@@ -163,7 +163,7 @@ TEST_P(SceneLoad, VolumesMatchAnIndependentTransformOfTheVertices) {
                                 {"pitch", 4}, {"roll", -6}, {"scale", 1.7}},
                                {{"model", weatherStation()}, {"position", at(50.5, 50.5)}, {"heading", 90}}});
   const Scene s = load(eq);
-  const ModelGeometry model = loadModelGeometry(weatherStation());  // read again, apart from the scene
+  const TriangleMesh model = loadModelGeometry(weatherStation());  // read again, apart from the scene
   ASSERT_GT(model.vertices.size(), 10u);
   for (std::size_t i = 0; i < 2; ++i) {
     const auto& e = eq[i];
@@ -304,7 +304,7 @@ TEST_P(SceneLoad, UseOnlyMembersFormOneUnitPerGroup) {
   Aabb<double> bounds;
   for (std::uint32_t k : {1u, 3u}) {
     const auto& e = eq[k];
-    const ModelGeometry g = loadModelGeometry(s.models[s.instances[k].model].path);
+    const TriangleMesh g = loadModelGeometry(s.models[s.instances[k].model].path);
     const double x = e["position"][0].get<double>(), y = e["position"][1].get<double>();
     const Eigen::Affine3d t =
         independentTransform(e.value("heading", 0.0), 0, 0, 1, Eigen::Vector3d(x, y, terrain_.height(x, y)) - s.origin);
@@ -424,7 +424,7 @@ TEST(SceneRealModels, VolumesContainEveryVertex) {
   ASSERT_EQ(s.models.size(), models.size());
   for (std::size_t i = 0; i < s.instances.size(); ++i) {
     const SceneInstance& inst = s.instances[i];
-    const ModelGeometry g = collectModelGeometry(*s.models[inst.model].node, s.models[inst.model].path);
+    const TriangleMesh g = collectModelGeometry(*s.models[inst.model].node, s.models[inst.model].path);
     const auto& e = eq[i];
     const double x = e["position"][0].get<double>(), y = e["position"][1].get<double>();
     const Eigen::Affine3d tr = independentTransform(e["heading"].get<double>(), 0, 0, 1,

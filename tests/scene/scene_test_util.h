@@ -2,8 +2,8 @@
 // with GDAL, and catching an InputError's message.
 #pragma once
 
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
 #include "tests/terrain/gdal_test_util.h"
 
 #include <gdal.h>

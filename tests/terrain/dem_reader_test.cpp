@@ -1,8 +1,8 @@
 // terrain/dem_reader: every shared DEM read into a Heightfield agrees sample for sample with GDAL's
 // own RasterIO (and groundHeight at samples and edge midpoints), georeferencing is sample-centred,
 // flipped rasters come out north-up, and bad rasters are refused with the file's name.
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
 #include "tests/terrain/gdal_test_util.h"
 #include "tests/tools/run_command.h"
 

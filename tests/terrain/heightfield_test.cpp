@@ -1,6 +1,6 @@
 // Heightfield: ground lookup and ray casts against independently computed values (planes that the
 // triangulation reproduces exactly, hand-made cells, step terrains), at small and UTM magnitudes.
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <gtest/gtest.h>
 

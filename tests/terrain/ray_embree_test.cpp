@@ -6,7 +6,7 @@
 // coordinates stay below 257 m and heights ~100 m: ulps of 3e-5 m and 8e-6 m). Disagreements are
 // classified by where the disputed hit lies: "well inside" a triangle means every barycentric
 // coordinate exceeds kInsideMargin; nestwalk must never miss (or pass) such an Embree hit.
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>

@@ -2,9 +2,9 @@
 // layout (Float32, tiled, compressed, overviews, CRS), sample-exact copies of every shared DEM, and
 // the options (band, crop window, resolution, target CRS, nodata fill, vertical scale, rotated
 // geotransforms warped north-up), temp-file-and-rename and --overwrite.
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
-#include "terrain/terrain_import.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_import.h"
 #include "tests/terrain/gdal_test_util.h"
 #include "tests/tools/run_command.h"
 

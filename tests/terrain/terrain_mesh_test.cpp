@@ -1,8 +1,8 @@
 // Terrain meshes (terrain/terrain_mesh.h): level 0 is the heightfield's triangulation, the recorded
 // per-level errors equal a brute-force computation, planes have no error, holes propagate to the
 // coarse levels, neighbouring tiles share identical border vertices, and the OSG conversion.
-#include "terrain/terrain_mesh.h"
-#include "terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_mesh.h"
+#include "nestwalk/terrain/heightfield.h"
 
 #include <gtest/gtest.h>
 

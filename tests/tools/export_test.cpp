@@ -2,7 +2,7 @@
 // shared model node, the local-to-map translation, terrain and volume groups), in several formats;
 // OUT is never replaced without --overwrite and no temporary file is left behind; bad input names
 // the file and writes nothing.
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/scene/model_geometry.h"
 #include "tests/tools/run_command.h"
 
 #include <osg/Geometry>

@@ -1,9 +1,9 @@
 // OpenSceneGraph AnimationPath files (engine/walker/script.h) against OSG itself: the camera
 // orientation against osg::Matrixd::lookAt, the written file against osg::AnimationPath::read and
 // osgGA::AnimationPathManipulator, and the script made from a file osg::AnimationPath::write wrote.
-#include "engine/walker/script.h"
+#include "nestwalk/walker/script.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <gtest/gtest.h>
 #include <osg/AnimationPath>

@@ -1,8 +1,8 @@
 // Flythroughs on the bundled mining-dump scene at the engine level: the scene at its real UTM
 // position and moved near the map origin (terrain, equipment and script shifted together) gives
 // the same contacts and heights, and every step's eye stands eye_height above the terrain query.
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,12 @@
 // them (distance by FCL between the body box and the instances' triangles, independent of the
 // project's trees); both exact methods block on the same frames by the same units; the nested
 // volumes stop the walker earlier, never later, than the real geometry would.
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
-#include "engine/walker/mesh_world.h"
-#include "engine/walker/script_player.h"
+#include "nestwalk/report/reference_comparison.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/mesh_world.h"
+#include "nestwalk/walker/script_player.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
@@ -30,7 +32,7 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fclUnit(const Scene& scene, std::si
   model->beginModel();
   for (std::uint32_t i : scene.units[unit].instances) {
     const SceneInstance& inst = scene.instances[i];
-    const TriangleMesh mesh = meshFromNode(*scene.models[inst.model].node);
+    const TriangleMesh mesh = collectModelGeometry(*scene.models[inst.model].node, scene.models[inst.model].path);
     for (const auto& t : mesh.triangles) {
       fcl::Vector3d p[3];
       for (int k = 0; k < 3; ++k)
@@ -145,12 +147,15 @@ TEST_F(MeshMethods, NestedVolumesNeverLetTheBodyFurtherThanTheTriangles) {
   const CollisionWorld exact = world(VolumeMethod::NestedMesh);
   for (VolumeMethod m : {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb, VolumeMethod::Kdop18}) {
     CollisionWorld w = world(m);
-    ReferenceTally tally;
-    w.compareWith(&exact, &tally);
-    WalkerOptions options;
-    options.viewer = scene_->spec.viewer;
-    options.timeParts = false;
-    runFlythrough(*scene_, w, readScript(kPatrol.string()), options);
+    ReferenceComparison comparison(exact);
+    {
+      const ObservedSweeps observed(w, comparison);
+      WalkerOptions options;
+      options.viewer = scene_->spec.viewer;
+      options.timeParts = false;
+      runFlythrough(*scene_, w, readScript(kPatrol.string()), options);
+    }
+    const ReferenceTally& tally = comparison.tally();
     EXPECT_GT(tally.sweeps, 1000u);
     EXPECT_GT(tally.contacts, 0u);
     EXPECT_EQ(tally.missed, 0u) << volumeMethodName(m);

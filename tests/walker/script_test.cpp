@@ -1,8 +1,8 @@
 // Flythrough script parsing (engine/walker/script.h): every command form, comments and line
 // endings, and the errors, each of which must name the file and the line.
-#include "engine/walker/script.h"
+#include "nestwalk/walker/script.h"
 
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The walker on a small synthetic terrain (a flat toe, a 35-degree bench face up 10 m, a 10 %
 // haul ramp cut into it) with boxes as equipment, at the origin and at UTM magnitudes. Gaps are
 // checked against FCL's box-box distance (an independent GJK) and the static SAT.
-#include "engine/walker/walker.h"
+#include "nestwalk/walker/walker.h"
 
 #include <fcl/narrowphase/distance.h>
 #include <fcl/geometry/shape/box.h>

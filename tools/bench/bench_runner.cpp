@@ -72,52 +72,10 @@ void configureBenchmarks(const std::vector<benchmark::internal::Benchmark*>& ben
   }
 }
 
-nlohmann::ordered_json targetsJson(const std::vector<Target>& targets) {
-  nlohmann::ordered_json t = nlohmann::ordered_json::array();
-  for (const Target& x : targets)
-    t.push_back({{"name", x.name}, {"target", x.what}, {"value", x.value}, {"met", x.met}});
-  return t;
-}
-
-void printTargets(std::ostream& out, const std::vector<Target>& targets, int nameWidth, int whatWidth) {
-  if (targets.empty()) return;
-  out << "\ntargets:\n";
-  for (const Target& x : targets)
-    out << "  " << std::left << std::setw(nameWidth) << x.name << std::setw(whatWidth) << x.what << std::right
-        << std::setw(8) << fmt(x.value) << "  " << (x.met ? "met" : "NOT met") << "\n";
-}
-
 void addErrors(nlohmann::ordered_json& j, const Collector& collector) {
   nlohmann::ordered_json errs = nlohmann::ordered_json::object();
   for (const auto& [k, v] : collector.errors) errs[k] = v;
   if (!errs.empty()) j["errors"] = errs;
-}
-
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string s = line.substr(colon + 1);
-        s.erase(0, s.find_first_not_of(" \t"));
-        return s;
-      }
-    }
-  }
-  return "unknown";
-}
-
-std::string fmt(double v, int prec) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(prec) << v;
-  return s.str();
-}
-
-nlohmann::ordered_json numOrNull(double v) {
-  return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v);
 }
 
 }  // namespace nestwalk::bench

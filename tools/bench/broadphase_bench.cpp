@@ -9,7 +9,7 @@
 // the timed loops, and that hierarchy itself with brute force on a prefix of the queries.
 #include "tools/bench/broadphase_bench.h"
 
-#include "engine/hierarchy/box_tree.h"
+#include "nestwalk/hierarchy/box_tree.h"
 
 #include <benchmark/benchmark.h>
 
@@ -488,18 +488,18 @@ BroadPhaseReport measureBroadPhase(const BroadPhaseBenchOptions& opts) {
       b["name"] = benchName(m.key, n);
       b["method"] = m.label;
       b["boxes"] = n;
-      b["us_per_query"] = numOrNull(u);
+      b["us_per_query"] = jsonNumber(u);
       if (m.degree > 0) {
-        b["ratio_btdbvt"] = numOrNull(us(kBullet, n) / u);
-        b["ratio_fcl"] = numOrNull(us(kFcl, n) / u);
+        b["ratio_btdbvt"] = jsonNumber(us(kBullet, n) / u);
+        b["ratio_fcl"] = jsonNumber(us(kFcl, n) / u);
       }
       b["hits"] = f ? Json(f->hits) : Json(nullptr);
       b["queries_differing_from_nestwalk"] = f && f->disagreements >= 0 ? Json(f->disagreements) : Json(nullptr);
-      b["build_s"] = numOrNull(f ? f->buildSeconds : kNaN);
+      b["build_s"] = jsonNumber(f ? f->buildSeconds : kNaN);
       if (m.degree > 0 && f) {
         b["depth"] = f->depth;
-        b["node_tests_per_query"] = numOrNull(f->nodeTests);
-        b["leaf_tests_per_query"] = numOrNull(f->leafTests);
+        b["node_tests_per_query"] = jsonNumber(f->nodeTests);
+        b["leaf_tests_per_query"] = jsonNumber(f->leafTests);
       }
       list.push_back(b);
     }
@@ -512,7 +512,7 @@ BroadPhaseReport measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   for (const auto& [n, c] : fclMismatches()) mism[std::to_string(n)] = c;
   j["fcl_aabb_mismatches"] = mism;
   Json mach;
-  mach["cpu_model"] = cpuModel();
+  mach["cpu_model"] = cpuModelName();
   mach["num_cpus"] = benchmark::CPUInfo::Get().num_cpus;
   mach["queries"] = cfg.queries;
   mach["min_time_s"] = cfg.minTime;
@@ -533,7 +533,7 @@ BroadPhaseReport measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   // Table.
   std::ostringstream t;
   t << "nestwalk bench broadphase: µs per query (CPU time); ratio = peer µs / nestwalk µs (> 1: nestwalk faster)\n";
-  t << "cpu: " << cpuModel() << ", " << benchmark::CPUInfo::Get().num_cpus << " CPUs"
+  t << "cpu: " << cpuModelName() << ", " << benchmark::CPUInfo::Get().num_cpus << " CPUs"
 #ifndef NDEBUG
     << "; ASSERTIONS ON (not a release build)"
 #endif
@@ -554,17 +554,17 @@ BroadPhaseReport measureBroadPhase(const BroadPhaseBenchOptions& opts) {
       const double u = us(m.key, n);
       const Facts* fa = factsOf(m.key, n);
       if (std::isnan(u) && !fa) continue;
-      t << std::left << std::setw(9) << n << std::setw(30) << m.label << std::right << std::setw(10) << fmt(u, 3)
-        << std::setw(10) << fmt(b, 3) << std::setw(8) << fmt(b / u, 2) << std::setw(10) << fmt(f, 3) << std::setw(8)
-        << fmt(f / u, 2) << std::setw(12) << (fa ? fmtInt(fa->hits) : "-") << std::setw(8)
+      t << std::left << std::setw(9) << n << std::setw(30) << m.label << std::right << std::setw(10) << fixedText(u, 3)
+        << std::setw(10) << fixedText(b, 3) << std::setw(8) << fixedText(b / u, 2) << std::setw(10) << fixedText(f, 3) << std::setw(8)
+        << fixedText(f / u, 2) << std::setw(12) << (fa ? fmtInt(fa->hits) : "-") << std::setw(8)
         << (fa ? std::to_string(fa->disagreements) : "-") << std::setw(7) << (fa ? fa->depth : 0) << std::setw(9)
-        << fmt(fa ? fa->nodeTests : kNaN, 1) << std::setw(9) << fmt(fa ? fa->leafTests : kNaN, 1) << "\n";
+        << fixedText(fa ? fa->nodeTests : kNaN, 1) << std::setw(9) << fixedText(fa ? fa->leafTests : kNaN, 1) << "\n";
     }
     for (const char* peer : {kBullet, kFcl}) {
       const Facts* fa = factsOf(peer, n);
       if (!fa) continue;
       t << std::left << std::setw(9) << n << std::setw(30) << method(peer).label << std::right << std::setw(10) << "-"
-        << std::setw(10) << fmt(us(peer, n), 3) << std::setw(8) << "" << std::setw(10) << "" << std::setw(8) << ""
+        << std::setw(10) << fixedText(us(peer, n), 3) << std::setw(8) << "" << std::setw(10) << "" << std::setw(8) << ""
         << std::setw(12) << fmtInt(fa->hits) << std::setw(8) << fa->disagreements << "\n";
     }
   }
@@ -581,7 +581,7 @@ BroadPhaseReport measureBroadPhase(const BroadPhaseBenchOptions& opts) {
     t << std::left << std::setw(9) << n;
     for (const MethodDef& m : kMethods) {
       const Facts* fa = factsOf(m.key, n);
-      t << std::right << std::setw(13) << fmt(fa ? fa->buildSeconds : kNaN, 3);
+      t << std::right << std::setw(13) << fixedText(fa ? fa->buildSeconds : kNaN, 3);
     }
     t << "\n";
   }

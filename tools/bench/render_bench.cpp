@@ -1,9 +1,9 @@
 // The rendering benchmark (render_bench.h).
 #include "tools/bench/render_bench.h"
 
-#include "engine/render/view_renderer.h"
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
+#include "nestwalk/render/view_renderer.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
 #include "tools/bench/bench_runner.h"
 
 #include <osg/Timer>
@@ -135,7 +135,7 @@ int runRenderBench(const RenderBenchOptions& o, std::ostream& out) {
   if (o.json) {
     nlohmann::ordered_json j;
     j["benchmark"] = "render";
-    j["cpu"] = cpuModel();
+    j["cpu"] = cpuModelName();
     j["route"] = route;
     j["gl_renderer"] = glRenderer;
     j["size"] = {width, height};
@@ -173,7 +173,7 @@ int runRenderBench(const RenderBenchOptions& o, std::ostream& out) {
   char line[512];
   out << "nestwalk bench render: " << o.scene << "\n";
   std::snprintf(line, sizeof line, "%dx%d, %s (%s), cpu %s\n", width, height, glRenderer.c_str(), route.c_str(),
-                cpuModel().c_str());
+                cpuModelName().c_str());
   out << line << "frames:";
   for (const auto& [name, frames] : scriptFrames) out << " " << name << " " << frames;
   out << " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n";

@@ -13,8 +13,8 @@
 
 #include "tools/bench/bench_runner.h"
 
-#include "terrain/heightfield.h"
-#include "terrain/terrain_mesh.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
@@ -741,18 +741,18 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
       b["name"] = r.name;
       b["test"] = r.label;
       b["set"] = r.set;
-      b["hit_fraction"] = numOrNull(r.hitFraction);
+      b["hit_fraction"] = jsonNumber(r.hitFraction);
       Json ns, ratio, dis, diff, far, count;
-      ns["nestwalk"] = numOrNull(r.nestwalk);
+      ns["nestwalk"] = jsonNumber(r.nestwalk);
       if (r.nestwalkDisagreements >= 0) {
         dis["nestwalk"] = r.nestwalkDisagreements;
-        diff["nestwalk"] = numOrNull(r.nestwalkMaxDiff);
+        diff["nestwalk"] = jsonNumber(r.nestwalkMaxDiff);
       }
       for (int p = 0; p < kPeers; ++p) {
-        ns[kPeerKeys[p]] = numOrNull(r.peer[p]);
-        ratio[kPeerKeys[p]] = numOrNull(r.peer[p] / r.nestwalk);
+        ns[kPeerKeys[p]] = jsonNumber(r.peer[p]);
+        ratio[kPeerKeys[p]] = jsonNumber(r.peer[p] / r.nestwalk);
         dis[kPeerKeys[p]] = r.peerDisagreements[p] >= 0 ? Json(r.peerDisagreements[p]) : Json(nullptr);
-        diff[kPeerKeys[p]] = numOrNull(r.peerMaxDiff[p]);
+        diff[kPeerKeys[p]] = jsonNumber(r.peerMaxDiff[p]);
         far[kPeerKeys[p]] = r.peerFarHits[p] >= 0 ? Json(r.peerFarHits[p]) : Json(nullptr);
         count[kPeerKeys[p]] = r.peerRays[p];
       }
@@ -766,7 +766,7 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
     }
     j["benchmarks"] = list;
     Json m;
-    m["cpu_model"] = cpuModel();
+    m["cpu_model"] = cpuModelName();
     m["num_cpus"] = benchmark::CPUInfo::Get().num_cpus;
     m["grid_samples"] = terrain.n;
     m["triangles"] = triangles;
@@ -799,13 +799,13 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
   }
 
   out << "nestwalk bench terrain: ns per ray (CPU time); ratio = peer ns / nestwalk ns (> 1: nestwalk faster)\n";
-  out << "cpu: " << cpuModel() << ", " << benchmark::CPUInfo::Get().num_cpus << " CPUs"
+  out << "cpu: " << cpuModelName() << ", " << benchmark::CPUInfo::Get().num_cpus << " CPUs"
 #ifndef NDEBUG
       << "; ASSERTIONS ON (not a release build)"
 #endif
       << "\n";
   out << "grid: " << terrain.n << " x " << terrain.n << " samples at " << kSpacing << " m (" << triangles
-      << " triangles), heights " << fmt(terrain.minH, 1) << " .. " << fmt(terrain.maxH, 1) << " m\n";
+      << " triangles), heights " << fixedText(terrain.minH, 1) << " .. " << fixedText(terrain.maxH, 1) << " m\n";
   out << "rays per set: " << cfg.rays << " (OSG, and Bullet on oblique rays: the first " << cfg.slowRays << "); min time per benchmark: " << cfg.minTime
       << " s" << (opts.quick ? " (quick)" : "");
   if (repetitions > 1) out << "; median of " << repetitions << " repetitions";
@@ -814,7 +814,7 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
       << BT_BULLET_VERSION << " btHeightfieldTerrainShape::performRaycast (no accelerator); OSG " << osgGetVersion()
       << " LineSegmentIntersector + KdTree\n";
   out << "build times (s):";
-  for (const auto& [k, v] : terrain.buildSeconds) out << " " << k << " " << fmt(v, 2);
+  for (const auto& [k, v] : terrain.buildSeconds) out << " " << k << " " << fixedText(v, 2);
   out << "\n\n";
 
   std::ostringstream t;
@@ -824,8 +824,8 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
   t << "\n";
   for (const Row& r : rows) {
     t << std::left << std::setw(14) << r.label << std::setw(23) << r.set << std::right << std::setw(7)
-      << fmt(r.hitFraction, 3) << std::setw(10) << fmt(r.nestwalk, 1);
-    for (int p = 0; p < kPeers; ++p) t << std::setw(10) << fmt(r.peer[p], 1) << std::setw(8) << fmt(r.peer[p] / r.nestwalk, 2);
+      << fixedText(r.hitFraction, 3) << std::setw(10) << fixedText(r.nestwalk, 1);
+    for (int p = 0; p < kPeers; ++p) t << std::setw(10) << fixedText(r.peer[p], 1) << std::setw(8) << fixedText(r.peer[p] / r.nestwalk, 2);
     t << "\n";
   }
   out << t.str();
@@ -852,11 +852,11 @@ int runTerrainBench(const TerrainBenchOptions& opts, std::ostream& out) {
   }
   printTargets(out, targets, 40, 28);
   out << "\nterrain mesh levels (tiles of 128 cells; error = exact max vertical error vs full resolution, "
-      << fmt(terrain.lodSeconds, 2) << " s to compute):\n";
+      << fixedText(terrain.lodSeconds, 2) << " s to compute):\n";
   out << "  level   step   tiles    triangles   max error (m)\n";
   for (const auto& l : terrain.lod)
     out << "  " << std::setw(5) << l.level << std::setw(7) << l.step << std::setw(8) << l.tiles << std::setw(13)
-        << l.triangles << std::setw(16) << fmt(l.maxError, 4) << "\n";
+        << l.triangles << std::setw(16) << fixedText(l.maxError, 4) << "\n";
   for (const auto& [k, v] : collector.errors) out << "error: " << k << ": " << v << "\n";
   return rc;
 }

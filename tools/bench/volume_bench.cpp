@@ -11,9 +11,9 @@
 
 #include "tools/bench/bench_runner.h"
 
-#include "engine/geometry/nested.h"
-#include "engine/geometry/obb_batch.h"
-#include "engine/geometry/sat.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/obb_batch.h"
+#include "nestwalk/geometry/sat.h"
 
 #include <benchmark/benchmark.h>
 #include <ccd/ccd.h>
@@ -780,7 +780,7 @@ Json machineJson(std::size_t pairs, std::size_t stored, double minTime, bool qui
                  std::size_t repetitions) {
   const benchmark::CPUInfo& cpu = benchmark::CPUInfo::Get();
   Json m;
-  m["cpu_model"] = cpuModel();
+  m["cpu_model"] = cpuModelName();
   m["num_cpus"] = cpu.num_cpus;
   m["mhz_per_cpu"] = cpu.cycles_per_second / 1e6;
   m["cpu_scaling"] = cpu.scaling == benchmark::CPUInfo::ENABLED    ? "enabled"
@@ -937,16 +937,16 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
       b["name"] = r.name;
       b["test"] = r.label;
       b["set"] = r.set;
-      b["overlap_fraction"] = numOrNull(r.setFraction);
-      b["verdict_fraction"] = numOrNull(r.verdictFraction);
+      b["overlap_fraction"] = jsonNumber(r.setFraction);
+      b["verdict_fraction"] = jsonNumber(r.verdictFraction);
       if (!std::isnan(r.hitFraction)) b["hit_fraction"] = r.hitFraction;
       if (!std::isnan(r.uncertainFraction)) b["uncertain_fraction"] = r.uncertainFraction;
       Json ns, ratio, dis;
-      ns["nestwalk"] = numOrNull(r.nestwalk);
+      ns["nestwalk"] = jsonNumber(r.nestwalk);
       dis["nestwalk"] = r.nestwalkDisagreements >= 0 ? Json(r.nestwalkDisagreements) : Json(nullptr);
       for (int p = 0; p < 3; ++p) {
-        ns[kPeerKeys[p]] = numOrNull(r.peer[p]);
-        ratio[kPeerKeys[p]] = numOrNull(r.peer[p] / r.nestwalk);
+        ns[kPeerKeys[p]] = jsonNumber(r.peer[p]);
+        ratio[kPeerKeys[p]] = jsonNumber(r.peer[p] / r.nestwalk);
         dis[kPeerKeys[p]] =
             r.peerDisagreements[p] >= 0 ? Json(r.peerDisagreements[p]) : Json(nullptr);
       }
@@ -965,7 +965,7 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
 
   out << "nestwalk bench volumes: ns per test (CPU time); ratio = peer ns / nestwalk ns (> 1: nestwalk faster)\n";
   out << "cpu: " << machine["cpu_model"].get<std::string>() << ", " << machine["num_cpus"] << " CPUs @ "
-      << fmt(machine["mhz_per_cpu"].get<double>(), 0) << " MHz, scaling " << machine["cpu_scaling"].get<std::string>()
+      << fixedText(machine["mhz_per_cpu"].get<double>(), 0) << " MHz, scaling " << machine["cpu_scaling"].get<std::string>()
       << "\n";
   out << "build: " << isaLine(machine) << (machine["ndebug"].get<bool>() ? "" : "; ASSERTIONS ON (not a release build)")
       << "\n";
@@ -988,8 +988,8 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
   t << "\n";
   for (const Row& r : rows) {
     t << std::left << std::setw(26) << r.label << std::setw(8) << r.set << std::right << std::setw(8)
-      << fmt(r.setFraction, 4) << std::setw(8) << fmt(r.verdictFraction, 4) << std::setw(10) << fmt(r.nestwalk);
-    for (int p = 0; p < 3; ++p) t << std::setw(10) << fmt(r.peer[p]) << std::setw(8) << fmt(r.peer[p] / r.nestwalk, 1);
+      << fixedText(r.setFraction, 4) << std::setw(8) << fixedText(r.verdictFraction, 4) << std::setw(10) << fixedText(r.nestwalk);
+    for (int p = 0; p < 3; ++p) t << std::setw(10) << fixedText(r.peer[p]) << std::setw(8) << fixedText(r.peer[p] / r.nestwalk, 1);
     t << "\n";
   }
   out << t.str();
@@ -1004,8 +1004,8 @@ int runVolumeBench(const VolumeBenchOptions& opts, std::ostream& out) {
     out << " nestwalk " << (r.nestwalkDisagreements >= 0 ? std::to_string(r.nestwalkDisagreements) : "-");
     for (int p = 0; p < 3; ++p)
       if (r.peerDisagreements[p] >= 0) out << ", " << kPeerTitles[p] << " " << r.peerDisagreements[p];
-    if (!std::isnan(r.uncertainFraction)) out << "; uncertain lanes " << fmt(100 * r.uncertainFraction, 3) << "%";
-    if (!std::isnan(r.hitFraction)) out << "; final hits " << fmt(100 * r.hitFraction, 3) << "%";
+    if (!std::isnan(r.uncertainFraction)) out << "; uncertain lanes " << fixedText(100 * r.uncertainFraction, 3) << "%";
+    if (!std::isnan(r.hitFraction)) out << "; final hits " << fixedText(100 * r.hitFraction, 3) << "%";
     out << "\n";
   }
   printTargets(out, targets, 32, 26);

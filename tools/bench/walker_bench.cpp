@@ -1,7 +1,7 @@
 #include "tools/bench/walker_bench.h"
 
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
 #include "tools/bench/bench_runner.h"
 #include "tools/bench/broadphase_bench.h"
 
@@ -139,7 +139,7 @@ StepStats timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
     us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
     s.contacts += walker.state().blocked;
     s.nodeTestsPerStep += double(r.counters.nodeTests);
-    for (int k = 0; k < 3; ++k) s.stageTestsPerStep[k] += double(r.counters.stageTests[std::size_t(k)]);
+    for (int k = 0; k < 3; ++k) s.stageTestsPerStep[k] += double(r.counters.stageTests.values[std::size_t(k)]);
   }
   s.steps = us.size();
   s.nodeTestsPerStep /= double(s.steps);
@@ -197,18 +197,18 @@ int runWalkerBench(const WalkerBenchOptions& o, std::ostream& out) {
     s.buildSeconds = w.buildSeconds;
     stats.push_back(s);
   }
-  text << "cpu: " << cpuModel() << "\n\nwalker step without rendering (10 km x 10 km, auto delta=8 longest/median, "
+  text << "cpu: " << cpuModelName() << "\n\nwalker step without rendering (10 km x 10 km, auto delta=8 longest/median, "
        << steps << " timed steps at 5 m/s)\n";
   text << std::setw(10) << "instances" << std::setw(10) << "p50 us" << std::setw(10) << "p99 us" << std::setw(10)
        << "max us" << std::setw(10) << "mean us" << std::setw(12) << "contacts/k" << std::setw(12) << "node tests"
        << std::setw(10) << "aabb-aabb" << std::setw(10) << "aabb-obb" << std::setw(10) << "obb-obb" << std::setw(10)
        << "build s" << "\n";
   for (const auto& s : stats) {
-    text << std::setw(10) << s.instances << std::setw(10) << fmt(s.p50, 3) << std::setw(10) << fmt(s.p99, 3)
-         << std::setw(10) << fmt(s.max, 1) << std::setw(10) << fmt(s.mean, 3) << std::setw(12)
-         << fmt(1000.0 * double(s.contacts) / double(s.steps), 1) << std::setw(12) << fmt(s.nodeTestsPerStep, 1)
-         << std::setw(10) << fmt(s.stageTestsPerStep[0], 2) << std::setw(10) << fmt(s.stageTestsPerStep[1], 2)
-         << std::setw(10) << fmt(s.stageTestsPerStep[2], 2) << std::setw(10) << fmt(s.buildSeconds, 3) << "\n";
+    text << std::setw(10) << s.instances << std::setw(10) << fixedText(s.p50, 3) << std::setw(10) << fixedText(s.p99, 3)
+         << std::setw(10) << fixedText(s.max, 1) << std::setw(10) << fixedText(s.mean, 3) << std::setw(12)
+         << fixedText(1000.0 * double(s.contacts) / double(s.steps), 1) << std::setw(12) << fixedText(s.nodeTestsPerStep, 1)
+         << std::setw(10) << fixedText(s.stageTestsPerStep[0], 2) << std::setw(10) << fixedText(s.stageTestsPerStep[1], 2)
+         << std::setw(10) << fixedText(s.stageTestsPerStep[2], 2) << std::setw(10) << fixedText(s.buildSeconds, 3) << "\n";
     nlohmann::ordered_json r;
     r["instances"] = s.instances;
     r["steps"] = s.steps;
@@ -261,7 +261,7 @@ int runWalkerBench(const WalkerBenchOptions& o, std::ostream& out) {
         std::string sig;
         for (const auto& r : res.records) {
           node += r.nodeTests;
-          for (int k = 0; k < 3; ++k) st[k] += r.stageTests[std::size_t(k)];
+          for (int k = 0; k < 3; ++k) st[k] += r.stageTests.values[std::size_t(k)];
           sig += r.blocked ? r.blockedBy + ";" : "-;";
         }
         row.nodeTests.push_back(node);
@@ -286,7 +286,7 @@ int runWalkerBench(const WalkerBenchOptions& o, std::ostream& out) {
     for (const auto& r : rows) {
       text << std::setw(28) << r.name;
       for (std::size_t s = 0; s < r.perScript.size(); ++s) text << std::setw(22) << r.perScript[s];
-      text << std::setw(14) << r.total << std::setw(8) << fmt(100.0 * double(r.total) / base, 1) << "%\n";
+      text << std::setw(14) << r.total << std::setw(8) << fixedText(100.0 * double(r.total) / base, 1) << "%\n";
       nlohmann::ordered_json jr;
       jr["hierarchy"] = r.name;
       jr["bv_tests_per_script"] = r.perScript;

@@ -1,7 +1,7 @@
 // nestwalk bench render [--json] [--quick]: the rendering benchmark (tools/bench/render_bench.h):
 // ms per rendered frame along the bundled flythroughs, split into cull, draw and readback, with
 // triangles and terrain error, nested against OSG culling, LOD settings against full resolution.
-#include "engine/core/input_error.h"
+#include "nestwalk/core/input_error.h"
 #include "tools/bench/render_bench.h"
 #include "tools/nestwalk/commands.h"
 

@@ -1,9 +1,9 @@
 // nestwalk demo: the main job until the flythrough exists. Fits the nested volumes of the bundled
 // weather station, places it on a UTM-sized site, and walks a viewer's body box towards it,
 // printing the three-stage verdict at each position.
-#include "engine/geometry/nested.h"
-#include "engine/geometry/obb_fit.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/scene/model_geometry.h"
 #include "tools/nestwalk/commands.h"
 
 #include <Eigen/Geometry>
@@ -24,7 +24,7 @@ void printBox(const char* label, const Obb<double>& b) {
 
 void runDemo(const std::string& assets) {
   const std::string path = assets + "/models/weather_station.obj";
-  const ModelGeometry model = loadModelGeometry(path);
+  const TriangleMesh model = loadModelGeometry(path);
   std::printf("Model %s: %zu vertices, %zu triangles\n", path.c_str(), model.vertices.size(), model.triangles.size());
 
   Aabb<double> aabb;

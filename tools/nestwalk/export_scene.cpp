@@ -3,9 +3,9 @@
 // by OUT's extension (.osgb, .osgt, .ive, ...), for viewing in osgviewer or other tools. The file is
 // written under a temporary name in OUT's folder and renamed at the end; an existing OUT is
 // replaced only with --overwrite. Prints one summary line.
-#include "engine/core/input_error.h"
-#include "engine/report/output_file.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/scene/scene.h"
 #include "tools/nestwalk/commands.h"
 
 #include <osgDB/FileNameUtils>

@@ -1,7 +1,7 @@
 // nestwalk import-terrain IN OUT: any raster GDAL reads becomes the engine's terrain format, a
 // Cloud-Optimized GeoTIFF of Float32 heights in metres (see terrain/terrain_import.h). Prints a
 // summary on stdout; a progress bar on stderr when it is a terminal.
-#include "terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_import.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>

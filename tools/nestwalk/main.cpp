@@ -1,8 +1,8 @@
 // nestwalk: the command-line program. Subcommands are registered from their own files
 // (commands.h); bad input surfaces as nestwalk::InputError and ends the program with exit code 1
 // and a message that names the file and the problem.
-#include "engine/core/input_error.h"
-#include "engine/scene/osg_messages.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/scene/osg_messages.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>

@@ -1,10 +1,10 @@
 // nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--overwrite]: generates the
 // bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the engine's terrain format (the
 // same Cloud-Optimized GeoTIFF as import-terrain), in UTM zone 51N (EPSG:32651).
-#include "engine/core/input_error.h"
-#include "terrain/dem_reader.h"
-#include "terrain/mining_dump.h"
-#include "terrain/terrain_import.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/mining_dump.h"
+#include "nestwalk/terrain/terrain_import.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cmath>

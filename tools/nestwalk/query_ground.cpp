@@ -2,8 +2,8 @@
 // Input: a CSV with columns x, y (map coordinates in TERRAIN's CRS; longitude, latitude in degrees
 // for a geographic CRS, see terrain/dem_reader.h). Output on stdout: x,y,z with z empty where there
 // is no ground (a hole, or outside the sample hull). TERRAIN is any raster GDAL reads.
-#include "engine/core/csv_reader.h"
-#include "terrain/dem_reader.h"
+#include "nestwalk/core/csv_reader.h"
+#include "nestwalk/terrain/dem_reader.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>

@@ -2,8 +2,8 @@
 // Input columns: id, then a box A as acx,acy,acz (centre), aux,auy,auz / avx,avy,avz / awx,awy,awz
 // (unit axes u, v, w), aex,aey,aez (half extents), then box B with the same columns prefixed 'b'.
 // Output: id,overlap,stage,axis (see testBoxPair in engine/geometry/nested.h).
-#include "engine/core/csv_reader.h"
-#include "engine/geometry/nested.h"
+#include "nestwalk/core/csv_reader.h"
+#include "nestwalk/geometry/nested.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>

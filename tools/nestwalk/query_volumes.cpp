@@ -1,7 +1,7 @@
 // nestwalk query volumes MODEL [--fitter NAME]: the nested volumes of a model file, as JSON.
-#include "engine/core/input_error.h"
-#include "engine/geometry/obb_fit.h"
-#include "engine/scene/model_geometry.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/scene/model_geometry.h"
 #include "tools/nestwalk/commands.h"
 
 #include <nlohmann/json.hpp>
@@ -22,7 +22,7 @@ struct QueryVolumesOptions {
 void runQueryVolumes(const QueryVolumesOptions& opts) {
   const std::optional<ObbFitter> fitter = parseFitter(opts.fitter);
   if (!fitter) throw InputError("--fitter: unknown fitter '" + opts.fitter + "' (covariance or hull-search)");
-  const ModelGeometry model = loadModelGeometry(opts.model);
+  const TriangleMesh model = loadModelGeometry(opts.model);
 
   Aabb<double> aabb;
   for (const auto& v : model.vertices) aabb.extend(v);

@@ -3,8 +3,8 @@
 // reference, the terrain levels of detail and the OBB fitters, as report.md with PNG plots and
 // report.json in DIR. SCENE defaults to the bundled mining dump; the scripts to every .txt in the
 // scripts/ folder beside the scene file (the bundled scene's three flythroughs).
-#include "engine/core/input_error.h"
-#include "tools/bench/method_report.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/report/method_report.h"
 #include "tools/nestwalk/commands.h"
 
 #include <algorithm>
@@ -28,7 +28,7 @@ std::vector<std::string> scriptsBeside(const std::filesystem::path& scene) {
 }  // namespace
 
 void registerReport(CLI::App& app) {
-  auto opts = std::make_shared<bench::MethodReportOptions>();
+  auto opts = std::make_shared<MethodReportOptions>();
   CLI::App* cmd = app.add_subcommand(
       "report", "Every contact method over the flythroughs (time, missed contacts, false blocks, stop gap), terrain "
                 "LOD error and OBB fitters: report.md with PNG plots and report.json");
@@ -39,7 +39,7 @@ void registerReport(CLI::App& app) {
                 "Quick settings (CI): one timing play per method and flythrough, 20k terrain points, one fit per model");
   cmd->add_flag("--overwrite", opts->overwrite, "Replace the report's files in the folder");
   cmd->callback([opts] {
-    bench::MethodReportOptions o = *opts;
+    MethodReportOptions o = *opts;
     if (o.scene.empty()) {
       o.scene = (std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json").string();
       if (!std::filesystem::exists(o.scene))
@@ -48,7 +48,7 @@ void registerReport(CLI::App& app) {
     if (o.scripts.empty()) o.scripts = scriptsBeside(o.scene);
     if (o.scripts.empty())
       throw InputError(o.scene + ": no flythrough scripts in its scripts/ folder; give them with --scripts");
-    const int rc = bench::runMethodReport(o, std::cout);
+    const int rc = runMethodReport(o, std::cout);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

@@ -5,12 +5,16 @@
 // step) into frames/frame_NNNNNN.png and flythrough.mp4, with the render times in the same CSV and
 // summary. Exits with 3 when an expectation of the script failed (each is printed with its frame
 // and position), with 1 for bad input.
-#include "engine/core/input_error.h"
-#include "engine/render/frame_writers.h"
-#include "engine/render/view_renderer.h"
-#include "engine/report/top_down_map.h"
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/render/frame_writers.h"
+#include "nestwalk/render/view_renderer.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/report/frame_csv.h"
+#include "nestwalk/report/frame_time_plot.h"
+#include "nestwalk/report/run_summary.h"
+#include "nestwalk/report/top_down_map.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
 #include "tools/nestwalk/commands.h"
 
 #include <nlohmann/json.hpp>
@@ -123,20 +127,27 @@ void runRun(const RunArgs& args) {
 
   const bool terminal = !args.quiet && isatty(fileno(stderr));
   double lastRenderMs = 0;
-  const FlythroughResult result = runFlythrough(scene, world, script, options, [&](FrameRecord& r) {
+  std::vector<RenderRecord> renders;  // one per frame when rendering
+  const FlythroughResult result = runFlythrough(scene, world, script, options, [&](const FrameRecord& r) {
     if (renderer && (r.frame - 1) % std::uint64_t(args.every) == 0) {
+      RenderRecord& rr = renders.emplace_back();
       const RenderFrameStats& s =
           renderer->render({r.eye, r.headingDeg, r.pitchDeg, r.blocked, r.blockedBy});
-      r.render.rendered = true;
-      r.render.triangles = s.triangles;
-      r.render.instancesDrawn = s.cull.instances ? s.cull.visible : scene.instances.size();
-      r.render.culledByAabb = s.cull.aabbOutside;
-      r.render.culledByObb = s.cull.obbOutside;
-      r.render.terrainErrorPx = s.terrainErrorPx;
-      r.render.micros = {1000.0 * s.cullMs, 1000.0 * s.drawMs, 1000.0 * s.readbackMs, 1000.0 * s.totalMs};
+      rr.rendered = true;
+      rr.triangles = s.triangles;
+      rr.instancesDrawn = s.cull.instances ? s.cull.visible : scene.instances.size();
+      rr.culledByAabb = s.cull.aabbOutside;
+      rr.culledByObb = s.cull.obbOutside;
+      rr.terrainErrorPx = s.terrainErrorPx;
+      rr.micros[RenderPart::Cull] = 1000.0 * s.cullMs;
+      rr.micros[RenderPart::Draw] = 1000.0 * s.drawMs;
+      rr.micros[RenderPart::Readback] = 1000.0 * s.readbackMs;
+      rr.micros[RenderPart::Total] = 1000.0 * s.totalMs;
       lastRenderMs = s.totalMs;
       if (pngs) pngs->write(renderer->image(), r.frame);
       if (video) video->addFrame(renderer->image());
+    } else if (renderer) {
+      renders.emplace_back();  // not rendered
     }
     if (terminal && r.frame % 30 == 0)
       std::fprintf(stderr, "\rframe %6llu  t %7.2f s  eye %.2f %.2f %.2f%s  %s\033[K",
@@ -147,7 +158,7 @@ void runRun(const RunArgs& args) {
   if (terminal) std::fprintf(stderr, "\r\033[K");
   std::size_t pngCount = pngs ? pngs->finish() : 0;
   if (video) video->finish();
-  writeFrameCsv((out / "frames.csv").string(), result.records);
+  writeFrameCsv((out / "frames.csv").string(), result.records, renders);
   RunSummaryInfo info;
   info.scene = args.scene;
   info.script = args.script;
@@ -164,15 +175,15 @@ void runRun(const RunArgs& args) {
     r["near_far"] = {renderer->nearPlane(), renderer->farPlane()};
     info.renderInfoJson = r.dump();
   }
-  writeRunSummary((out / "summary.json").string(), info, result.records, result.expectations);
-  writeFrameTimePlot((out / "frame_times.png").string(), result.records);
+  writeRunSummary((out / "summary.json").string(), info, result.records, result.expectations, renders);
+  writeFrameTimePlot((out / "frame_times.png").string(), result.records, renders);
   writeTopDownMap((out / "top_down.png").string(), scene, result.records, result.expectations);
   writeAnimationPath((out / "camera.path").string(), result.camera);
 
   std::vector<double> total;
   std::size_t blocked = 0;
   for (const auto& r : result.records) {
-    total.push_back(r.micros[3]);
+    total.push_back(r.micros[StepPart::Total]);
     blocked += r.blocked;
   }
   std::printf("%s on %s: %zu frames (%.1f s at %g Hz), %zu units, method %s\n", args.script.c_str(),
@@ -189,18 +200,19 @@ void runRun(const RunArgs& args) {
                   e.detail.c_str());
   }
   if (renderer) {
-    std::vector<double> ms[kRenderParts];
+    EnumArray<RenderPart, kRenderParts, std::vector<double>> ms;
     std::size_t frames = 0;
-    for (const auto& r : result.records)
-      if (r.render.rendered) {
+    for (const RenderRecord& r : renders)
+      if (r.rendered) {
         ++frames;
-        for (int k = 0; k < kRenderParts; ++k) ms[k].push_back(r.render.micros[std::size_t(k)] / 1000.0);
+        for (RenderPart part : kAllRenderParts) ms[part].push_back(r.micros[part] / 1000.0);
       }
     std::printf("  rendered %zu frames at %dx%d (%s, %s): ms per frame p50 %.1f (cull %.1f, draw %.1f, readback %.1f), "
                 "p95 %.1f\n",
                 frames, width, height, offscreenRouteName(renderer->route()), renderer->glRenderer().c_str(),
-                percentile(ms[3], 50), percentile(ms[0], 50), percentile(ms[1], 50), percentile(ms[2], 50),
-                percentile(ms[3], 95));
+                percentile(ms[RenderPart::Total], 50), percentile(ms[RenderPart::Cull], 50),
+                percentile(ms[RenderPart::Draw], 50), percentile(ms[RenderPart::Readback], 50),
+                percentile(ms[RenderPart::Total], 95));
     if (pngCount) std::printf("  wrote %zu frames to %s\n", pngCount, (out / "frames").string().c_str());
     if (video) std::printf("  wrote %s (%zu frames)\n", (out / "flythrough.mp4").string().c_str(), video->frames());
   }

@@ -1,14 +1,14 @@
 // The methods report's scatter and bar plots (report_plot.h) on the project's canvas (canvas.h):
 // pixels y-up, 5x7 font, PNG through osgDB.
-#include "tools/bench/report_plot.h"
+#include "nestwalk/report/report_plot.h"
 
-#include "tools/bench/bench_runner.h"
+#include "nestwalk/report/number_text.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 namespace {
 
 constexpr Rgb kBackground{255, 255, 255};
@@ -97,13 +97,13 @@ struct Axis {
           const double u = k + std::log10(m);
           if (u < lo - 1e-9 || u > hi + 1e-9) continue;
           const double v = m * std::pow(10.0, k);
-          out.emplace_back(v, k < -6 ? fmt(m, 0) + "E" + std::to_string(k) : fmt(v, std::max(0, -k)));
+          out.emplace_back(v, k < -6 ? fixedText(m, 0) + "E" + std::to_string(k) : fixedText(v, std::max(0, -k)));
         }
       return out;
     }
     const int decimals = std::max(0, int(std::ceil(-std::log10(step) - 1e-9)));
     for (double u = lo; u <= hi + 1e-9 * step; u += step)
-      out.emplace_back(u, fmt(std::abs(u) < 1e-9 * step ? 0.0 : u, decimals));
+      out.emplace_back(u, fixedText(std::abs(u) < 1e-9 * step ? 0.0 : u, decimals));
     return out;
   }
 };
@@ -238,7 +238,7 @@ void writeBarPlot(const std::string& path, const std::string& title,
       if (!std::isfinite(v)) continue;
       const int x0 = left + int(k) * bar, top = ay.pixel(v);
       c.fill(x0 + 1, ay.p0 + 1, x0 + bar - 2, top, series[k].second);
-      const std::string text = fmt(v, std::abs(v) < 10 ? 2 : std::abs(v) < 100 ? 1 : 0);
+      const std::string text = fixedText(v, std::abs(v) < 10 ? 2 : std::abs(v) < 100 ? 1 : 0);
       c.text(x0 + bar / 2 - textWidth(text) / 2, top + kGlyphHeight + 3, text, kInk);
     }
   }
@@ -246,4 +246,4 @@ void writeBarPlot(const std::string& path, const std::string& title,
   writePng(c, path);
 }
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

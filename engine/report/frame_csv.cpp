@@ -1,11 +1,11 @@
-// The per-frame CSV and the percentile used by the summary and the plot.
-#include "engine/report/frame_record.h"
+#include "nestwalk/report/frame_csv.h"
 
-#include "engine/report/output_file.h"
+#include "nestwalk/core/output_file.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <stdexcept>
 
 namespace nestwalk {
 namespace {
@@ -51,16 +51,6 @@ void appendField(std::string& out, const std::string& s) {
 
 }  // namespace
 
-const char* stepPartName(StepPart p) {
-  switch (p) {
-    case StepPart::Ground: return "ground";
-    case StepPart::BroadPhase: return "broad";
-    case StepPart::Narrow: return "narrow";
-    case StepPart::Total: return "total";
-  }
-  return "?";
-}
-
 const char* renderPartName(RenderPart p) {
   switch (p) {
     case RenderPart::Cull: return "cull";
@@ -71,31 +61,35 @@ const char* renderPartName(RenderPart p) {
   return "?";
 }
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  const double n = double(values.size());
-  // Nearest rank: the smallest value with at least p % of the values at or below it. p * n first,
-  // so that integer p and n give an exact product (95 * 20 / 100 is 19, not 19.000000000000004).
-  double rank = std::ceil(std::clamp(p, 0.0, 100.0) * n / 100.0);
-  rank = std::clamp(rank, 1.0, n);
-  const auto k = static_cast<std::ptrdiff_t>(rank) - 1;
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[std::size_t(k)];
+const std::vector<std::string>& frameCsvColumns() {
+  static const std::vector<std::string> columns = {
+      "frame",         "time",          "x",        "y",          "z",         "heading",        "pitch",
+      "flying",        "has_ground",    "ground",   "blocked",    "blocked_by", "node_tests",    "aabb_aabb",
+      "aabb_obb",      "obb_obb",       "np",       "nu",         "rendered",  "triangles",      "instances_drawn",
+      "culled_aabb",   "culled_obb",    "terrain_error_px", "us_ground", "us_broad", "us_narrow", "us_total",
+      "us_render_cull", "us_render_draw", "us_render_readback", "us_render_total"};
+  return columns;
 }
 
-void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& records) {
-  std::string text =
-      "frame,time,x,y,z,heading,pitch,flying,has_ground,ground,blocked,blocked_by,node_tests,aabb_aabb,aabb_obb,"
-      "obb_obb,np,nu,rendered,triangles,instances_drawn,culled_aabb,culled_obb,terrain_error_px,us_ground,us_broad,"
-      "us_narrow,us_total,us_render_cull,us_render_draw,us_render_readback,us_render_total\n";
+void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& records,
+                   std::span<const RenderRecord> renders) {
+  if (!renders.empty() && renders.size() != records.size())
+    throw std::invalid_argument("writeFrameCsv: " + std::to_string(renders.size()) + " render records for " +
+                                std::to_string(records.size()) + " frames");
+  std::string text;
+  for (const std::string& column : frameCsvColumns()) text += (text.empty() ? "" : ",") + column;
+  text += '\n';
   text.reserve(text.size() + records.size() * 200);
-  for (const FrameRecord& r : records) {
+  const RenderRecord notRendered;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const FrameRecord& r = records[i];
+    const RenderRecord& render = renders.empty() ? notRendered : renders[i];
     appendInt(text, r.frame);
     text += ',';
     appendFixed(text, r.time, kTimeDigits);
-    for (int i = 0; i < 3; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
       text += ',';
-      appendFixed(text, r.eye[i], kPositionDigits);
+      appendFixed(text, r.eye[axis], kPositionDigits);
     }
     text += ',';
     appendFixed(text, r.headingDeg, kAngleDigits);
@@ -106,28 +100,32 @@ void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& reco
     if (r.hasGround) appendFixed(text, r.ground, kPositionDigits);  // empty: no ground under the eye
     text += r.blocked ? ",1," : ",0,";
     appendField(text, r.blockedBy);
-    const std::uint64_t counters[] = {r.nodeTests,     r.stageTests[0],  r.stageTests[1],
-                                      r.stageTests[2], r.primitiveTests, r.volumesUpdated};
+    const std::uint64_t counters[] = {r.nodeTests,
+                                      r.stageTests[OverlapStage::AabbAabb],
+                                      r.stageTests[OverlapStage::AabbObb],
+                                      r.stageTests[OverlapStage::ObbObb],
+                                      r.primitiveTests,
+                                      r.volumesUpdated};
     for (std::uint64_t c : counters) {
       text += ',';
       appendInt(text, c);
     }
-    text += r.render.rendered ? ",1" : ",0";
-    const std::uint64_t drawn[] = {r.render.triangles, r.render.instancesDrawn, r.render.culledByAabb,
-                                   r.render.culledByObb};
+    text += render.rendered ? ",1" : ",0";
+    const std::uint64_t drawn[] = {render.triangles, render.instancesDrawn, render.culledByAabb,
+                                   render.culledByObb};
     for (std::uint64_t c : drawn) {
       text += ',';
       appendInt(text, c);
     }
     text += ',';
-    appendFixed(text, r.render.terrainErrorPx, kPixelDigits);
-    for (int part = 0; part < kStepParts; ++part) {
+    appendFixed(text, render.terrainErrorPx, kPixelDigits);
+    for (double us : r.micros) {
       text += ',';
-      appendFixed(text, r.micros[std::size_t(part)], kMicrosDigits);
+      appendFixed(text, us, kMicrosDigits);
     }
-    for (int part = 0; part < kRenderParts; ++part) {
+    for (double us : render.micros) {
       text += ',';
-      appendFixed(text, r.render.micros[std::size_t(part)], kMicrosDigits);
+      appendFixed(text, us, kMicrosDigits);
     }
     text += '\n';
   }

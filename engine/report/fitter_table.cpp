@@ -1,13 +1,13 @@
-// The OBB fitters' table of the methods report (method_report.h): per model of the scene, the
-// covariance and hull-search boxes (engine/geometry/obb_fit.h) against CGAL's optimal oriented
+// The OBB fitters' table (fitter_table.h) against CGAL's optimal oriented
 // bounding box (CGAL::oriented_bounding_box, Chang, Gorissen & Melchior 2011: a genetic and
 // Nelder-Mead search over rotations, near-optimal), volumes and fitting times. The only file of
-// the program compiled with CGAL (tools/CMakeLists.txt gives it a library of its own).
-#include "tools/bench/method_report.h"
+// the report compiled with CGAL.
+#include "nestwalk/report/fitter_table.h"
 
-#include "engine/geometry/obb_fit.h"
-#include "engine/scene/model_geometry.h"
-#include "engine/scene/scene.h"
+#include "nestwalk/core/stopwatch.h"
+#include "nestwalk/geometry/obb_fit.h"
+#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/scene.h"
 
 #include <CGAL/Aff_transformation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -15,7 +15,7 @@
 
 #include <filesystem>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -46,7 +46,7 @@ double optimalVolume(const std::vector<Vec3<double>>& points) {
 std::vector<FitterRow> measureFitters(const Scene& scene, int repetitions) {
   std::vector<FitterRow> rows;
   for (const SceneModel& model : scene.models) {
-    const ModelGeometry g = collectModelGeometry(*model.node, model.path);
+    const TriangleMesh g = collectModelGeometry(*model.node, model.path);
     FitterRow row;
     row.model = std::filesystem::path(model.path).filename().string();
     row.triangles = g.triangles.size();
@@ -64,4 +64,4 @@ std::vector<FitterRow> measureFitters(const Scene& scene, int repetitions) {
   return rows;
 }
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

@@ -1,17 +1,18 @@
 // The ground-following part of the methods report (method_report.h): the height of every level of
 // the terrain mesh (terrain/terrain_mesh.h, tiles of 128 cells as the renderer cuts them) against
 // the full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
-#include "tools/bench/method_report.h"
+#include "nestwalk/report/terrain_lod_table.h"
 
-#include "tools/bench/bench_runner.h"
-#include "terrain/heightfield.h"
-#include "terrain/terrain_mesh.h"
+#include "nestwalk/core/random.h"
+#include "nestwalk/core/stopwatch.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 namespace {
 
 constexpr int kTileCells = 128;  // SceneGraphOptions::terrainTileCells' default
@@ -30,7 +31,7 @@ double nsPerQuery(const std::vector<LodPoint>& points, int repetitions, const Qu
   return 1e9 / double(points.size()) * leastSeconds(repetitions, [&] {
     double sum = 0;
     for (const LodPoint& p : points) sum += query(p);
-    benchmark::DoNotOptimize(sum);
+    keepResult(sum);
   });
 }
 
@@ -93,4 +94,4 @@ std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std
   return rows;
 }
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

@@ -1,10 +1,8 @@
-// The methods report's files (method_report_data.h): report.md (Markdown), report.json (the
-// numbers), pareto.png (µs per frame against stop gap), methods.png (µs per frame per method) and
-// terrain_lod.png (height error against ns per query per level), and the summary printed at the end.
-#include "tools/bench/method_report_data.h"
+#include "nestwalk/report/method_report_files.h"
 
-#include "engine/report/output_file.h"
-#include "tools/bench/report_plot.h"
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/report/number_text.h"
+#include "nestwalk/report/report_plot.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,7 +13,7 @@
 #include <ostream>
 #include <sstream>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -35,23 +33,10 @@ Rgb methodColour(VolumeMethod m) {
 std::string count(std::uint64_t n) { return std::to_string(n); }
 
 /// "12 (3.4 %)": a count and its share of the blocked sweeps.
-std::string ofBlocked(std::uint64_t n, double percent) { return count(n) + " (" + fmt(percent, 1) + " %)"; }
+std::string ofBlocked(std::uint64_t n, double percent) { return count(n) + " (" + fixedText(percent, 1) + " %)"; }
 
 std::string gap(const Aggregate& a) {
-  return a.gaps ? fmt(a.gapMeanMm, 3) + " / " + fmt(a.gapMaxMm, 3) : "- (no block)";
-}
-
-/// A number with 3 significant digits (whole numbers in full), "-" for NaN.
-std::string num(double v) {
-  if (std::isnan(v)) return "-";
-  const double a = std::abs(v);
-  if (a == 0) return "0";
-  if (a < 1e-4) {
-    std::ostringstream s;
-    s << std::setprecision(2) << std::scientific << v;
-    return s.str();
-  }
-  return fmt(v, std::max(0, 2 - int(std::floor(std::log10(a)))));
+  return a.gaps ? fixedText(a.gapMeanMm, 3) + " / " + fixedText(a.gapMaxMm, 3) : "- (no block)";
 }
 
 Table methodTable(const ReportData& d) {
@@ -61,10 +46,10 @@ Table methodTable(const ReportData& d) {
   const double base = nested ? nested->overall().p50 : std::nan("");
   for (const MethodResult& m : d.methods) {
     const Aggregate a = m.overall();
-    t.push_back({std::string(volumeMethodName(m.method)) + (m.complete() ? "" : " (incomplete)"), fmt(a.p50, 2),
-                 fmt(a.p99, 2), fmt(a.mean, 2), fmt(a.p50 / base, 2), count(a.missed), count(a.blockedSweeps),
+    t.push_back({std::string(volumeMethodName(m.method)) + (m.complete() ? "" : " (incomplete)"), fixedText(a.p50, 2),
+                 fixedText(a.p99, 2), fixedText(a.mean, 2), fixedText(a.p50 / base, 2), count(a.missed), count(a.blockedSweeps),
                  ofBlocked(a.earlyStops, a.earlyStopPercent), ofBlocked(a.falseBlocks, a.falseBlockPercent), gap(a),
-                 fmt(a.bvPerFrame, 1), fmt(a.trianglesPerFrame, 1)});
+                 fixedText(a.bvPerFrame, 1), fixedText(a.trianglesPerFrame, 1)});
   }
   return t;
 }
@@ -84,9 +69,9 @@ Table flythroughTable(const ReportData& d) {
         continue;
       }
       const Aggregate a = aggregate({&p});
-      t.push_back({d.scripts[s], volumeMethodName(m.method), count(a.frames), fmt(a.p50, 2), fmt(a.p99, 2),
-                   fmt(a.collisionP50, 2), count(a.missed), count(a.blockedSweeps), count(a.earlyStops),
-                   count(a.falseBlocks), count(a.equipmentBlocks), gap(a), fmt(a.bvPerFrame, 1)});
+      t.push_back({d.scripts[s], volumeMethodName(m.method), count(a.frames), fixedText(a.p50, 2), fixedText(a.p99, 2),
+                   fixedText(a.collisionP50, 2), count(a.missed), count(a.blockedSweeps), count(a.earlyStops),
+                   count(a.falseBlocks), count(a.equipmentBlocks), gap(a), fixedText(a.bvPerFrame, 1)});
     }
   return t;
 }
@@ -101,9 +86,9 @@ Table nestedTable(const ReportData& d) {
     const Aggregate a = aggregate({&nested->plays[s]});
     const bool blocked = a.blockedSweeps > 0;
     t.push_back({d.scripts[s], count(a.blockedSweeps), count(a.earlyStops), count(a.falseBlocks),
-                 blocked ? fmt(a.falseBlockPercent, 1) + " %" : "- (no blocked sweep)",
-                 blocked ? fmt(a.falseBlockPercent + a.earlyStopPercent, 1) + " %" : "-", count(a.equipmentBlocks),
-                 fmt(a.gapMeanMm, 3), fmt(a.gapMaxMm, 3)});
+                 blocked ? fixedText(a.falseBlockPercent, 1) + " %" : "- (no blocked sweep)",
+                 blocked ? fixedText(a.falseBlockPercent + a.earlyStopPercent, 1) + " %" : "-", count(a.equipmentBlocks),
+                 fixedText(a.gapMeanMm, 3), fixedText(a.gapMaxMm, 3)});
   }
   return t;
 }
@@ -113,8 +98,8 @@ Table lodTable(const ReportData& d) {
            "ns/query"}};
   for (const TerrainLodRow& r : d.lod)
     t.push_back({r.level < 0 ? "full resolution (Heightfield::groundHeight)" : r.name, std::to_string(r.step),
-                 r.level < 0 ? "-" : count(r.tiles), r.level < 0 ? "0" : num(r.tableMaxError), num(r.maxError),
-                 num(r.meanError), count(r.points), fmt(r.nsPerQuery, 1)});
+                 r.level < 0 ? "-" : count(r.tiles), r.level < 0 ? "0" : shortText(r.tableMaxError), shortText(r.maxError),
+                 shortText(r.meanError), count(r.points), fixedText(r.nsPerQuery, 1)});
   return t;
 }
 
@@ -122,10 +107,10 @@ Table fitterTable(const ReportData& d) {
   Table t{{"model", "triangles", "vertices", "hull points", "covariance m3", "hull-search m3", "CGAL optimal m3",
            "covariance / optimal", "hull-search / optimal", "covariance us", "hull-search us", "CGAL us"}};
   for (const FitterRow& r : d.fitters)
-    t.push_back({r.model, count(r.triangles), count(r.vertices), count(r.hullPoints), num(r.covarianceVolume),
-                 num(r.hullSearchVolume), num(r.optimalVolume), fmt(r.covarianceVolume / r.optimalVolume, 4),
-                 fmt(r.hullSearchVolume / r.optimalVolume, 4), fmt(r.covarianceMicros, 0), fmt(r.hullSearchMicros, 0),
-                 fmt(r.optimalMicros, 0)});
+    t.push_back({r.model, count(r.triangles), count(r.vertices), count(r.hullPoints), shortText(r.covarianceVolume),
+                 shortText(r.hullSearchVolume), shortText(r.optimalVolume), fixedText(r.covarianceVolume / r.optimalVolume, 4),
+                 fixedText(r.hullSearchVolume / r.optimalVolume, 4), fixedText(r.covarianceMicros, 0), fixedText(r.hullSearchMicros, 0),
+                 fixedText(r.optimalMicros, 0)});
   return t;
 }
 
@@ -167,8 +152,8 @@ std::string targetLines(const std::vector<Target>& targets) {
   for (const Target& x : targets)
     s << "- " << x.name << ": "
       << (std::isnan(x.value)                ? "none (no step blocked by equipment)"
-          : x.value == std::floor(x.value) ? fmt(x.value, 0)
-                                           : num(x.value))
+          : x.value == std::floor(x.value) ? fixedText(x.value, 0)
+                                           : shortText(x.value))
       << " (target " << x.what << "): **" << (x.met ? "met" : "NOT met") << "**\n";
   return s.str();
 }
@@ -184,14 +169,14 @@ std::string reportMarkdown(const ReportData& d) {
     s << (i ? ", " : " ") << "`" << d.scripts[i] << "` (" << (nested ? count(nested->plays[i].frames) : "?")
       << " frames)";
   s << " with nested (the frame counts of the other methods differ where they stop elsewhere), fixed step at "
-    << fmt(d.hz, 0) << " Hz\n";
+    << fixedText(d.hz, 0) << " Hz\n";
   s << "- settings: " << (d.quick ? "quick" : "full") << ": " << d.timingPlays
     << " timing play(s) per method and flythrough (each frame's time is the least over the plays), " << d.terrainPoints
     << " terrain points, " << d.fitterRepetitions << " fit(s) per model and fitter\n";
   s << "- cpu: " << d.cpu << "\n";
-  s << "- run time: timing " << fmt(d.seconds.timing, 1) << " s, accuracy " << fmt(d.seconds.accuracy, 1)
-    << " s, terrain " << fmt(d.seconds.terrain, 1) << " s, fitters " << fmt(d.seconds.fitters, 1) << " s, total "
-    << fmt(d.seconds.total, 1) << " s\n\n";
+  s << "- run time: timing " << fixedText(d.seconds.timing, 1) << " s, accuracy " << fixedText(d.seconds.accuracy, 1)
+    << " s, terrain " << fixedText(d.seconds.terrain, 1) << " s, fitters " << fixedText(d.seconds.fitters, 1) << " s, total "
+    << fixedText(d.seconds.total, 1) << " s\n\n";
 
   s << "## Contact methods\n\n"
     << "Every method plays every flythrough in timing plays and one accuracy play. The timing plays measure the "
@@ -201,7 +186,7 @@ std::string reportMarkdown(const ReportData& d) {
        "*missed* when the reference touches the real geometry before the method's contact (or the method finds "
        "none). A sweep the method stops while its path touches no triangle is an *early stop* when the real "
        "geometry lies further along the same direction (within "
-    << num(kEarlyStopHorizon) << " m: the volumes stop the body short of it) and a "
+    << shortText(kEarlyStopHorizon) << " m: the volumes stop the body short of it) and a "
        "*false block* when it does not (the body is stopped where nothing real is in the way); percentages are of "
        "the method's blocked sweeps. The *stop gap* is "
        "the exact distance from the body box to the nearest triangles after each step that ended blocked by "
@@ -239,8 +224,8 @@ std::string reportMarkdown(const ReportData& d) {
 Json aggregateJson(const Aggregate& a) {
   Json j;
   j["frames"] = a.frames;
-  j["us_per_frame"] = {{"p50", numOrNull(a.p50)}, {"p99", numOrNull(a.p99)}, {"mean", numOrNull(a.mean)}};
-  j["collision_us_p50"] = numOrNull(a.collisionP50);
+  j["us_per_frame"] = {{"p50", jsonNumber(a.p50)}, {"p99", jsonNumber(a.p99)}, {"mean", jsonNumber(a.mean)}};
+  j["collision_us_p50"] = jsonNumber(a.collisionP50);
   j["sweeps"] = a.sweeps;
   j["blocked_sweeps"] = a.blockedSweeps;
   j["reference_contacts"] = a.referenceContacts;
@@ -250,9 +235,9 @@ Json aggregateJson(const Aggregate& a) {
   j["false_blocks"] = a.falseBlocks;
   j["false_block_percent"] = a.falseBlockPercent;
   j["steps_blocked_by_equipment"] = a.equipmentBlocks;
-  j["stop_gap_mm"] = {{"samples", a.gaps}, {"mean", numOrNull(a.gapMeanMm)}, {"max", numOrNull(a.gapMaxMm)}};
-  j["bv_tests_per_frame"] = numOrNull(a.bvPerFrame);
-  j["triangle_tests_per_frame"] = numOrNull(a.trianglesPerFrame);
+  j["stop_gap_mm"] = {{"samples", a.gaps}, {"mean", jsonNumber(a.gapMeanMm)}, {"max", jsonNumber(a.gapMaxMm)}};
+  j["bv_tests_per_frame"] = jsonNumber(a.bvPerFrame);
+  j["triangle_tests_per_frame"] = jsonNumber(a.trianglesPerFrame);
   return j;
 }
 
@@ -272,7 +257,7 @@ Json reportJson(const ReportData& d) {
   for (const MethodResult& m : d.methods) {
     Json jm = {{"method", volumeMethodName(m.method)}, {"complete", m.complete()}};
     jm.update(aggregateJson(m.overall()));
-    jm["ratio_to_nested_p50"] = nested ? numOrNull(m.overall().p50 / nested->overall().p50) : Json(nullptr);
+    jm["ratio_to_nested_p50"] = nested ? jsonNumber(m.overall().p50 / nested->overall().p50) : Json(nullptr);
     Json plays = Json::array();
     for (const PlayStats& p : m.plays) {
       Json jp = {{"script", p.script}};
@@ -288,7 +273,7 @@ Json reportJson(const ReportData& d) {
   for (const TerrainLodRow& r : d.lod)
     lod.push_back({{"name", r.name}, {"level", r.level}, {"step", r.step}, {"tiles", r.tiles},
                    {"table_max_error_m", r.tableMaxError}, {"points", r.points}, {"max_error_m", r.maxError},
-                   {"mean_error_m", r.meanError}, {"ns_per_query", numOrNull(r.nsPerQuery)}});
+                   {"mean_error_m", r.meanError}, {"ns_per_query", jsonNumber(r.nsPerQuery)}});
   j["terrain_lod"] = {{"points", d.terrainPoints}, {"levels", lod}};
   Json fitters = Json::array();
   for (const FitterRow& r : d.fitters)
@@ -365,7 +350,7 @@ void writeReportFiles(const ReportData& d, const std::string& folder) {
 
 void printReportSummary(const ReportData& d, const std::string& folder, std::ostream& out) {
   out << "methods over " << d.scripts.size() << " flythroughs of " << d.scene << " (" << (d.quick ? "quick" : "full")
-      << ", " << fmt(d.seconds.total, 1) << " s):\n"
+      << ", " << fixedText(d.seconds.total, 1) << " s):\n"
       << plain(methodTable(d));
   printTargets(out, d.targets, 50, 6);
   out << "\nwrote " << folder << "/{";
@@ -373,4 +358,4 @@ void printReportSummary(const ReportData& d, const std::string& folder, std::ost
   out << "}\n";
 }
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

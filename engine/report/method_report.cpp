@@ -1,14 +1,17 @@
 // The methods report (method_report.h): the plays of every contact method over the flythroughs
 // (timing, and accuracy against the exact reference with the stop gaps), the aggregates and the
 // targets; then the files (report_writer.cpp).
-#include "tools/bench/method_report.h"
+#include "nestwalk/report/method_report.h"
 
-#include "engine/core/input_error.h"
-#include "engine/scene/scene.h"
-#include "engine/walker/flythrough.h"
-#include "engine/walker/script_player.h"
-#include "tools/bench/bench_runner.h"
-#include "tools/bench/method_report_data.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/machine.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
+#include "nestwalk/report/method_report_files.h"
+#include "nestwalk/report/reference_comparison.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_player.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,7 +21,7 @@
 #include <memory>
 #include <ostream>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 namespace {
 
 namespace fs = std::filesystem;
@@ -34,10 +37,6 @@ struct Settings {
 };
 constexpr Settings kFull{25, 1'000'000, 3, 10};
 constexpr Settings kQuick{5, 20'000, 3, 3};
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// The exact distance from the body box to the nearest unit's triangles: first to the unit that
 /// blocked (an upper bound), then to every unit whose outer AABB comes within that distance of the
@@ -70,8 +69,8 @@ void timingPlay(const Scene& scene, const CollisionWorld& world, const Script& s
   s.collisionMicros.resize(r.records.size());
   for (std::size_t i = 0; i < r.records.size(); ++i) {
     const auto& us = r.records[i].micros;
-    const double total = us[std::size_t(StepPart::Total)];
-    const double collision = us[std::size_t(StepPart::BroadPhase)] + us[std::size_t(StepPart::Narrow)];
+    const double total = us[StepPart::Total];
+    const double collision = us[StepPart::BroadPhase] + us[StepPart::Narrow];
     s.totalMicros[i] = first ? total : std::min(s.totalMicros[i], total);
     s.collisionMicros[i] = first ? collision : std::min(s.collisionMicros[i], collision);
   }
@@ -80,11 +79,8 @@ void timingPlay(const Scene& scene, const CollisionWorld& world, const Script& s
 /// The accuracy play: every sweep compared with the reference's, counters, stop gaps.
 void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorld& reference, const MeshWorld& meshes,
                   const Script& script, const WalkerOptions& options, PlayStats& s) {
-  world.compareWith(&reference, &s.tally);
-  struct Off {  // the comparison off again, however the play ends
-    CollisionWorld& w;
-    ~Off() { w.compareWith(nullptr, nullptr); }
-  } off{world};
+  ReferenceComparison comparison(reference);
+  const ObservedSweeps observed(world, comparison);
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);
   std::vector<std::uint32_t> near;
@@ -98,6 +94,7 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
     const double gap = stopGap(world, meshes, w.bodyVolume(st.feet, st.bodyYawDeg), st.blockedUnit, near);
     if (std::isfinite(gap)) s.gapsMm.push_back(1000.0 * gap);
   });
+  s.tally = comparison.tally();
 }
 
 }  // namespace
@@ -187,7 +184,7 @@ int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
   ReportData d;
   d.scene = o.scene;
   d.quick = o.quick;
-  d.cpu = cpuModel();
+  d.cpu = cpuModelName();
   d.timingPlays = settings.timingPlays;
   std::vector<Script> scripts;
   for (const std::string& s : o.scripts) {
@@ -269,4 +266,4 @@ int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
   return 0;
 }
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

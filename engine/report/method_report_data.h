@@ -1,10 +1,12 @@
 // What the methods report (method_report.h) measured, between the plays (method_report.cpp) and
-// the files written from it (report_writer.cpp).
+// the files written from it (method_report_files.h).
 #pragma once
 
-#include "engine/walker/collision_world.h"
-#include "tools/bench/bench_runner.h"
-#include "tools/bench/method_report.h"
+#include "nestwalk/report/fitter_table.h"
+#include "nestwalk/report/reference_comparison.h"
+#include "nestwalk/report/targets.h"
+#include "nestwalk/report/terrain_lod_table.h"
+#include "nestwalk/scene/method_spec.h"
 
 #include <cstdint>
 #include <iosfwd>
@@ -12,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 
 /// The methods in the report's order.
 inline constexpr VolumeMethod kReportMethods[] = {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb,
@@ -80,9 +82,5 @@ struct ReportData {
 /// at most 1 mm, p50 µs per frame at most twice nested's (the same run).
 std::vector<Target> reportTargets(const ReportData& d);
 
-/// report.md, report.json, pareto.png, methods.png and terrain_lod.png in `folder` (report_writer.cpp).
-void writeReportFiles(const ReportData& d, const std::string& folder);
-/// The method table, the targets and the files written, as plain text.
-void printReportSummary(const ReportData& d, const std::string& folder, std::ostream& out);
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

@@ -4,12 +4,12 @@
 // only: every text is drawn upper-cased, characters it lacks ('+', lower-case ones) as blanks.
 #pragma once
 
-#include "engine/report/canvas.h"
+#include "nestwalk/report/canvas.h"
 
 #include <string>
 #include <vector>
 
-namespace nestwalk::bench {
+namespace nestwalk {
 
 struct PlotPoint {
   double x = 0, y = 0;
@@ -49,4 +49,4 @@ void writeBarPlot(const std::string& path, const std::string& title,
                   const std::vector<std::pair<std::string, Rgb>>& series, const PlotAxis& y,
                   const std::vector<PlotBarGroup>& groups, int width = 900, int height = 500);
 
-}  // namespace nestwalk::bench
+}  // namespace nestwalk

@@ -1,0 +1,12 @@
+// What the machine is, for the header of every benchmark and report (speed figures mean little
+// without it).
+#pragma once
+
+#include <string>
+
+namespace nestwalk {
+
+/// The processor's model name from /proc/cpuinfo, "unknown" where there is none.
+std::string cpuModelName();
+
+}  // namespace nestwalk

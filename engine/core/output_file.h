@@ -1,0 +1,61 @@
+// Writing outputs without losing anything: every file or folder a command writes goes first to a
+// temporary name beside its target (the same folder, so the final rename stays on one file system
+// and is atomic) and replaces the target only once it is complete. A reader never sees a
+// half-written output, and a failed or interrupted write leaves the old one (if any) in place and
+// no temporary behind. The one home of this rule: reports, run outputs, rendered frames and
+// videos, imported terrain and generated scenes all use it.
+#pragma once
+
+#include <string>
+
+namespace nestwalk {
+
+/// The temporary name ".NAME.TAG-PID" + `extension` beside `target` (in the current folder for a
+/// bare name). Writers that choose their format by extension (osgDB, GDAL) pass the target's
+/// (".png", ".tif").
+std::string tempPathBeside(const std::string& target, const std::string& tag = "tmp",
+                           const std::string& extension = "");
+
+/// A temporary file beside `target`, removed again on destruction unless commit() renamed it onto
+/// the target. Also a scratch file that is never committed (e.g. a staging raster).
+class OutputFile {
+ public:
+  explicit OutputFile(const std::string& target, const std::string& extension = "", const std::string& tag = "tmp");
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  const std::string& tempPath() const { return temp_; }
+  const std::string& target() const { return target_; }
+  /// Renames the temporary file onto the target; throws InputError naming the target on failure.
+  void commit();
+
+ private:
+  std::string target_, temp_;
+  bool committed_ = false;
+};
+
+/// A temporary folder beside `target`, created empty (a stale one of the same name is removed
+/// first), removed with its contents on destruction unless commit() put it in place: commit()
+/// replaces the target folder (an existing one is moved aside and removed only after the rename).
+/// Throws InputError naming the folder when it cannot be created or committed.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::string& target);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  const std::string& tempPath() const { return temp_; }
+  const std::string& target() const { return target_; }
+  void commit();
+
+ private:
+  std::string target_, temp_;
+  bool committed_ = false;
+};
+
+/// Writes `content` to `path` through an OutputFile; throws InputError naming `path` on failure.
+void writeFileAtomically(const std::string& path, const std::string& content);
+
+}  // namespace nestwalk

@@ -1,0 +1,21 @@
+// Numbers as the reports and benchmarks print them: fixed-point text with "-" for a missing value
+// (NaN), and JSON numbers with null for it.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace nestwalk {
+
+/// Fixed-point with `decimals` digits after the point ("12.35"), "-" for NaN.
+std::string fixedText(double value, int decimals = 2);
+
+/// About 3 significant digits: whole numbers above 100 in full, small values (below 1e-4) in
+/// scientific notation; "0" for zero, "-" for NaN.
+std::string shortText(double value);
+
+/// The number, or JSON null for NaN.
+nlohmann::ordered_json jsonNumber(double value);
+
+}  // namespace nestwalk

@@ -1,0 +1,33 @@
+#include "nestwalk/report/reference_comparison.h"
+
+#include <algorithm>
+
+namespace nestwalk {
+namespace {
+
+/// The shortest step length the comparison divides by, metres: a zero-length step has no contact
+/// time to compare, and 1e-12 m keeps the slack finite (below it every contact is at t = 0).
+constexpr double kShortestStep = 1e-12;
+
+}  // namespace
+
+void ReferenceComparison::onSweep(const NestedVolume<double>& viewer, const Vec3<double>& d, const SweepHit& hit) {
+  CollisionCounters ignored;
+  const SweepHit exact = reference_.sweep(viewer, d, ignored);
+  const double length = d.norm();
+  // Both exact methods stop within kMeshContactTolerance of the triangles: a contact up to twice
+  // that later (as a fraction of the step) is the same contact.
+  const double slack = 2.0 * kMeshContactTolerance / std::max(length, kShortestStep);
+  ++tally_.sweeps;
+  tally_.contacts += hit.contact;
+  tally_.referenceContacts += exact.contact;
+  if (exact.contact && (!hit.contact || hit.t > exact.t + slack)) ++tally_.missed;
+  if (hit.contact && !exact.contact) {
+    // Would the real geometry stop the body further along the same direction?
+    const SweepHit further =
+        length > 0.0 ? reference_.sweep(viewer, d * (std::max(length, kEarlyStopHorizon) / length), ignored) : exact;
+    ++(further.contact ? tally_.earlyStops : tally_.falseBlocks);
+  }
+}
+
+}  // namespace nestwalk

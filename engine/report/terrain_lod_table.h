@@ -1,0 +1,31 @@
+// The ground-following part of the methods report (method_report.h): the height of every level of
+// the terrain mesh (terrain/terrain_mesh.h, tiles of 128 cells as the renderer cuts them) against
+// the full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+namespace terrain {
+class Heightfield;
+}
+
+/// One row of the terrain table: a level of the terrain mesh (or the heightfield itself).
+struct TerrainLodRow {
+  std::string name;           // "full" (Heightfield::groundHeight) or "L0", "L1", ...
+  int level = -1;             // -1 for the heightfield
+  int step = 1;               // samples per coarse cell side (2^level)
+  std::size_t tiles = 0;      // tiles that have the level
+  double tableMaxError = 0;   // TerrainMesh::levelTable()'s exact maximum error, metres
+  std::size_t points = 0;     // sample points where both surfaces exist
+  double maxError = 0, meanError = 0;  // measured |level - full resolution|, metres
+  double nsPerQuery = 0;      // the least over the timing repetitions
+};
+
+/// Ground following per level of detail: `points` uniform random map points over the terrain's
+/// sample extent (fixed seed), each query loop timed `repetitions` times.
+std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std::size_t points, int repetitions);
+
+}  // namespace nestwalk
