@@ -17,6 +17,20 @@ double wrapDegrees180(double degrees) {
   return w;
 }
 
+std::pair<double, double> sinCosDegrees(double degrees) {
+  const double reduced = std::fmod(degrees, 360.0);  // exact
+  if (reduced == std::trunc(reduced) && std::fmod(reduced, 90.0) == 0.0) {
+    switch ((int(reduced) / 90 + 4) % 4) {
+      case 0: return {0.0, 1.0};
+      case 1: return {1.0, 0.0};
+      case 2: return {0.0, -1.0};
+      default: return {-1.0, 0.0};
+    }
+  }
+  const double r = radians(reduced);
+  return {std::sin(r), std::cos(r)};
+}
+
 double headingOf(double east, double north) {
   if (east == 0.0 && north == 0.0) return 0.0;
   return wrapDegrees360(degrees(std::atan2(east, north)));

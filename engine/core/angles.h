@@ -4,6 +4,7 @@
 #pragma once
 
 #include <numbers>
+#include <utility>
 
 namespace nestwalk {
 
@@ -24,6 +25,11 @@ double wrapDegrees180(double degrees);
 /// The signed smallest turn from heading `from` to heading `to`, in (-180, 180] degrees (positive:
 /// clockwise, to the right).
 inline double turnBetween(double from, double to) { return wrapDegrees180(to - from); }
+
+/// {sin, cos} of an angle in degrees, exact (0, +-1) at whole multiples of 90 degrees (so heading
+/// 90 gives an exactly axis-aligned rotation); elsewhere std::sin and std::cos of the angle reduced
+/// to (-360, 360) and converted to radians.
+std::pair<double, double> sinCosDegrees(double degrees);
 
 /// The heading (degrees clockwise from north, in [0, 360)) of the horizontal direction (east,
 /// north); 0 for the zero vector.

@@ -13,6 +13,11 @@ inline double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// Microseconds from `start` to `end` on the steady clock.
+inline double microsBetween(std::chrono::steady_clock::time_point start, std::chrono::steady_clock::time_point end) {
+  return std::chrono::duration<double, std::micro>(end - start).count();
+}
+
 /// The least wall-clock time, in seconds, of `repetitions` calls of `run` (at least one call): the
 /// call least disturbed by the rest of the machine.
 template <class Run>

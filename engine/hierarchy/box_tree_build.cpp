@@ -1,22 +1,4 @@
-// Building a BoxTree (see box_tree.h): automatic top-down delta-ary trees and template trees.
-//
-// Automatic trees follow fACT's ABVHCD (seed 001, section 3: "parent volume is split in delta
-// parts ... if the number of primitives is equal or less than delta, leaf nodes for primitives
-// are constructed") with the splitting rules of Klosowski et al. 1998 (seed 003: longest side or
-// splatter = largest centroid variance; cut at the mean or the median). A delta-ary node is made
-// of log2(delta) rounds of binary splits of its units; a part with one unit becomes a leaf lane,
-// a larger part a child node. Each binary split is one pass for the statistics it needs plus
-// std::nth_element (median) or std::partition (mean) over a range of 40-byte items, so a level of
-// the tree costs O(n) and the build O(n log n) for median splits (mean splits on very skewed data
-// can be deeper, never worse than O(n^2/delta), and always terminate: an empty side makes the split
-// fall back to index halves).
-//
-// Split decisions use float copies of the boxes relative to the tree's origin (a heuristic: the
-// tree's correctness does not depend on where it splits). The stored node boxes are computed
-// afterwards, bottom up, as the exact union of the children's outward-rounded float boxes, and
-// the per-node double boxes (NodeInfo::box) as the exact union of the double unit boxes.
-// The build is iterative (explicit work stack), so deep trees cannot overflow the call stack.
-#include "nestwalk/hierarchy/box_tree_layout.h"
+#include "nestwalk/hierarchy/box_tree_build.h"
 
 #include <algorithm>
 #include <array>
@@ -378,27 +360,21 @@ class Builder {
 
 }  // namespace
 
-const char* splitAxisName(SplitAxis a) { return a == SplitAxis::LongestSide ? "longest" : "splatter"; }
-const char* splitPointName(SplitPoint p) { return p == SplitPoint::Mean ? "mean" : "median"; }
-
-BoxTree BoxTree::buildAuto(std::span<const Aabb<double>> boxes, const AutoTreeOptions& options) {
+void hierarchy_detail::buildAutoTree(TreeData& tree, std::span<const Aabb<double>> boxes, const AutoTreeOptions& options) {
   if (options.degree != 2 && options.degree != 4 && options.degree != 8)
     throw std::invalid_argument("BoxTree::buildAuto: degree must be 2, 4 or 8, got " + std::to_string(options.degree));
   checkBoxes(boxes, "BoxTree::buildAuto");
-  auto impl = std::make_shared<Impl>();
-  Builder b(*impl, boxes);
+  TreeData* impl = &tree;
+  Builder b(tree, boxes);
   b.items_.reserve(boxes.size());
   for (std::uint32_t i = 0; i < boxes.size(); ++i) b.items_.push_back(b.unitItem(i));
   b.run(Rule{options.degree, options.axis, options.point}, nullptr, 0);
   impl->description = "auto delta=" + std::to_string(options.degree) + " " + splitAxisName(options.axis) + "/" +
                       splitPointName(options.point);
-  BoxTree t;
-  t.impl_ = std::move(impl);
-  return t;
 }
 
-BoxTree BoxTree::buildTemplate(std::span<const Aabb<double>> boxes, std::span<const std::string> groupPaths,
-                               const TemplateTreeOptions& options) {
+void hierarchy_detail::buildTemplateTree(TreeData& tree, std::span<const Aabb<double>> boxes, std::span<const std::string> groupPaths,
+                       const TemplateTreeOptions& options) {
   checkBoxes(boxes, "BoxTree::buildTemplate");
   if (groupPaths.size() != boxes.size())
     throw std::invalid_argument("BoxTree::buildTemplate: " + std::to_string(groupPaths.size()) + " group paths for " +
@@ -442,19 +418,16 @@ BoxTree BoxTree::buildTemplate(std::span<const Aabb<double>> boxes, std::span<co
   // Group boxes bottom up (a group is created after its parent): exact unions of unit boxes.
   for (std::size_t g = groups.size(); g-- > 1;) groups[std::size_t(groups[g].parent)].box.extend(groups[g].box);
 
-  auto impl = std::make_shared<Impl>();
-  Builder b(*impl, boxes);
+  TreeData* impl = &tree;
+  Builder b(tree, boxes);
   b.items_.reserve(boxes.size() + groups.size());
   b.run(Rule{}, &groups, options.wideGroupChildren);
   std::size_t helpers = 0;
-  for (const NodeInfo& n : impl->nodes) helpers += n.helper ? 1 : 0;
+  for (const BoxTree::NodeInfo& n : impl->nodes) helpers += n.helper ? 1 : 0;
   impl->description = "template";
   if (helpers > 0)
     impl->description += " (+" + std::to_string(helpers) + " helper nodes under groups wider than " +
                          std::to_string(options.wideGroupChildren) + ")";
-  BoxTree t;
-  t.impl_ = std::move(impl);
-  return t;
 }
 
 }  // namespace nestwalk

@@ -22,6 +22,7 @@
 #include "nestwalk/render/nested_cull.h"
 #include "nestwalk/render/offscreen_context.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
 
 #include <osg/Geometry>
 #include <osg/Image>

@@ -10,6 +10,7 @@
 #include "nestwalk/report/method_report_files.h"
 #include "nestwalk/report/reference_comparison.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/script_player.h"
 

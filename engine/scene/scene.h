@@ -11,10 +11,7 @@
 #include "nestwalk/geometry/nested.h"
 #include "nestwalk/scene/scene_file.h"
 #include "nestwalk/terrain/heightfield.h"
-#include "nestwalk/terrain/terrain_mesh.h"
 
-#include <osg/LOD>
-#include <osg/MatrixTransform>
 #include <osg/Node>
 #include <osg/ref_ptr>
 
@@ -84,51 +81,5 @@ struct Scene {
   std::vector<std::string> unitGroups() const;           // units' group paths, for BoxTree
   int findUnit(const std::string& name) const;           // -1 when absent
 };
-
-struct SceneLoadOptions {
-  // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
-  // a scene at its UTM position and moved near the map origin and compare.
-  Eigen::Vector3d mapShift = Eigen::Vector3d::Zero();
-};
-
-// Loads the terrain (readDem), every model once (osgDB), fits volumes, places instances (z from
-// the ground where the file gives none) and forms the units. The default origin is the centre of
-// the terrain's sample extent (x, y) at z 0. Throws InputError naming the scene file: a bad terrain
-// (readDem's message), unreadable models (listed together), a model without vertices (named), the
-// instances with no ground under them (listed together). Model volumes: aabb = bounds of all the
-// model's vertices, hullPoints = convexHull's vertices, obb = fitObb(hullPoints, method.fitter).
-// With mapShift, the heightfield is rebuilt with the same samples and its origin moved (heights
-// move by mapShift.z, rounded to float; holes stay holes).
-Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options = {});
-Scene loadScene(const std::string& path, const SceneLoadOptions& options = {});
-
-struct SceneGraphOptions {
-  bool terrain = true;
-  bool equipment = true;
-  bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
-  int terrainTileCells = 128;
-  terrain::LodRule terrainLod;  // the LOD switch rule (screen size, field of view, pixels of error)
-};
-
-// What the renderer needs to find again in a built graph (buildSceneGraph's optional output).
-struct SceneGraphParts {
-  std::shared_ptr<const terrain::TerrainMesh> terrainMesh;  // null without terrain
-  std::vector<osg::ref_ptr<osg::LOD>> terrainTiles;         // tile i of terrainMesh->tiles() (null: no LOD)
-  osg::ref_ptr<osg::MatrixTransform> terrain;               // mesh frame -> local frame
-  osg::ref_ptr<osg::Group> equipment;                       // child i: instance i
-  osg::ref_ptr<osg::Group> volumes;
-};
-
-// The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
-// double) over
-//  - "terrain": a MatrixTransform moving the TerrainMesh frame (metres from sample (0, 0)) to the
-//    local frame, over one LOD per tile (TerrainMesh::makeLod);
-//  - "equipment": one MatrixTransform per instance (toLocal as a double matrix), named after the
-//    instance, over its model's node (the same node pointer for every instance of a model);
-//  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,
-//    lighting off, local frame.
-// For drawing and `nestwalk export`; the walker never touches it. terrainTileCells: a power of two.
-osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {},
-                                         SceneGraphParts* parts = nullptr);
 
 }  // namespace nestwalk

@@ -1,5 +1,5 @@
 // The OpenSceneGraph graph of a loaded scene (scene.h, buildSceneGraph).
-#include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
 #include "nestwalk/terrain/terrain_mesh.h"
 
 #include <osg/Geode>

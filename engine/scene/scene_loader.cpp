@@ -4,7 +4,7 @@
 #include "nestwalk/geometry/convex_hull.h"
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/scene/model_geometry.h"
-#include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
 
 #include <osgDB/Registry>
@@ -13,26 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <numbers>
 
 namespace nestwalk {
 namespace {
-
-/// sin and cos of an angle in degrees, exact (0, +-1) at multiples of 90 degrees so that heading
-/// 90 gives an exactly axis-aligned rotation; elsewhere std::sin/std::cos of the radian value.
-std::pair<double, double> sinCosDegrees(double degrees) {
-  const double reduced = std::fmod(degrees, 360.0);  // exact
-  if (reduced == std::trunc(reduced) && std::fmod(reduced, 90.0) == 0.0) {
-    switch ((int(reduced) / 90 + 4) % 4) {
-      case 0: return {0.0, 1.0};
-      case 1: return {1.0, 0.0};
-      case 2: return {0.0, -1.0};
-      default: return {-1.0, 0.0};
-    }
-  }
-  const double radians = reduced * (std::numbers::pi / 180.0);
-  return {std::sin(radians), std::cos(radians)};
-}
 
 /// The exact AABB of `local` = t.apply(model points), rounded outward as aabbOf (volumes.h) rounds:
 /// by kOutwardRounding times the magnitudes involved in s * R * p + t (|t| + s * max |p| per axis),
@@ -73,37 +56,6 @@ terrain::Heightfield shifted(const terrain::Heightfield& hf, const Eigen::Vector
 std::string quotedName(const EquipmentSpec& e) { return "'" + e.name + "'"; }
 
 }  // namespace
-
-Mat3<double> attitudeRotation(double headingDeg, double pitchDeg, double rollDeg) {
-  const auto [sh, ch] = sinCosDegrees(-headingDeg);
-  const auto [sp, cp] = sinCosDegrees(pitchDeg);
-  const auto [sr, cr] = sinCosDegrees(rollDeg);
-  Mat3<double> rz, rx, ry;
-  rz << ch, -sh, 0, sh, ch, 0, 0, 0, 1;
-  rx << 1, 0, 0, 0, cp, -sp, 0, sp, cp;
-  ry << cr, 0, sr, 0, 1, 0, -sr, 0, cr;
-  return rz * rx * ry;
-}
-
-std::vector<Aabb<double>> Scene::unitBoxes() const {
-  std::vector<Aabb<double>> out;
-  out.reserve(units.size());
-  for (const auto& u : units) out.push_back(u.volume.outer);
-  return out;
-}
-
-std::vector<std::string> Scene::unitGroups() const {
-  std::vector<std::string> out;
-  out.reserve(units.size());
-  for (const auto& u : units) out.push_back(u.group);
-  return out;
-}
-
-int Scene::findUnit(const std::string& name) const {
-  for (std::size_t i = 0; i < units.size(); ++i)
-    if (units[i].name == name) return int(i);
-  return -1;
-}
 
 Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   return loadScene(readSceneFile(path), options);

@@ -8,8 +8,9 @@
 //   forward = (sin H cos P, cos H cos P, sin P),  right = (cos H, -sin H, 0),
 // which is the rotation Rz(-H) * Rx(90 + P): Rx(90) turns the camera's -Z onto north and its +Y
 // onto up; Rx(P) pitches about east; Rz(-H) turns clockwise seen from above.
-#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/animation_path.h"
 
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 
@@ -24,9 +25,6 @@
 namespace nestwalk {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegPerRad = 180.0 / kPi;
-
 // Control points closer than this (metres) are the same place: the camera only turned or
 // waited there. 1 mm is far below any walking step (speed × dt is centimetres at least) and far
 // above the rounding of map coordinates written with 15 significant digits (1e-8 m at 1e7 m).
@@ -40,12 +38,6 @@ constexpr double kVerticalViewEpsilon = 1e-9;
 // A quaternion shorter than this is no rotation (the file is broken); real ones are unit length
 // to the 15 digits osg writes.
 constexpr double kMinQuaternionNorm = 1e-6;
-
-double wrap360(double h) {
-  h = std::fmod(h, 360.0);
-  if (h < 0) h += 360.0;
-  return h >= 360.0 ? 0.0 : h;  // fmod of -tiny + 360 rounds to 360
-}
 
 /// Shortest text that reads back to exactly `v` (locale-independent).
 void appendNumber(std::string& out, double v) {
@@ -119,8 +111,8 @@ std::vector<ControlPoint> parseControlPoints(const std::string& text, const std:
 }  // namespace
 
 Eigen::Vector4d cameraQuaternion(double headingDeg, double pitchDeg) {
-  const Eigen::Quaterniond q = Eigen::AngleAxisd(-headingDeg / kDegPerRad, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd((90.0 + pitchDeg) / kDegPerRad, Eigen::Vector3d::UnitX());
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(-headingDeg / kDegreesPerRadian, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd((90.0 + pitchDeg) / kDegreesPerRadian, Eigen::Vector3d::UnitX());
   return Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
 }
 
@@ -128,12 +120,12 @@ void headingPitchFromQuaternion(const Eigen::Vector4d& xyzw, double& headingDeg,
   const Eigen::Quaterniond q = Eigen::Quaterniond(xyzw.w(), xyzw.x(), xyzw.y(), xyzw.z()).normalized();
   const Eigen::Vector3d forward = q * Eigen::Vector3d(0, 0, -1);
   const double horizontal = std::hypot(forward.x(), forward.y());
-  pitchDeg = std::atan2(forward.z(), horizontal) * kDegPerRad;
+  pitchDeg = std::atan2(forward.z(), horizontal) * kDegreesPerRadian;
   if (horizontal > kVerticalViewEpsilon) {
-    headingDeg = wrap360(std::atan2(forward.x(), forward.y()) * kDegPerRad);
+    headingDeg = wrapDegrees360(std::atan2(forward.x(), forward.y()) * kDegreesPerRadian);
   } else {
     const Eigen::Vector3d right = q * Eigen::Vector3d(1, 0, 0);  // (cos H, -sin H, 0)
-    headingDeg = wrap360(std::atan2(-right.y(), right.x()) * kDegPerRad);
+    headingDeg = wrapDegrees360(std::atan2(-right.y(), right.x()) * kDegreesPerRadian);
   }
 }
 

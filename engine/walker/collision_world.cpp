@@ -1,5 +1,6 @@
 #include "nestwalk/walker/collision_world.h"
 
+#include "nestwalk/core/stopwatch.h"
 #include "nestwalk/scene/scene.h"
 
 #include <algorithm>
@@ -13,10 +14,6 @@ namespace {
 /// AABB of its inner OBB (the outer AABB need not contain the OBB; see scene.h).
 Aabb<double> broadPhaseBox(const NestedVolume<double>& v, VolumeMethod m) {
   return m == VolumeMethod::Obb ? aabbOf(v.inner) : v.outer;
-}
-
-double micros(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-  return std::chrono::duration<double, std::micro>(b - a).count();
 }
 
 }  // namespace
@@ -152,8 +149,8 @@ SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<do
   }
   if (timing_) {
     const Clock::time_point t2 = Clock::now();
-    counters.broadMicros += micros(t0, t1);
-    counters.narrowMicros += micros(t1, t2);
+    counters.broadMicros += microsBetween(t0, t1);
+    counters.narrowMicros += microsBetween(t1, t2);
   }
   if (observer_) observer_->onSweep(viewer, d, hit);
   return hit;

@@ -2,6 +2,7 @@
 // writes, what the report and the benchmarks aggregate). No files here: the report side writes them (engine/report).
 #pragma once
 
+#include "nestwalk/walker/animation_path.h"
 #include "nestwalk/walker/frame_record.h"
 #include "nestwalk/walker/script.h"
 #include "nestwalk/walker/walker.h"

@@ -8,6 +8,17 @@
 #include <limits>
 
 namespace nestwalk {
+namespace {
+
+/// Metres along the step: already within the contact tolerance at its start, the body presses
+/// into the triangles when moving this far along the step brings it closer (1 mm is far above the
+/// distance's rounding and far below any step).
+constexpr double kPressProbeDistance = 1e-3;
+/// Metres: conservative advancement stops this far short of the computed distance, so that the
+/// last advance lands within the contact tolerance instead of on the surface.
+constexpr double kAdvanceMargin = 0.5 * kMeshContactTolerance;
+
+}  // namespace
 
 std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
@@ -76,14 +87,14 @@ std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, co
     // only if the motion presses in (the walker must be able to move away from a contact).
     Contact contact{t, true};
     if (t == 0.0 && length > 0.0) {
-      const double probe = std::min(1.0, 1e-3 / length);  // 1 mm along the step
+      const double probe = std::min(1.0, kPressProbeDistance / length);
       contact.pressing = distanceAt(probe) < dist;
     }
     return contact;
   }
   if (length == 0.0) return std::nullopt;
   for (int i = 0; i < kMaxAdvancementSteps; ++i) {
-    t += (dist - 0.5 * kMeshContactTolerance) / length;  // stop half the tolerance short of the surface
+    t += (dist - kAdvanceMargin) / length;
     if (t > 1.0) return std::nullopt;
     dist = distanceAt(t);
     if (dist <= kMeshContactTolerance) return Contact{t, true};

@@ -32,6 +32,9 @@ enum class MeshTreeKind : std::uint8_t { Obb, Kdop18 };
 // Contact: within this distance of the triangles (metres). The walker then stops kStopDistance
 // (0.5 mm) short along its step, so the stop gap stays within about 0.6 mm.
 inline constexpr double kMeshContactTolerance = 1e-4;
+// Advancement steps per sweep at most: a motion grazing a face keeps the distance small and the
+// steps short; at the cap the current t is returned (a conservative early contact). 4096 steps
+// of at least kMeshContactTolerance / 2 cover 0.2 m, more than any step at walking speeds.
 inline constexpr int kMaxAdvancementSteps = 4096;
 
 class MeshWorld {

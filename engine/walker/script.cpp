@@ -3,6 +3,8 @@
 // Numbers go through std::from_chars, so a script reads the same under any C/C++ locale.
 #include "nestwalk/walker/script.h"
 
+#include "nestwalk/walker/animation_path.h"
+
 #include "nestwalk/core/input_error.h"
 
 #include <algorithm>

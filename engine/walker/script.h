@@ -63,27 +63,4 @@ inline constexpr double kBlockedTimeout = 0.5;  // seconds without progress that
 Script parseScript(const std::string& text, const std::string& path);  // throws InputError
 Script readScript(const std::string& path);  // a script file, or an osgviewer AnimationPath (.path)
 
-// An OpenSceneGraph AnimationPath (as osgviewer records with 'z' and AnimationPathManipulator
-// reads: lines "time x y z qx qy qz qw", camera orientation) made into a script: `mode fly`, a
-// start at the first control point, then for each later point a `speed` (distance over the time
-// between points), `heading`/`look` from the camera orientation and a `goto x y z`; points closer
-// than 1 mm in space become a `wait`. Positions are map coordinates (export writes the scene in
-// map coordinates).
-Script scriptFromAnimationPath(const std::string& text, const std::string& path);
-
-struct CameraSample {
-  double time = 0;
-  Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // map frame
-  double headingDeg = 0, pitchDeg = 0;
-};
-
-// OSG camera orientation (camera looks down its -Z with +Y up) for a heading and pitch in a z-up
-// map frame, as a quaternion (x, y, z, w); and back.
-Eigen::Vector4d cameraQuaternion(double headingDeg, double pitchDeg);
-void headingPitchFromQuaternion(const Eigen::Vector4d& q, double& headingDeg, double& pitchDeg);
-
-// Writes an AnimationPath text file osgviewer replays (`osgviewer scene.osgb -p run.path`);
-// through a temporary file renamed at the end.
-void writeAnimationPath(const std::string& path, const std::vector<CameraSample>& samples);
-
 }  // namespace nestwalk

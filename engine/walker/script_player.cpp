@@ -1,5 +1,6 @@
 #include "nestwalk/walker/script_player.h"
 
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 
 #include <cmath>
@@ -8,27 +9,16 @@
 namespace nestwalk {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-/// Heading (degrees clockwise from north, in [0, 360)) of a horizontal direction.
-double headingOf(double dx, double dy) {
-  double h = std::atan2(dx, dy) * 180.0 / kPi;
-  if (h < 0) h += 360.0;
-  return h;
-}
-
-/// Signed smallest turn from a to b, degrees in (-180, 180].
-double turnBetween(double a, double b) {
-  double d = std::fmod(b - a, 360.0);
-  if (d > 180.0) d -= 360.0;
-  if (d <= -180.0) d += 360.0;
-  return d;
-}
-
-double wrap360(double h) {
-  h = std::fmod(h, 360.0);
-  return h < 0 ? h + 360.0 : h;
-}
+/// Metres: closer than this horizontally, the direction to a target is no longer re-aimed every
+/// step (it would swing wildly over the last millimetres); the motion still ends at the target.
+constexpr double kReaimDistance = 0.01;
+/// Seconds: sums of dt round; a wait that reached kBlockedTimeout up to this much counts as reached.
+constexpr double kTimeSlack = 1e-9;
+/// Steps: T / dt for a T of a whole number of steps may round a hair above it; not an extra step.
+constexpr double kStepCountSlack = 1e-9;
+/// Metres: `expect clearance at least C` allows this much rounding of the feet's height above the
+/// ground (the walker keeps exactly C, computed in double at map magnitudes).
+constexpr double kClearanceSlack = 1e-9;
 
 bool nameMatches(const std::string& name, const std::string& want) {
   return name == want || (name.size() > want.size() && name.compare(0, want.size(), want) == 0 &&
@@ -74,10 +64,10 @@ void ScriptPlayer::turnTo(double headingDeg, const StepCallback& onStep) {
   double left = turnBetween(walker_.state().headingDeg, headingDeg);
   while (std::abs(left) > maxTurn) {
     const double turn = std::copysign(maxTurn, left);
-    stepOnce(Eigen::Vector3d::Zero(), wrap360(walker_.state().headingDeg + turn), walker_.state().pitchDeg, onStep);
+    stepOnce(Eigen::Vector3d::Zero(), wrapDegrees360(walker_.state().headingDeg + turn), walker_.state().pitchDeg, onStep);
     left -= turn;
   }
-  walker_.setView(wrap360(headingDeg), walker_.state().pitchDeg);
+  walker_.setView(wrapDegrees360(headingDeg), walker_.state().pitchDeg);
 }
 
 void ScriptPlayer::pitchTo(double pitchDeg, const StepCallback& onStep) {
@@ -120,12 +110,12 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     const bool last = dist <= stepLen * (1.0 + kLastStepSlack);
     const Eigen::Vector3d move = last ? d : Eigen::Vector3d(d * (stepLen / dist));
     double heading = walker_.state().headingDeg;
-    if (aim && d.head<2>().norm() > 0.01) {
+    if (aim && d.head<2>().norm() > kReaimDistance) {
       // Re-aim (a slide may have moved the viewer off the line), within the turn rate.
       const double want = headingOf(d.x(), d.y());
       const double turn = turnBetween(heading, want);
       const double maxTurn = kTurnRate * dt;
-      heading = wrap360(heading + (std::abs(turn) <= maxTurn ? turn : std::copysign(maxTurn, turn)));
+      heading = wrapDegrees360(heading + (std::abs(turn) <= maxTurn ? turn : std::copysign(maxTurn, turn)));
     }
     const Eigen::Vector3d before = walker_.state().feet;
     stepOnce(move, heading, walker_.state().pitchDeg, onStep);
@@ -134,7 +124,7 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
       // Only height left and none gained: the flying clearance holds the viewer above the target.
       if (d.head<2>().norm() <= kArrivalTolerance) break;
       stuck += dt;
-      if (stuck >= kBlockedTimeout - 1e-9) break;
+      if (stuck >= kBlockedTimeout - kTimeSlack) break;
     } else {
       stuck = 0;
     }
@@ -200,7 +190,7 @@ void ScriptPlayer::expect(const ScriptCommand& c) {
         r.detail = "no ground under the viewer";
       } else {
         const double clear = s.feet.z() - *g;
-        r.met = clear >= c.tolerance - 1e-9;
+        r.met = clear >= c.tolerance - kClearanceSlack;
         r.detail = "clearance " + fmt("%.4f", clear) + " m";
       }
       break;
@@ -252,7 +242,7 @@ void ScriptPlayer::run(const StepCallback& onStep) {
           if (!c.hasZ) t.z() = eye.z();
           goTo(t, c.hasZ, true, onStep);
         } else if (c.op == ScriptOp::Move) {
-          const double h = s.headingDeg * kPi / 180.0;
+          const double h = radians(s.headingDeg);
           goTo(eye + c.v.x() * Eigen::Vector3d(std::sin(h), std::cos(h), 0), false, false, onStep);
         } else {
           goTo(eye + c.v, c.hasZ, false, onStep);
@@ -260,16 +250,16 @@ void ScriptPlayer::run(const StepCallback& onStep) {
         break;
       }
       case ScriptOp::Turn:
-        turnTo(wrap360(s.headingDeg + c.v.x()), onStep);
+        turnTo(wrapDegrees360(s.headingDeg + c.v.x()), onStep);
         break;
       case ScriptOp::Heading:
-        turnTo(wrap360(c.v.x()), onStep);
+        turnTo(wrapDegrees360(c.v.x()), onStep);
         break;
       case ScriptOp::Look:
         pitchTo(c.v.x(), onStep);
         break;
       case ScriptOp::Wait: {
-        const auto n = std::uint64_t(std::ceil(c.v.x() / dt - 1e-9));
+        const auto n = std::uint64_t(std::ceil(c.v.x() / dt - kStepCountSlack));
         for (std::uint64_t i = 0; i < n; ++i)
           stepOnce(Eigen::Vector3d::Zero(), s.headingDeg, s.pitchDeg, onStep);
         break;

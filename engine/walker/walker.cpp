@@ -1,5 +1,8 @@
 #include "nestwalk/walker/walker.h"
 
+#include "nestwalk/core/angles.h"
+#include "nestwalk/core/stopwatch.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,18 +10,23 @@
 namespace nestwalk {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-
 /// Unit forward vector of a heading (clockwise from north = map +y).
 Eigen::Vector2d forwardOf(double headingDeg) {
-  return {std::sin(headingDeg * kDeg), std::cos(headingDeg * kDeg)};
+  return {std::sin(radians(headingDeg)), std::cos(radians(headingDeg))};
 }
 
 using Clock = std::chrono::steady_clock;
-double micros(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::micro>(b - a).count();
-}
+
+/// Nu, the volumes updated per step, counts each of the body's two volumes (outer AABB and inner
+/// OBB) every time the body is placed somewhere new and rebuilt (seed 000's cost model counts
+/// volumes, not bodies).
+constexpr std::uint64_t kVolumesPerBody = 2;
+/// Back-offs from a contact at most: each doubles the distance backed off (kStopDistance, then 2,
+/// 4, ... times it), so 60 reach any step's length long before the cap.
+constexpr int kMaxBackOffs = 60;
+/// Metres: a slide direction or a rest of the step shorter than this is no motion (far below any
+/// step, far above the rounding of a projection at local-frame magnitudes).
+constexpr double kNegligibleLength = 1e-9;
 
 }  // namespace
 
@@ -144,7 +152,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
       lowest = *std::max_element(h.begin(), h.end()) + state_.clearance;
     target.z() = std::max(target.z(), lowest);
   } else if (n > 0) {
-    const double maxSlope = std::tan(v.maxSlopeDeg * kDeg);
+    const double maxSlope = std::tan(radians(v.maxSlopeDeg));
     const Eigen::Vector2d dir = move.head<2>() / len;
     const Eigen::Vector2d f = forwardOf(yaw), s(-f.y(), f.x());
     const double alongF = dir.dot(f), alongS = dir.dot(s);
@@ -175,7 +183,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   Clock::time_point t1;
   if (options_.timeParts) {
     t1 = Clock::now();
-    report.micros[StepPart::Ground] += micros(t0, t1);
+    report.micros[StepPart::Ground] += microsBetween(t0, t1);
   }
 
   // 2. The equipment: the swept nested test along the straight leg start -> target.
@@ -183,14 +191,14 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   Eigen::Vector3d end = target;
   if (!d.isZero()) {
     const NestedVolume<double> body = bodyVolume(start, yaw);
-    report.volumesUpdated += 2;
+    report.volumesUpdated += kVolumesPerBody;
     const SweepHit hit = world_.sweep(body, d, report.counters);
     if (hit.contact) {
       const double back = kStopDistance / d.norm();
       double t = std::max(0.0, hit.t - back);
       // Never end inside: the static test has the last word (it is conservative by its bands).
-      for (int i = 0; i < 60 && t > 0.0; ++i) {
-        report.volumesUpdated += 2;
+      for (int i = 0; i < kMaxBackOffs && t > 0.0; ++i) {
+        report.volumesUpdated += kVolumesPerBody;
         if (world_.overlapping(bodyVolume(start + d * t, yaw), report.counters) < 0) break;
         t = std::max(0.0, t - back * std::ldexp(1.0, i));
       }
@@ -200,7 +208,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
         const std::optional<double> z = terrain_.groundHeight(end.x(), end.y());
         if (z) {
           const Eigen::Vector3d grounded(end.x(), end.y(), *z);
-          report.volumesUpdated += 2;
+          report.volumesUpdated += kVolumesPerBody;
           if (world_.overlapping(bodyVolume(grounded, yaw), report.counters) < 0) end = grounded;
         }
       }
@@ -228,7 +236,7 @@ StepReport Walker::step(const StepInput& in) {
     // footprint would overhang a hole or the raster's edge (a pose place() refuses; from it, short
     // steps would all fail their first ground sample and the walker would be stuck).
     std::array<double, 5> h{};
-    report.volumesUpdated += 2;
+    report.volumesUpdated += kVolumesPerBody;
     if (footprintHeights(state_.feet.x(), state_.feet.y(), in.headingDeg, h) &&
         world_.overlapping(bodyVolume(state_.feet, in.headingDeg), report.counters) < 0)
       state_.bodyYawDeg = in.headingDeg;
@@ -254,11 +262,11 @@ StepReport Walker::step(const StepInput& in) {
       rest.z() = 0;
     }
     const double nn = nrm.norm();
-    if (!(nn > 1e-9)) break;
+    if (!(nn > kNegligibleLength)) break;
     nrm /= nn;
     const double into = rest.dot(nrm);
     if (into < 0) rest -= into * nrm;
-    if (!(rest.norm() > 1e-9)) break;
+    if (!(rest.norm() > kNegligibleLength)) break;
     move = rest;
   }
 
@@ -271,10 +279,10 @@ StepReport Walker::step(const StepInput& in) {
   state_.time = double(state_.frame) * options_.dt;
   if (options_.timeParts) {
     const Clock::time_point t1 = Clock::now();
-    report.micros[StepPart::Ground] += micros(tg, t1);
+    report.micros[StepPart::Ground] += microsBetween(tg, t1);
     report.micros[StepPart::BroadPhase] = report.counters.broadMicros;
     report.micros[StepPart::Narrow] = report.counters.narrowMicros;
-    report.micros[StepPart::Total] = micros(t0, t1);
+    report.micros[StepPart::Total] = microsBetween(t0, t1);
   }
   return report;
 }

@@ -9,6 +9,7 @@
 
 #include "nestwalk/geometry/volumes.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/collision_world.h"
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/walker.h"

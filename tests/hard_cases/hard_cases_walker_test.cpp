@@ -9,6 +9,7 @@
 // suite's own transform (Eigen, the documented heading/pitch/roll/scale convention); closed forms
 // where the geometry is axis-aligned. The engine's trees are not consulted for any reference.
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/collision_world.h"
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/walker.h"

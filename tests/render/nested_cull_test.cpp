@@ -5,6 +5,8 @@
 // (SceneView, no GL context needed for culling) that shows which instances get traversed.
 #include "nestwalk/render/nested_cull.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>

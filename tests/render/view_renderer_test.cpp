@@ -6,6 +6,7 @@
 #include "nestwalk/render/view_renderer.h"
 
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 
 #include <gtest/gtest.h>
 

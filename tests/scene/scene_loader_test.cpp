@@ -5,6 +5,8 @@
 #include "nestwalk/geometry/volumes.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>

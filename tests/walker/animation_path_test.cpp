@@ -1,6 +1,7 @@
 // OpenSceneGraph AnimationPath files (engine/walker/script.h) against OSG itself: the camera
 // orientation against osg::Matrixd::lookAt, the written file against osg::AnimationPath::read and
 // osgGA::AnimationPathManipulator, and the script made from a file osg::AnimationPath::write wrote.
+#include "nestwalk/walker/animation_path.h"
 #include "nestwalk/walker/script.h"
 
 #include "nestwalk/core/input_error.h"

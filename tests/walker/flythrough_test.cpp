@@ -2,6 +2,7 @@
 // position and moved near the map origin (terrain, equipment and script shifted together) gives
 // the same contacts and heights, and every step's eye stands eye_height above the terrain query.
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 
 #include <gtest/gtest.h>

@@ -7,6 +7,7 @@
 #include "nestwalk/report/reference_comparison.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/script_player.h"

@@ -3,6 +3,7 @@
 
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "tools/bench/bench_runner.h"
 

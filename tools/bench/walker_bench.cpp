@@ -1,6 +1,7 @@
 #include "tools/bench/walker_bench.h"
 
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "tools/bench/bench_runner.h"
 #include "tools/bench/broadphase_bench.h"

@@ -6,6 +6,8 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "tools/nestwalk/commands.h"
 
 #include <osgDB/FileNameUtils>

@@ -14,6 +14,7 @@
 #include "nestwalk/report/run_summary.h"
 #include "nestwalk/report/top_down_map.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "tools/nestwalk/commands.h"
 

@@ -1,0 +1,48 @@
+// The OpenSceneGraph graph of a loaded scene, for drawing (the renderer, `nestwalk export`): the
+// terrain's LOD tiles and the equipment's instances over shared model nodes, optionally the
+// volumes as wireframes. The walker never touches it.
+#pragma once
+
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/terrain/terrain_mesh.h"
+
+#include <osg/Group>
+#include <osg/LOD>
+#include <osg/MatrixTransform>
+#include <osg/ref_ptr>
+
+#include <memory>
+#include <vector>
+
+namespace nestwalk {
+
+struct SceneGraphOptions {
+  bool terrain = true;
+  bool equipment = true;
+  bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
+  int terrainTileCells = 128;
+  terrain::LodRule terrainLod;  // the LOD switch rule (screen size, field of view, pixels of error)
+};
+
+// What the renderer needs to find again in a built graph (buildSceneGraph's optional output).
+struct SceneGraphParts {
+  std::shared_ptr<const terrain::TerrainMesh> terrainMesh;  // null without terrain
+  std::vector<osg::ref_ptr<osg::LOD>> terrainTiles;         // tile i of terrainMesh->tiles() (null: no LOD)
+  osg::ref_ptr<osg::MatrixTransform> terrain;               // mesh frame -> local frame
+  osg::ref_ptr<osg::Group> equipment;                       // child i: instance i
+  osg::ref_ptr<osg::Group> volumes;
+};
+
+// The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
+// double) over
+//  - "terrain": a MatrixTransform moving the TerrainMesh frame (metres from sample (0, 0)) to the
+//    local frame, over one LOD per tile (TerrainMesh::makeLod);
+//  - "equipment": one MatrixTransform per instance (toLocal as a double matrix), named after the
+//    instance, over its model's node (the same node pointer for every instance of a model);
+//  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,
+//    lighting off, local frame.
+// For drawing and `nestwalk export`; the walker never touches it. terrainTileCells: a power of two.
+osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {},
+                                         SceneGraphParts* parts = nullptr);
+
+}  // namespace nestwalk
