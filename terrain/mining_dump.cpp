@@ -1,14 +1,16 @@
 #include "nestwalk/terrain/mining_dump.h"
 
+#include "nestwalk/core/angles.h"
+
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <stdexcept>
 
 namespace nestwalk::terrain {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Uniform in [0, 1) from the generator's raw 64 bits (no library distribution).
 double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
@@ -66,7 +68,7 @@ MiningDump generateMiningDump(const MiningDumpParams& p) {
 
   // Natural ground: a gentle plane and slow undulations around baseLevel.
   const double baseLevel = uniform(rng, 40.0, 80.0);
-  const double planeAz = uniform(rng, 0.0, 2.0 * kPi), planeGrade = uniform(rng, 0.002, 0.008);
+  const double planeAz = uniform(rng, 0.0, 2.0 * std::numbers::pi), planeGrade = uniform(rng, 0.002, 0.008);
   const std::uint64_t groundSeed = rng(), roughSeed = rng();
   auto ground = [&](double e, double nn) {
     const double de = e - p.centreE, dn = nn - p.centreN;
@@ -81,13 +83,13 @@ MiningDump generateMiningDump(const MiningDumpParams& p) {
   L.centreN = p.centreN + uniform(rng, -0.04, 0.04) * side;
   L.halfLength = side * uniform(rng, 0.26, 0.30);
   L.halfWidth = side * uniform(rng, 0.16, 0.18);
-  const double faceRun = p.benchHeight / std::tan(p.faceSlopeDeg * kPi / 180.0);
+  const double faceRun = p.benchHeight / std::tan(radians(p.faceSlopeDeg));
   const double period = faceRun + p.bermWidth;
   const int benches = std::max(1, std::min(p.benches, int((L.halfWidth - 0.25 * L.halfWidth) / period)));
   const double radius = std::min(0.3 * L.halfWidth, 60.0);
   L.baseHeight = ground(L.centreE, L.centreN);
   L.topHeight = L.baseHeight + benches * p.benchHeight;
-  const double az = L.azimuthDeg * kPi / 180.0;
+  const double az = radians(L.azimuthDeg);
   const double ae = std::sin(az), an = std::cos(az);  // long axis (u)
   const double be = std::cos(az), bn = -std::sin(az);  // across (v), azimuth az + 90
   auto profile = [&](double s) {                       // height above the toe, s metres inside it
@@ -102,7 +104,7 @@ MiningDump generateMiningDump(const MiningDumpParams& p) {
   const double rampV = -0.6 * std::max(topHalfWidth, 5.0), rampHalfWidth = 10.0;
   const double rampStart = -L.halfLength - 40.0, rampEnd = 0.3 * std::max(topHalfLength, 0.0);
   const double rampGrade = (L.topHeight - L.baseHeight) / (rampEnd - rampStart);
-  const double sideTan = std::tan(p.faceSlopeDeg * kPi / 180.0);
+  const double sideTan = std::tan(radians(p.faceSlopeDeg));
 
   // Pits in the natural ground, clear of the dump, the ditch and the ramp's foot.
   std::vector<Pit> pits;

@@ -1,6 +1,7 @@
 #include "nestwalk/terrain/terrain_import.h"
 
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/gdal_util.h"
 
@@ -17,7 +18,6 @@
 #include <filesystem>
 #include <limits>
 #include <system_error>
-#include <unistd.h>
 
 namespace nestwalk::terrain {
 namespace {
@@ -25,19 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A file removed when it goes unless released.
-struct TempFile {
-  std::string path;
-  explicit TempFile(std::string p) : path(std::move(p)) {}
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-  ~TempFile() {
-    if (!path.empty()) {
-      std::error_code ec;
-      fs::remove(path, ec);
-    }
-  }
-};
-
 /// A NULL-terminated argv for GDAL's utility option parsers.
 struct Argv {
   std::vector<std::string> args;
@@ -71,13 +58,6 @@ struct StageProgress {
   }
 };
 
-/// Temporary names beside OUT (same folder: the final rename stays on one file system).
-std::string tempBeside(const std::string& out, const char* tag) {
-  const fs::path p(out);
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  return (dir / ("." + p.filename().string() + "." + tag + "-" + std::to_string(::getpid()) + ".tif")).string();
-}
-
 void checkOutput(const std::string& in, const std::string& out, bool overwrite) {
   std::error_code ec;
   if (!in.empty() && fs::exists(out, ec) && fs::equivalent(in, out, ec))
@@ -95,21 +75,18 @@ void checkOutput(const std::string& in, const std::string& out, bool overwrite) 
 void writeCogFrom(GDALDatasetH staging, const std::string& out, const StageProgress& progress) {
   GDALDriverH cog = GDALGetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver");
-  TempFile tmp(tempBeside(out, "tmp"));
+  OutputFile tmp(out, ".tif");
   const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "BLOCKSIZE=512", "OVERVIEWS=AUTO",
                            "OVERVIEW_RESAMPLING=AVERAGE", "BIGTIFF=IF_SAFER", "NUM_THREADS=ALL_CPUS", nullptr};
   CPLErrorReset();
-  GDALDatasetH ds = GDALCreateCopy(cog, tmp.path.c_str(), staging, FALSE, const_cast<char**>(options),
+  GDALDatasetH ds = GDALCreateCopy(cog, tmp.tempPath().c_str(), staging, FALSE, const_cast<char**>(options),
                                    progress.fn(), progress.data);
   if (!ds) throw InputError(out + ": cannot write the terrain file: " + lastGdalError());
   CPLErrorReset();
   GDALClose(ds);
   if (CPLGetLastErrorType() == CE_Failure)
     throw InputError(out + ": cannot write the terrain file: " + lastGdalError());
-  std::error_code ec;
-  fs::rename(tmp.path, out, ec);
-  if (ec) throw InputError(out + ": cannot rename the finished file into place: " + ec.message());
-  tmp.path.clear();
+  tmp.commit();
 }
 
 GDALDatasetH createStaging(const std::string& path, int cols, int rows) {
@@ -279,8 +256,8 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
   // 3. One pass: the staging GeoTIFF, heights scaled, nodata mapped to kTerrainNoData.
   const int cols = GDALGetRasterXSize(chain), rows = GDALGetRasterYSize(chain);
   if (cols < 1 || rows < 1) throw InputError(in + ": the crop window holds no sample");
-  TempFile stagingFile(tempBeside(out, "staging"));
-  GdalDataset staging(createStaging(stagingFile.path, cols, rows));
+  const OutputFile stagingFile(out, ".tif", "staging");  // scratch, never committed
+  GdalDataset staging(createStaging(stagingFile.tempPath(), cols, rows));
   auto* st = static_cast<GDALDatasetH>(staging.get());
   double gt[6];
   if (frame.georeferenced && GDALGetGeoTransform(chain, gt) == CE_None) GDALSetGeoTransform(st, gt);
@@ -333,7 +310,7 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
                        fillProgress.data) != CE_None)
       throw InputError(in + ": filling nodata failed: " + lastGdalError());
     GDALFlushCache(st);
-    stats = scanStaging(st, stagingFile.path);
+    stats = scanStaging(st, stagingFile.tempPath());
   }
   GDALFlushCache(st);
 
@@ -365,8 +342,8 @@ void writeTerrainCog(const std::string& out, int cols, int rows, const std::vect
   if (cols < 1 || rows < 1 || heights.size() != std::size_t(cols) * std::size_t(rows))
     throw std::invalid_argument("writeTerrainCog: heights do not match cols x rows");
   checkOutput({}, out, overwrite);
-  TempFile stagingFile(tempBeside(out, "staging"));
-  GdalDataset staging(createStaging(stagingFile.path, cols, rows));
+  const OutputFile stagingFile(out, ".tif", "staging");  // scratch, never committed
+  GdalDataset staging(createStaging(stagingFile.tempPath(), cols, rows));
   auto* st = static_cast<GDALDatasetH>(staging.get());
   double gt[6] = {originX - 0.5 * dx, dx, 0, originY + 0.5 * dy, 0, -dy};
   GDALSetGeoTransform(st, gt);

@@ -1,12 +1,12 @@
 #include "assets/generators/dump_geometry.h"
 
+#include "nestwalk/core/angles.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace nestwalk::assets {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 }  // namespace
 
 DumpGeometry dumpGeometry(const terrain::MiningDumpParams& p, const terrain::MiningDumpLayout& L) {
@@ -16,7 +16,7 @@ DumpGeometry dumpGeometry(const terrain::MiningDumpParams& p, const terrain::Min
   g.benchHeight = p.benchHeight;
   g.bermWidth = p.bermWidth;
   g.benches = int(std::lround((L.topHeight - L.baseHeight) / p.benchHeight));
-  g.faceRun = p.benchHeight / std::tan(p.faceSlopeDeg * kDeg);
+  g.faceRun = p.benchHeight / std::tan(radians(p.faceSlopeDeg));
   g.period = g.faceRun + p.bermWidth;
   g.cornerRadius = std::min(0.3 * L.halfWidth, 60.0);
   const double topHalfWidth = L.halfWidth - (g.benches - 1) * g.period - g.faceRun;
@@ -30,10 +30,10 @@ DumpGeometry dumpGeometry(const terrain::MiningDumpParams& p, const terrain::Min
 }
 
 Eigen::Vector2d DumpGeometry::uAxis() const {
-  return {std::sin(layout.azimuthDeg * kDeg), std::cos(layout.azimuthDeg * kDeg)};
+  return {std::sin(radians(layout.azimuthDeg)), std::cos(radians(layout.azimuthDeg))};
 }
 Eigen::Vector2d DumpGeometry::vAxis() const {
-  return {std::cos(layout.azimuthDeg * kDeg), -std::sin(layout.azimuthDeg * kDeg)};
+  return {std::cos(radians(layout.azimuthDeg)), -std::sin(radians(layout.azimuthDeg))};
 }
 Eigen::Vector2d DumpGeometry::toMap(double u, double v) const {
   return Eigen::Vector2d(layout.centreE, layout.centreN) + u * uAxis() + v * vAxis();
@@ -44,13 +44,6 @@ Eigen::Vector2d DumpGeometry::toDump(const Eigen::Vector2d& m) const {
 }
 double DumpGeometry::rampHeight(double u) const {
   return layout.baseHeight + rampGrade * std::clamp(u - rampStart, 0.0, rampEnd - rampStart);
-}
-
-double headingOf(const Eigen::Vector2d& d) {
-  double h = std::atan2(d.x(), d.y()) / kDeg;
-  if (h < 0) h += 360.0;
-  if (h >= 360.0) h -= 360.0;
-  return h;
 }
 
 }  // namespace nestwalk::assets

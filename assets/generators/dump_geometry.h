@@ -41,7 +41,4 @@ struct DumpGeometry {
 
 DumpGeometry dumpGeometry(const terrain::MiningDumpParams& params, const terrain::MiningDumpLayout& layout);
 
-/// Heading in degrees clockwise from north, in [0, 360), of a map direction.
-double headingOf(const Eigen::Vector2d& direction);
-
 }  // namespace nestwalk::assets

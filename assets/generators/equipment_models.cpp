@@ -1,6 +1,7 @@
 #include "assets/generators/equipment_models.h"
 
 #include "assets/generators/mesh_builder.h"
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 
 #include <osg/Geode>
@@ -13,15 +14,13 @@ namespace nestwalk::assets {
 namespace {
 
 using V3 = Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 constexpr int kThinSides = 12;   // masts, spindles, wheels
 constexpr int kRoundSides = 16;  // the pole, the piezometer casing
 
 /// Rotation about the model's x axis by `deg` degrees (positive turns +y toward +z).
 Eigen::Matrix3d rotX(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
+  const double c = std::cos(radians(deg)), s = std::sin(radians(deg));
   Eigen::Matrix3d r;
   r << 1, 0, 0, 0, c, -s, 0, s, c;
   return r;
@@ -49,7 +48,7 @@ void buildWeatherStation(MeshBuilder& b) {
   const V3 anemo(kCrossArmHalfLength - 0.02, 0, kCrossArmZ + 0.02);
   b.addPrism(anemo, V3::UnitZ(), 0.008, 0.16, kThinSides);
   for (int i = 0; i < 3; ++i) {
-    const double a = (90.0 + 120.0 * i) * kDeg;
+    const double a = radians(90.0 + 120.0 * i);
     const V3 dir(std::cos(a), std::sin(a), 0);
     const V3 cup = anemo + V3(0, 0, 0.14) + 0.09 * dir;
     Eigen::Matrix3d rz;
@@ -74,13 +73,13 @@ void buildSolarPanel(MeshBuilder& b) {
   const Eigen::Matrix3d r = rotX(-kPanelTiltDeg);  // normal (0, sin, cos): forward and up
   const V3 half(0.5 * kPanelWidth, 0.5 * kPanelLength, 0.5 * kPanelThickness);
   // Lowest corner: local (., +len/2, -t/2) -> z = -sin(tilt) len/2 - cos(tilt) t/2 below the centre.
-  const double drop = std::sin(kPanelTiltDeg * kDeg) * half.y() + std::cos(kPanelTiltDeg * kDeg) * half.z();
+  const double drop = std::sin(radians(kPanelTiltDeg)) * half.y() + std::cos(radians(kPanelTiltDeg)) * half.z();
   const V3 centre(0, 0, kPanelLowEdgeZ + drop);
   b.addBox(centre, half, r);
   // Legs up to the panel's underside (local z = -t/2), front and back, near the sides.
   auto undersideZ = [&](double y) {
     // Points centre + r * (x, yl, -t/2): world y = c yl + s t/2, z = zc - s yl - c t/2 (c, s of tilt).
-    const double c = std::cos(kPanelTiltDeg * kDeg), s = std::sin(kPanelTiltDeg * kDeg);
+    const double c = std::cos(radians(kPanelTiltDeg)), s = std::sin(radians(kPanelTiltDeg));
     const double yl = (y - s * half.z()) / c;
     return centre.z() - s * yl - c * half.z();
   };

@@ -5,12 +5,12 @@
 #include <osg/PrimitiveSet>
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace nestwalk::assets {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Two unit vectors completing `axis` to a right-handed orthonormal basis (e1, e2, axis); for the
 /// z axis exactly (x, y), so that prisms along z start at +x.
@@ -64,7 +64,7 @@ void MeshBuilder::addPrism(const Eigen::Vector3d& base, const Eigen::Vector3d& a
   basisAround(axis, e1, e2);
   std::vector<Eigen::Vector3d> bottom, top;
   for (int i = 0; i < sides; ++i) {
-    const double a = 2.0 * kPi * i / sides;
+    const double a = 2.0 * std::numbers::pi * i / sides;
     // Exact zeros and ones at the quarter turns keep the extents exactly 2 * radius.
     double c = std::cos(a), s = std::sin(a);
     if (4 * i % sides == 0) {

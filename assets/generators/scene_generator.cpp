@@ -1,6 +1,8 @@
 #include "assets/generators/scene_generator.h"
 
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
 
@@ -15,15 +17,14 @@
 #include <map>
 #include <random>
 #include <system_error>
-#include <unistd.h>
 
 namespace nestwalk::assets {
 namespace {
 
-namespace fs = std::filesystem;
+/// The heading (degrees clockwise from north) of a map direction.
+double headingOf(const Eigen::Vector2d& d) { return nestwalk::headingOf(d.x(), d.y()); }
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+namespace fs = std::filesystem;
 
 // Placement.
 constexpr double kCornerMargin = 5.0;         // metres kept from where a berm starts to bend
@@ -95,7 +96,7 @@ class Placer {
   Rect footprint(const Placement& p) const {
     const Aabb<double>& b = bounds_[std::size_t(p.model)];
     Rect r;
-    r.ay = Eigen::Vector2d(std::sin(p.headingDeg * kDeg), std::cos(p.headingDeg * kDeg));  // model +y
+    r.ay = Eigen::Vector2d(std::sin(radians(p.headingDeg)), std::cos(radians(p.headingDeg)));  // model +y
     r.ax = Eigen::Vector2d(r.ay.y(), -r.ay.x());                                           // model +x
     const Eigen::Vector3d c = b.center(), h = b.halfExtents();
     r.c = p.position + c.x() * r.ax + c.y() * r.ay;
@@ -408,9 +409,8 @@ void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwr
     throw InputError(out.string() + ": already exists (use --overwrite to replace it)");
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   fs::create_directories(parent, ec);
-  const std::string tag = std::to_string(::getpid());
-  const fs::path tmp = parent / ("." + out.filename().string() + ".tmp-" + tag);
-  fs::remove_all(tmp, ec);
+  OutputFolder folder(out.string());
+  const fs::path tmp(folder.tempPath());
   try {
     fs::create_directories(tmp / "models");
     fs::create_directories(tmp / "scripts");
@@ -425,22 +425,10 @@ void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwr
     };
     writeText(tmp / "scene.json", scene.sceneJson);
     for (const auto& [name, text] : scene.scripts) writeText(tmp / "scripts" / name, text);
-    if (fs::exists(out)) {
-      const fs::path old = parent / ("." + out.filename().string() + ".old-" + tag);
-      fs::remove_all(old, ec);
-      fs::rename(out, old);
-      fs::rename(tmp, out);
-      fs::remove_all(old, ec);
-    } else {
-      fs::rename(tmp, out);
-    }
   } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp, ec);
     throw InputError(out.string() + ": " + e.what());
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
   }
+  folder.commit();
 }
 
 }  // namespace nestwalk::assets

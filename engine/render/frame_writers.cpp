@@ -30,22 +30,12 @@ std::string shellQuoted(const std::string& s) {
   return out + "'";
 }
 
-std::string temporaryBeside(const std::string& target, const std::string& suffix) {
-  const fs::path p(target);
-  return (p.parent_path() / ("." + p.filename().string() + ".tmp-" + std::to_string(getpid()) + suffix)).string();
-}
-
 }  // namespace
 
 // ---- PNG sequence ---------------------------------------------------------------------------
 
 PngSequenceWriter::PngSequenceWriter(std::string folder, int compression)
-    : folder_(std::move(folder)), temp_(temporaryBeside(folder_, "")),
-      options_("PNG_COMPRESSION " + std::to_string(compression)) {
-  std::error_code ec;
-  fs::remove_all(temp_, ec);
-  fs::create_directories(temp_, ec);
-  if (ec) throw InputError(temp_ + ": cannot create the folder for the frames: " + ec.message());
+    : folder_(std::move(folder)), output_(folder_), options_("PNG_COMPRESSION " + std::to_string(compression)) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -56,10 +46,6 @@ PngSequenceWriter::~PngSequenceWriter() {
   }
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
-  if (!finished_) {
-    std::error_code ec;
-    fs::remove_all(temp_, ec);
-  }
 }
 
 std::string PngSequenceWriter::fileName(std::uint64_t frameNumber) {
@@ -88,7 +74,7 @@ void PngSequenceWriter::run() {
       if (queue_.empty()) return;
       item = queue_.front();
     }
-    const std::string file = (fs::path(temp_) / fileName(item.second)).string();
+    const std::string file = (fs::path(output_.tempPath()) / fileName(item.second)).string();
     const bool ok = error_.empty() && osgDB::writeImageFile(*item.first, file, options.get());
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -109,11 +95,7 @@ std::size_t PngSequenceWriter::finish() {
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
   if (!error_.empty()) throw InputError(error_);
-  std::error_code ec;
-  fs::remove_all(folder_, ec);
-  if (ec) throw InputError(folder_ + ": cannot replace the folder: " + ec.message());
-  fs::rename(temp_, folder_, ec);
-  if (ec) throw InputError(folder_ + ": cannot move the frames into place: " + ec.message());
+  output_.commit();
   finished_ = true;
   return written_;
 }
@@ -130,8 +112,7 @@ bool VideoWriter::ffmpegAvailable() {
 }
 
 VideoWriter::VideoWriter(std::string path, int width, int height, double framesPerSecond)
-    : path_(std::move(path)), temp_(temporaryBeside(path_, ".mp4")), log_(temporaryBeside(path_, ".log")),
-      width_(width), height_(height) {
+    : path_(std::move(path)), video_(path_, ".mp4"), ffmpegLog_(path_, ".log"), width_(width), height_(height) {
   if (!ffmpegAvailable())
     throw InputError(path_ + ": cannot write the video: ffmpeg is not installed (tools/setup-deps.sh installs it)");
   char rate[32];
@@ -141,7 +122,7 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double framesP
                               std::to_string(width) + "x" + std::to_string(height) + " -framerate " + rate +
                               " -i - -vf 'vflip,pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast "
                               "-crf 20 -pix_fmt yuv420p -movflags +faststart -f mp4 " +
-                              shellQuoted(temp_) + " 2> " + shellQuoted(log_);
+                              shellQuoted(video_.tempPath()) + " 2> " + shellQuoted(ffmpegLog_.tempPath());
   std::signal(SIGPIPE, SIG_IGN);  // a failed ffmpeg must give an error, not kill the run
   pipe_ = popen(command.c_str(), "w");
   if (!pipe_) throw InputError(path_ + ": cannot start ffmpeg");
@@ -149,9 +130,6 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double framesP
 
 VideoWriter::~VideoWriter() {
   if (pipe_) pclose(pipe_);
-  std::error_code ec;
-  fs::remove(temp_, ec);
-  fs::remove(log_, ec);
 }
 
 void VideoWriter::addFrame(const osg::Image& image) {
@@ -165,7 +143,7 @@ void VideoWriter::addFrame(const osg::Image& image) {
     if (std::fwrite(image.data(0, row), 1, rowBytes, pipe_) != rowBytes) {
       pclose(pipe_);
       pipe_ = nullptr;
-      std::ifstream log(log_);
+      std::ifstream log(ffmpegLog_.tempPath());
       std::stringstream text;
       text << log.rdbuf();
       throw InputError(path_ + ": ffmpeg stopped taking frames: " + text.str());
@@ -178,15 +156,12 @@ void VideoWriter::finish() {
   const int status = pclose(pipe_);
   pipe_ = nullptr;
   if (status != 0) {
-    std::ifstream log(log_);
+    std::ifstream log(ffmpegLog_.tempPath());
     std::stringstream text;
     text << log.rdbuf();
     throw InputError(path_ + ": ffmpeg failed (status " + std::to_string(status) + "): " + text.str());
   }
-  std::error_code ec;
-  fs::rename(temp_, path_, ec);
-  if (ec) throw InputError(path_ + ": cannot move the video into place: " + ec.message());
-  fs::remove(log_, ec);
+  video_.commit();
 }
 
 }  // namespace nestwalk

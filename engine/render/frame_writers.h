@@ -5,6 +5,8 @@
 // were.
 #pragma once
 
+#include "nestwalk/core/output_file.h"
+
 #include <osg/Image>
 #include <osg/ref_ptr>
 
@@ -39,7 +41,8 @@ class PngSequenceWriter {
 
  private:
   void run();
-  std::string folder_, temp_;
+  std::string folder_;
+  OutputFolder output_;  // the temporary folder beside folder_, put in place by finish()
   std::string options_;
   std::mutex mutex_;
   std::condition_variable changed_;
@@ -70,7 +73,9 @@ class VideoWriter {
   std::size_t frames() const { return frames_; }
 
  private:
-  std::string path_, temp_, log_;
+  std::string path_;
+  OutputFile video_;      // the temporary .mp4 beside path_, renamed by finish()
+  OutputFile ffmpegLog_;  // ffmpeg's messages, never committed
   int width_, height_;
   std::FILE* pipe_ = nullptr;
   std::size_t frames_ = 0;
