@@ -6,36 +6,86 @@
 namespace nestwalk {
 namespace {
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string::size_type start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    std::string f = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const auto b = f.find_first_not_of(" \t"), e = f.find_last_not_of(" \t");
-    fields.push_back(b == std::string::npos ? std::string() : f.substr(b, e - b + 1));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return fields;
-}
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
 
-bool readLine(std::istream& in, std::string& line, std::size_t& count) {
-  while (std::getline(in, line)) {
-    ++count;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find_first_not_of(" \t") != std::string::npos) return true;
-  }
-  return false;
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
 }
 
 }  // namespace
 
 CsvReader::CsvReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {
-  std::string line;
-  if (!readLine(in_, line, line_)) throw InputError(name_ + ": empty file, expected a header row");
-  if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
-  header_ = split(line);
+  // A UTF-8 byte order mark (EF BB BF) before the header is dropped; a file that starts with only
+  // part of one is not text.
+  for (int bomByte : {0xEF, 0xBB, 0xBF}) {
+    if (in_.peek() != bomByte) {
+      if (bomByte != 0xEF) throw InputError(name_ + ": starts with a broken UTF-8 byte order mark; not a CSV file");
+      break;
+    }
+    in_.get();
+  }
+  if (!readRow(header_)) throw InputError(name_ + ": empty file, expected a header row");
+}
+
+bool CsvReader::readRow(std::vector<std::string>& fields) {
+  for (;;) {
+    fields.clear();
+    line_ = nextLine_;
+    std::string field;
+    bool quoted = false;       // inside a quoted field
+    bool wasQuoted = false;    // the current field was quoted (kept as written)
+    bool any = false;          // the row holds something other than blanks
+    int c = in_.get();
+    if (c == std::char_traits<char>::eof()) return false;
+    for (;; c = in_.get()) {
+      if (c == std::char_traits<char>::eof()) {
+        if (quoted) throw errorAtLine("a quoted field is not closed before the end of the file");
+        break;
+      }
+      const char ch = char(c);
+      if (quoted) {
+        if (ch == '"') {
+          if (in_.peek() == '"') {
+            in_.get();
+            field += '"';
+          } else {
+            quoted = false;
+          }
+        } else {
+          if (ch == '\n') ++nextLine_;
+          field += ch;
+        }
+        continue;
+      }
+      if (ch == '\n' || ch == '\r') {
+        if (ch == '\r' && in_.peek() == '\n') in_.get();
+        ++nextLine_;
+        break;
+      }
+      if (ch == ',') {
+        fields.push_back(wasQuoted ? field : trimmed(field));
+        field.clear();
+        wasQuoted = false;
+        any = true;
+        continue;
+      }
+      if (ch == '"' && trimmed(field).empty() && !wasQuoted) {
+        field.clear();  // blanks before the opening quote
+        quoted = wasQuoted = any = true;
+        continue;
+      }
+      if (wasQuoted) {
+        if (isBlank(ch)) continue;  // blanks after the closing quote
+        throw errorAtLine("text after a quoted field's closing quote");
+      }
+      if (!isBlank(ch)) any = true;
+      field += ch;
+    }
+    if (!any) continue;  // a blank line
+    fields.push_back(wasQuoted ? field : trimmed(field));
+    return true;
+  }
 }
 
 int CsvReader::column(const std::string& name) const {
@@ -45,9 +95,7 @@ int CsvReader::column(const std::string& name) const {
 }
 
 bool CsvReader::next(std::vector<std::string>& fields) {
-  std::string line;
-  if (!readLine(in_, line, line_)) return false;
-  fields = split(line);
+  if (!readRow(fields)) return false;
   if (fields.size() != header_.size())
     throw errorAtLine(std::to_string(fields.size()) + " fields, but the header has " + std::to_string(header_.size()));
   return true;

@@ -1,6 +1,9 @@
-// A reader for the simple CSV files the tools take (a header row, then rows of numbers): comma
-// separated, no quoting, blank lines skipped, CR LF accepted. Every problem is an InputError that
-// names the file and the line.
+// A reader for the CSV files the tools take and write (RFC 4180): a header row, then rows of
+// fields separated by commas. A field may be quoted ("...") and then hold commas, line breaks and
+// quotes (doubled: ""); spaces and tabs around an unquoted field are trimmed, a quoted field is
+// kept as written. Lines that are empty or hold only spaces are skipped; CR LF and LF both end a
+// row; a UTF-8 byte order mark before the header is dropped. Every problem is an InputError that
+// names the file and the line (the line where the row starts).
 #pragma once
 
 #include "nestwalk/core/input_error.h"
@@ -13,7 +16,8 @@ namespace nestwalk {
 
 class CsvReader {
  public:
-  /// Reads the header row. `name` is the file's name for messages.
+  /// Reads the header row. `name` is the file's name for messages. Throws InputError for an empty
+  /// file or a malformed header.
   CsvReader(std::istream& in, std::string name);
 
   const std::vector<std::string>& header() const { return header_; }
@@ -21,9 +25,9 @@ class CsvReader {
   int column(const std::string& name) const;
 
   /// Reads the next data row into `fields`; false at the end. A row whose field count differs from
-  /// the header's is an InputError naming the line.
+  /// the header's, or a quote left open at the end of the file, is an InputError naming the line.
   bool next(std::vector<std::string>& fields);
-  /// The line number (1-based) of the row last read.
+  /// The line number (1-based) where the row last read starts.
   std::size_t line() const { return line_; }
 
   /// The field as a finite double; throws InputError naming the file, line and column otherwise.
@@ -32,10 +36,14 @@ class CsvReader {
   InputError errorAtLine(const std::string& what) const;
 
  private:
+  /// Reads one row (skipping blank lines) into `fields`; false at the end of the input.
+  bool readRow(std::vector<std::string>& fields);
+
   std::istream& in_;
   std::string name_;
   std::vector<std::string> header_;
-  std::size_t line_ = 0;
+  std::size_t line_ = 0;      // where the last row started
+  std::size_t nextLine_ = 1;  // the line the reader is at
 };
 
 }  // namespace nestwalk

@@ -5,6 +5,7 @@
 #include "assets/generators/equipment_models.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -12,6 +13,7 @@
 #include <osgDB/ReadFile>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <unistd.h>
 
@@ -35,7 +37,7 @@ struct Expected {
 const Expected kExpected[] = {
     {ModelKind::SensorPole, 0.14, 0.18, 3.0},
     {ModelKind::WeatherStation, -1, -1, 3.0},  // width and depth: checked below (anemometer, panel)
-    {ModelKind::SolarPanel, 1.6, std::cos(M_PI / 6) + 0.04 * 0.5, 0.5 + 0.5 + 0.04 * std::cos(M_PI / 6)},
+    {ModelKind::SolarPanel, 1.6, std::cos(std::numbers::pi / 6) + 0.04 * 0.5, 0.5 + 0.5 + 0.04 * std::cos(std::numbers::pi / 6)},
     {ModelKind::LoggerBox, 0.56, 0.40, 1.53},
     {ModelKind::Piezometer, 0.6, 0.6, 0.1 + 0.8 + 0.08},
     {ModelKind::Container20ft, 2.44, 6.06, 2.59},
@@ -43,10 +45,10 @@ const Expected kExpected[] = {
     {ModelKind::Pickup, 1.9, 5.3, 1.8},
 };
 
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("nestwalk-assets-models-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+/// One folder for the whole program's models (written once per kind, read by several tests).
+const fs::path& tempDir() {
+  static const test::TempFolder folder("models");
+  return folder.path();
 }
 
 TriangleMesh writeAndLoad(ModelKind m) {
@@ -129,7 +131,7 @@ TEST(EquipmentModels, SolarPanelIsTiltedThirtyDegreesFacingForward) {
     const Vec3<double> n = (b - a).cross(c - a);
     if (0.5 * n.norm() < 0.5 || n.z() <= 0) continue;
     const Vec3<double> u = n.normalized();
-    EXPECT_NEAR(std::acos(u.z()) * 180 / M_PI, 30.0, 1e-3);
+    EXPECT_NEAR(std::acos(u.z()) * 180 / std::numbers::pi, 30.0, 1e-3);
     EXPECT_GT(u.y(), 0.0);  // facing +y, forward
     ++found;
   }

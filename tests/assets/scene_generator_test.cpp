@@ -9,11 +9,13 @@
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -32,12 +34,7 @@ constexpr double kBenchHeight = 10.0;    // metres between berms (terrain/mining
 constexpr double kGroupClearance = 0.5;  // metres at least between the fitted boxes of different groups
 const Eigen::Vector3d kBodyHalf(0.25, 0.25, 0.9);  // the scene's walker body (scene_file.h default)
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test::readText;
 
 /// The scene of seed 1, generated and written once for the whole program.
 struct Written {
@@ -50,21 +47,14 @@ const Written& written() {
   static const Written w = [] {
     Written r;
     r.scene = generateScene(1);
-    r.dir = fs::temp_directory_path() / ("nestwalk-assets-scene-" + std::to_string(::getpid())) / "mining_dump";
-    fs::remove_all(r.dir.parent_path());
+    static const test::TempFolder folder("scene");  // the whole program's, removed at its end
+    r.dir = folder / "mining_dump";
     writeScene(r.scene, r.dir.string(), false);
-    r.json = nlohmann::json::parse(readFile(r.dir / "scene.json"));
+    r.json = nlohmann::json::parse(readText(r.dir / "scene.json"));
     return r;
   }();
   return w;
 }
-
-struct Cleanup {
-  ~Cleanup() {
-    std::error_code ec;
-    fs::remove_all(fs::temp_directory_path() / ("nestwalk-assets-scene-" + std::to_string(::getpid())), ec);
-  }
-} cleanup;
 
 /// A piece as the scene file says, with its model's geometry placed on the terrain.
 struct Piece {
@@ -78,7 +68,7 @@ struct Piece {
 
 /// Model frame -> map axes for a heading clockwise from north (+y forward, +x right).
 Mat3<double> headingRotation(double deg) {
-  const double h = deg * M_PI / 180;
+  const double h = deg * std::numbers::pi / 180;
   Mat3<double> r;
   r << std::cos(h), std::sin(h), 0, -std::sin(h), std::cos(h), 0, 0, 0, 1;
   return r;
@@ -221,7 +211,7 @@ TEST(SceneGenerator, PatrolLaneIsFreeUpToTheStationThatStandsOnIt) {
   ASSERT_GE(blockedAt, 0);
   EXPECT_NEAR(blockedAt * 0.05, stopAt, 0.1);
   // The script says so.
-  const std::string patrol = readFile(w.dir / "scripts" / "bench_patrol.txt");
+  const std::string patrol = readText(w.dir / "scripts" / "bench_patrol.txt");
   EXPECT_NE(patrol.find("expect blocked by " + P.patrolStation + "\n"), std::string::npos) << patrol;
   EXPECT_NE(patrol.find("expect free\n"), std::string::npos);
   EXPECT_NE(patrol.find("expect ground within 0.01\n"), std::string::npos);
@@ -252,7 +242,7 @@ TEST(SceneGenerator, RampIsWhereTheGeometrySaysAndItsPathIsFreeAndWalkable) {
       }
     }
     const double z = *hf.groundHeight(p.x(), p.y());
-    EXPECT_LT(std::abs(z - prev) / 0.5, std::tan(30 * M_PI / 180));
+    EXPECT_LT(std::abs(z - prev) / 0.5, std::tan(30 * std::numbers::pi / 180));
     prev = z;
   }
   EXPECT_NEAR(prev, w.scene.dump.layout.baseHeight, 1.0);  // down at the toe
@@ -260,10 +250,10 @@ TEST(SceneGenerator, RampIsWhereTheGeometrySaysAndItsPathIsFreeAndWalkable) {
 
 TEST(SceneGenerator, ScriptsUseTheirCommands) {
   const Written& w = written();
-  const std::string ramp = readFile(w.dir / "scripts" / "ramp_descent.txt");
+  const std::string ramp = readText(w.dir / "scripts" / "ramp_descent.txt");
   EXPECT_NE(ramp.find("mode walk\n"), std::string::npos);
   EXPECT_NE(ramp.find(" within 1\n"), std::string::npos);
-  const std::string flight = readFile(w.dir / "scripts" / "low_flight.txt");
+  const std::string flight = readText(w.dir / "scripts" / "low_flight.txt");
   EXPECT_NE(flight.find("mode fly\n"), std::string::npos);
   EXPECT_NE(flight.find("clearance 5.000\n"), std::string::npos);
   EXPECT_NE(flight.find("expect clearance at least 5.000\n"), std::string::npos);
@@ -277,11 +267,11 @@ TEST(SceneGenerator, SameSeedSameBytesOtherSeedOtherScene) {
   EXPECT_EQ(again.scripts, w.scene.scripts);
   const fs::path dir2 = w.dir.parent_path() / "again";
   writeScene(again, dir2.string(), false);
-  EXPECT_EQ(readFile(dir2 / "scene.json"), readFile(w.dir / "scene.json"));
+  EXPECT_EQ(readText(dir2 / "scene.json"), readText(w.dir / "scene.json"));
   for (const auto& f : fs::directory_iterator(w.dir / "models"))
-    EXPECT_EQ(readFile(dir2 / "models" / f.path().filename()), readFile(f.path())) << f.path();
+    EXPECT_EQ(readText(dir2 / "models" / f.path().filename()), readText(f.path())) << f.path();
   for (const auto& f : fs::directory_iterator(w.dir / "scripts"))
-    EXPECT_EQ(readFile(dir2 / "scripts" / f.path().filename()), readFile(f.path())) << f.path();
+    EXPECT_EQ(readText(dir2 / "scripts" / f.path().filename()), readText(f.path())) << f.path();
   EXPECT_NE(generateScene(2).sceneJson, w.scene.sceneJson);
 }
 
@@ -291,7 +281,7 @@ TEST(SceneGenerator, ExistingFolderIsKeptWithoutOverwrite) {
   fs::create_directories(dir);
   std::ofstream(dir / "mine.txt") << "keep me";
   EXPECT_THROW(writeScene(w.scene, dir.string(), false), InputError);
-  EXPECT_EQ(readFile(dir / "mine.txt"), "keep me");
+  EXPECT_EQ(readText(dir / "mine.txt"), "keep me");
   EXPECT_FALSE(fs::exists(dir / "scene.json"));
   writeScene(w.scene, dir.string(), true);
   EXPECT_FALSE(fs::exists(dir / "mine.txt"));

@@ -23,6 +23,7 @@
 #include "nestwalk/geometry/sat.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "tests/geometry/test_shapes.h"
+#include "tests/common/test_data.h"
 
 #include <gtest/gtest.h>
 #include <osg/Geode>
@@ -33,6 +34,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -84,7 +86,7 @@ TriangleMesh pole() {
   TriangleMesh m;
   for (int end = 0; end < 2; ++end)
     for (int i = 0; i < sides; ++i) {
-      const double a = 2 * M_PI * i / sides;
+      const double a = 2 * std::numbers::pi * i / sides;
       m.vertices.push_back(tilt * V3(radius * std::cos(a), radius * std::sin(a), end * length));
     }
   for (std::uint32_t i = 0; i < sides; ++i) {
@@ -427,7 +429,7 @@ TEST(MeshTree, MeshFromNodeAppliesTransforms) {
   geode->addDrawable(geometry);
   osg::ref_ptr<osg::MatrixTransform> transform = new osg::MatrixTransform;
   // OSG's row-vector convention: scale, then turn 90 degrees about z, then move.
-  transform->setMatrix(osg::Matrixd::scale(2, 2, 2) * osg::Matrixd::rotate(M_PI / 2, osg::Vec3d(0, 0, 1)) *
+  transform->setMatrix(osg::Matrixd::scale(2, 2, 2) * osg::Matrixd::rotate(std::numbers::pi / 2, osg::Vec3d(0, 0, 1)) *
                        osg::Matrixd::translate(10, 20, 30));
   transform->addChild(geode);
 
@@ -452,13 +454,8 @@ TEST(MeshTree, MeshFromNodeAppliesTransforms) {
 
 // ---- The bundled equipment models. ----
 
-std::filesystem::path bundledModels() {
-  if (const char* env = std::getenv("NESTWALK_BUNDLED_SCENE"); env && *env) return std::filesystem::path(env) / "models";
-  return std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "models";
-}
-
 TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
-  const std::filesystem::path dir = bundledModels();
+  const std::filesystem::path dir = test::bundledSceneFolder() / "models";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent (build the bundled_scene target)";
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(dir))
@@ -474,7 +471,7 @@ TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
     const ObbTree obbTree(mesh);
     const KdopTree kdopTree(mesh);
     std::mt19937 rng(5);
-    std::uniform_real_distribution<double> u(-1, 1), yaw(0, 2 * M_PI);
+    std::uniform_real_distribution<double> u(-1, 1), yaw(0, 2 * std::numbers::pi);
     const V3 reach = inner.halfExtents.cwiseAbs().maxCoeff() * V3::Ones() + body;
     int obbContacts = 0, meshContacts = 0;
     std::vector<double> falseContactGaps;

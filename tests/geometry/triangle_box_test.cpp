@@ -31,6 +31,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -106,7 +107,7 @@ TEST(TriangleBox, DistanceOfHandComputedCases) {
   EXPECT_DOUBLE_EQ(triangleBoxDistance({V3(4, 5, 1), V3(4, 5, 1), V3(4, 5, 1)}, unit), 5.0);
   // Rotated box: a unit cube turned 45 degrees about z, a vertex on the x axis at x = 3.
   Obb<double> turned = unit;
-  turned.axes = Eigen::AngleAxisd(M_PI / 4, V3::UnitZ()).toRotationMatrix();
+  turned.axes = Eigen::AngleAxisd(std::numbers::pi / 4, V3::UnitZ()).toRotationMatrix();
   EXPECT_NEAR(triangleBoxDistance({V3(3, 0, 0), V3(6, 1, 0), V3(6, -1, 0)}, turned), 3 - std::sqrt(2.0), 1e-14);
 }
 

@@ -14,6 +14,7 @@
 #include "nestwalk/geometry/obb_fit.h"
 #include "tests/geometry/test_shapes.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "tests/common/test_data.h"
 
 #include <CGAL/Aff_transformation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -101,17 +102,12 @@ void compareWithCgal(const std::string& name, const std::vector<V3>& pts, double
   }
 }
 
-std::filesystem::path sharedDataDir() {
-  if (const char* env = std::getenv("NESTWALK_SHARED_DATA"); env && *env) return env;
-  return NESTWALK_SHARED_DATA_DIR;
-}
-
 class ObbFitCgalModels : public testing::TestWithParam<const char*> {};
 
 TEST_P(ObbFitCgalModels, HullSearchIsWithinTenPercentOfCgal) {
-  const std::filesystem::path dir = sharedDataDir();
-  if (!std::filesystem::is_directory(dir)) {
-    GTEST_SKIP() << "shared data folder absent: looked for " << dir.string()
+  const std::filesystem::path dir = test::sharedData();
+  if (dir.empty()) {
+    GTEST_SKIP() << "shared data folder absent: looked for " << NESTWALK_SHARED_DATA_DIR
                  << " (set NESTWALK_SHARED_DATA to its path)";
   }
   const std::filesystem::path model = dir / GetParam();

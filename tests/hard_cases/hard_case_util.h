@@ -14,6 +14,7 @@
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/walker.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "tests/common/temp_folder.h"
 #include "tests/terrain/gdal_test_util.h"
 
 #include <Eigen/Geometry>
@@ -38,6 +39,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,34 +49,9 @@ namespace nestwalk::hardcase {
 namespace fs = std::filesystem;
 using V3 = Vec3<double>;
 using Json = nlohmann::json;
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// A folder of its own for the running test, removed at the end unless the test failed.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    const auto* t = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("nestwalk-hardcase-" + std::to_string(::getpid()) + "-" + t->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchFolder() {
-    if (::testing::Test::HasFailure()) {
-      std::printf("left the failed case's files in %s\n", path_.c_str());
-    } else {
-      std::error_code ignored;
-      fs::remove_all(path_, ignored);
-    }
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using ScratchFolder = test::TempFolder;
 
 /// A north-up Float32 GeoTIFF: `cols` x `rows` pixels of `cell` metres, outer corner (west, north)
 /// (GDAL's geotransform origin, so sample (c, r) is at (west + (c + 0.5) cell, north - (r + 0.5)
@@ -119,7 +96,7 @@ inline Mesh cylinderMesh(double radius, double height, int sides, int upAxis = 2
   };
   for (int ring = 0; ring < 2; ++ring)
     for (int i = 0; i < sides; ++i) {
-      const double phi = 2 * kPi * i / sides;
+      const double phi = 2 * std::numbers::pi * i / sides;
       put(radius * std::cos(phi), radius * std::sin(phi), ring * height);
     }
   const auto n = std::uint32_t(sides);
@@ -203,7 +180,7 @@ inline Mesh readBack(const fs::path& path) {
 /// clockwise from north, pitch nose up about the right axis, roll right side down about the
 /// forward axis; roll first, heading last"), composed here from Eigen quaternions.
 inline Eigen::Affine3d instanceToLocal(double headingDeg, double pitchDeg, double rollDeg, double scale, const V3& t) {
-  const double k = kPi / 180.0;
+  const double k = std::numbers::pi / 180.0;
   const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(-headingDeg * k, V3::UnitZ())) *
                                Eigen::Quaterniond(Eigen::AngleAxisd(pitchDeg * k, V3::UnitX())) *
                                Eigen::Quaterniond(Eigen::AngleAxisd(rollDeg * k, V3::UnitY()));

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <limits>
 #include <random>
@@ -270,7 +271,7 @@ TEST(HardCase, DegenerateModel_CoplanarPanel) {
   int contacts = 0, outsideBand = 0;
   for (int k = 0; k < 300; ++k) {
     const Obb<double> box{V3(4 + 1.3 * U(rng), 5 + 0.9 * U(rng), 0.9 + 0.6 * U(rng)),
-                          Eigen::AngleAxisd(kPi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
+                          Eigen::AngleAxisd(std::numbers::pi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
                           V3(0.02 + 0.2 * std::abs(U(rng)), 0.02 + 0.2 * std::abs(U(rng)), 0.02 + 0.2 * std::abs(U(rng)))};
     const double ref = fclBoxMeshDistance(box, pitched);
     for (MeshTreeKind kind : kKinds) EXPECT_NEAR(rig.meshes().distance(1, box, kind, c), ref, 1e-9) << "box " << k;

@@ -6,6 +6,7 @@
 // in closed form; the ground rule of heightfield.h (a point has ground iff the samples of the
 // smallest closed simplex holding it are valid) is implemented here on its own (GridRule) from the
 // samples' validity and heights, and compared point by point.
+#include "nestwalk/core/angles.h"
 #include "nestwalk/walker/walker.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/heightfield.h"
@@ -96,7 +97,7 @@ struct GroundRig {
 
 /// The body footprint's centre and corners (centre, then +f+s, +f-s, -f+s, -f-s) for a heading.
 std::array<Eigen::Vector2d, 5> footprint(const Eigen::Vector2d& c, double headingDeg, double hx, double hy) {
-  const double a = headingDeg * hardcase::kPi / 180.0;
+  const double a = radians(headingDeg);
   const Eigen::Vector2d f(std::sin(a), std::cos(a)), s(-f.y(), f.x());
   return {c, c + hx * f + hy * s, c + hx * f - hy * s, c - hx * f + hy * s, c - hx * f - hy * s};
 }
@@ -384,7 +385,7 @@ TEST(HardCase, VerticalBenchFace) {
     EXPECT_EQ(*z, 10.0 * f) << "on the face at " << f << " of the cell";
   }
 
-  const double maxFrontRise = std::tan(30.0 * hardcase::kPi / 180.0) * 4 * 0.25 / 2;
+  const double maxFrontRise = std::tan(radians(30.0)) * 4 * 0.25 / 2;
   for (double speed : {1.4, 13.0, 50.0}) {
     for (bool fromBelow : {true, false}) {
       GroundRig rig(hf, o);

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -164,7 +165,7 @@ TEST(HardCase, MillimetreModelUnits) {
   int contacts = 0;
   for (int k = 0; k < 300; ++k) {
     const Obb<double> box{V3(-3 + 0.4 * U(rng), 5 + 0.4 * U(rng), 1.5 + 2.0 * U(rng)),
-                          Eigen::AngleAxisd(kPi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
+                          Eigen::AngleAxisd(std::numbers::pi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
                           V3(0.05 + 0.2 * std::abs(U(rng)), 0.05 + 0.2 * std::abs(U(rng)), 0.05 + 0.5 * std::abs(U(rng)))};
     MeshQueryCounters c;
     const double ref = fclBoxMeshDistance(box, poleMm);
@@ -204,7 +205,7 @@ TEST(HardCase, YUpModel_Pitch90AndModelTransform) {
   const FlatSite site{{0.0, 64.0}};
   const Mesh slab = boxMesh(V3(-0.1, 0, -0.5), V3(0.1, 3, 0.5));
   writeModel(*toGeode(slab), dir / "yup.osgt");
-  osg::ref_ptr<osg::MatrixTransform> up = new osg::MatrixTransform(osg::Matrixd::rotate(kPi / 2, osg::Vec3d(1, 0, 0)));
+  osg::ref_ptr<osg::MatrixTransform> up = new osg::MatrixTransform(osg::Matrixd::rotate(std::numbers::pi / 2, osg::Vec3d(1, 0, 0)));
   up->addChild(toGeode(slab));
   writeModel(*up, dir / "yup_transform.osgt");
   const Eigen::Vector2d a = site.map(-4, 5), b = site.map(4, 5);
@@ -225,7 +226,7 @@ TEST(HardCase, YUpModel_Pitch90AndModelTransform) {
     std::uniform_real_distribution<double> U(-1, 1);
     for (int k = 0; k < 100; ++k) {
       const Obb<double> box{V3(tx[u] + 0.6 * U(rng), 5 + 1.0 * U(rng), 1.5 + 2.0 * U(rng)),
-                            Eigen::AngleAxisd(kPi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
+                            Eigen::AngleAxisd(std::numbers::pi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
                             V3(0.11 + 0.2 * std::abs(U(rng)), 0.11 + 0.2 * std::abs(U(rng)), 0.11 + 0.3 * std::abs(U(rng)))};
       // (Half extents above the slab's 0.1 m half thickness: no box fits inside the slab, where
       // the surface distance FCL measures would not be the solids'.)

@@ -2,6 +2,7 @@
 // reader written here, and byte-identical once the timing columns are cut when only timings differ.
 #include "nestwalk/report/frame_csv.h"
 
+#include "nestwalk/core/csv_reader.h"
 #include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
 
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -211,6 +213,31 @@ TEST(FrameCsv, ReplacesAnExistingFile) {
   writeFrameCsv(dir / "f.csv", sampleRecords(2));
   EXPECT_EQ(parseCsv(readFile(dir / "f.csv")).size(), 3u);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"f.csv"});
+}
+
+TEST(FrameCsv, RoundTripsThroughTheCsvReader) {
+  // What nestwalk writes, nestwalk reads: core/csv_reader.h gives the same rows as the independent
+  // RFC 4180 parser above, including blocked_by names with commas and quotes.
+  TempDir dir;
+  const std::vector<FrameRecord> records = sampleRecords(300);
+  const std::string path = dir / "frames.csv";
+  writeFrameCsv(path, records, testing::sampleRenders(300));
+  const auto expected = parseCsv(readFile(path));
+  std::ifstream in(path, std::ios::binary);
+  CsvReader csv(in, path);
+  EXPECT_EQ(csv.header(), kHeader);
+  std::vector<std::string> fields;
+  std::size_t row = 1;
+  const int blockedBy = csv.column("blocked_by"), x = csv.column("x");
+  while (csv.next(fields)) {
+    ASSERT_LT(row, expected.size());
+    EXPECT_EQ(fields, expected[row]) << "row " << row;
+    EXPECT_EQ(csv.line(), row + 1) << "one line per row: no name holds a line break";
+    EXPECT_EQ(fields[std::size_t(blockedBy)], records[row - 1].blockedBy);
+    EXPECT_NEAR(csv.number(fields, x), records[row - 1].eye.x(), 0.5e-4);
+    ++row;
+  }
+  EXPECT_EQ(row, expected.size());
 }
 
 }  // namespace

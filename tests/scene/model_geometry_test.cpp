@@ -3,6 +3,8 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/scene/model_geometry.h"
 
+#include "tests/common/temp_folder.h"
+
 #include <gtest/gtest.h>
 #include <osg/Geode>
 #include <osg/Geometry>
@@ -123,10 +125,10 @@ TEST(ModelGeometry, RoundTripThroughAnOsgFile) {
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->addDrawable(quadGeometry(new osg::DrawArrays(GL_QUADS, 0, 4), unitSquarePlusUnused()));
   t->addChild(geode);
-  const auto path = std::filesystem::temp_directory_path() / ("nestwalk-model-" + std::to_string(::getpid()) + ".osgt");
+  const test::TempFolder folder;
+  const auto path = folder / "model.osgt";
   ASSERT_TRUE(osgDB::writeNodeFile(*t, path.string()));
   const TriangleMesh m = loadModelGeometry(path.string());
-  std::filesystem::remove(path);
   EXPECT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{1, 2, 3}, {2, 2, 3}, {2, 3, 3}, {1, 3, 3}}));
 }

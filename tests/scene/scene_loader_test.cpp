@@ -382,8 +382,15 @@ TEST_P(SceneLoad, UnreadableEmptyAndGroundlessAreErrors) {
   EXPECT_EQ(e.rfind(scenePath() + ": no ground under equipment[0] 'off-east' at (", 0), 0u) << e;
   EXPECT_NE(e.find("; equipment[2] 'weather_station#2' at ("), std::string::npos) << e;
   EXPECT_EQ(e.find("equipment[1]"), std::string::npos) << e;
-  // With a z the ground is not needed.
-  EXPECT_NO_THROW(load(Json::array({{{"model", weatherStation()}, {"position", {terrain_.sampleX(70), terrain_.sampleY(5), 3.0}}}})));
+  // With a z the ground is not needed: the instance stands where the file puts it, off the terrain.
+  const Eigen::Vector3d offTerrain(terrain_.sampleX(70), terrain_.sampleY(5), 3.0);
+  const Scene s = load(Json::array({{{"model", weatherStation()}, {"position", {offTerrain.x(), offTerrain.y(), offTerrain.z()}}}}));
+  ASSERT_EQ(s.instances.size(), 1u);
+  EXPECT_FALSE(s.terrain->groundHeight(offTerrain.x(), offTerrain.y()).has_value());
+  const Eigen::Vector3d placed = s.toMap(s.instances[0].toLocal.translation);
+  EXPECT_EQ(placed.z(), 3.0);
+  EXPECT_NEAR(placed.x(), offTerrain.x(), 1e-9);
+  EXPECT_NEAR(placed.y(), offTerrain.y(), 1e-9);
 
   // A terrain that is no raster: readDem's message, behind the scene file and field.
   test::writeText(dir() / "terrain.tif", "not a raster");
@@ -406,8 +413,8 @@ TEST(SceneRealModels, VolumesContainEveryVertex) {
   for (const char* m : {"models/dumptruck.osgt", "models/street_lamp.osgb", "models/excavator_chassis.obj", "models/jeep1/jeep1.3ds"})
     if (fs::exists(data / m)) models.push_back((data / m).string());
   if (models.empty()) GTEST_SKIP() << "no real models in " << (data / "models");
-  const fs::path dir = fs::temp_directory_path() / ("nestwalk-scene-real-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempFolder folder;
+  const fs::path& dir = folder.path();
   test::PlaneTerrain t;
   t.west = 550000.0;
   t.north = 4650065.0;
@@ -421,7 +428,6 @@ TEST(SceneRealModels, VolumesContainEveryVertex) {
   const auto start = std::chrono::steady_clock::now();
   const Scene s = loadScene((dir / "scene.json").string());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fs::remove_all(dir);
   std::printf("loaded %zu real models (%zu instances) in %.2f s\n", s.models.size(), s.instances.size(), seconds);
   ASSERT_EQ(s.models.size(), models.size());
   for (std::size_t i = 0; i < s.instances.size(); ++i) {

@@ -1,17 +1,18 @@
-// Shared by the scene tests: a per-test temporary folder, a small planar GeoTIFF terrain written
-// with GDAL, and catching an InputError's message.
+// Shared by the scene tests: a per-test temporary folder fixture, a small planar GeoTIFF terrain
+// written with GDAL, and catching an InputError's message.
 #pragma once
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "tests/common/temp_folder.h"
+#include "tests/common/test_data.h"
 #include "tests/terrain/gdal_test_util.h"
 
 #include <gdal.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,31 +20,16 @@ namespace nestwalk::test {
 
 namespace fs = std::filesystem;
 
-/// A fixture with an empty temporary folder per test, removed afterwards unless the test failed
-/// (then it stays for inspection and its path is printed).
+/// A fixture with an empty temporary folder per test (TempFolder: removed afterwards unless the
+/// test failed).
 class TempFolderTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "-" + info->name();
-    for (char& c : name)
-      if (c == '/') c = '_';
-    dir_ = fs::temp_directory_path() / ("nestwalk-scene-" + std::to_string(::getpid()) + "-" + name);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (HasFailure()) {
-      std::printf("kept the test folder %s\n", dir_.c_str());
-      return;
-    }
-    std::error_code ignored;
-    fs::remove_all(dir_, ignored);
-  }
-  const fs::path& dir() const { return dir_; }
+  const fs::path& dir() const { return folder_->path(); }
+  void SetUp() override { folder_ = std::make_unique<TempFolder>(); }
+  void TearDown() override { folder_.reset(); }
 
  private:
-  fs::path dir_;
+  std::unique_ptr<TempFolder> folder_;
 };
 
 /// The planar test terrain: sample (c, r) has height kPlane0 + kPlaneEast * c + kPlaneSouth * r,
@@ -78,8 +64,6 @@ inline void writePlaneTiff(const fs::path& path, const PlaneTerrain& t) {
   GDALClose(ds);
 }
 
-inline void writeText(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
 /// The message of the InputError `f` throws ("" and a test failure when it throws none).
 template <class F>
 std::string inputError(F&& f) {
@@ -90,16 +74,6 @@ std::string inputError(F&& f) {
   }
   ADD_FAILURE() << "expected an InputError";
   return {};
-}
-
-/// The bundled weather station (OBJ, metres, foot at the origin).
-inline std::string weatherStation() { return std::string(NESTWALK_SOURCE_DIR) + "/assets/models/weather_station.obj"; }
-
-/// The shared real data folder, or empty when it is absent (tests then skip and say so).
-inline fs::path sharedData() {
-  const char* env = std::getenv("NESTWALK_SHARED_DATA");
-  fs::path p = env ? env : NESTWALK_SHARED_DATA_DIR;
-  return fs::is_directory(p) ? p : fs::path();
 }
 
 }  // namespace nestwalk::test

@@ -4,7 +4,8 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "tests/terrain/gdal_test_util.h"
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <gdal.h>
 #include <ogr_srs_api.h>
@@ -155,7 +156,8 @@ std::string inputError(F&& f) {
 }
 
 TEST(DemReader, FlippedRastersComeOutNorthUp) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   // 3 x 2, stored south-up (positive pixel height) and east-to-west.
   const double gt[6] = {1000.0, -2.0, 0, 500.0, 0, 4.0};
   writeTiff(dir / "flip.tif", 3, 2, {1, 2, 3, 4, 5, 6}, gt);
@@ -171,7 +173,8 @@ TEST(DemReader, FlippedRastersComeOutNorthUp) {
 }
 
 TEST(DemReader, BandChoiceAndNoData) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const double gt[6] = {0, 1, 0, 10, 0, -1};
   writeTiff(dir / "two.tif", 2, 2, {1, 2, 3, -5}, gt, -5.0, GDT_Float32, 2);
   const Heightfield b1 = terrain::readDem((dir / "two.tif").string());
@@ -184,7 +187,8 @@ TEST(DemReader, BandChoiceAndNoData) {
 }
 
 TEST(DemReader, BadInputsNameTheFileAndTheProblem) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const double gt[6] = {0, 1, 0, 10, 0, -1};
   const double rotated[6] = {0, 0.8, 0.6, 10, 0.6, -0.8};
   writeText(dir / "text.tif", "this is not a raster\n");
@@ -219,7 +223,8 @@ TEST(DemReader, BadInputsNameTheFileAndTheProblem) {
 }
 
 TEST(DemReader, NoGeoreferencingIsPixelUnitsWithAWarning) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeTiff(dir / "plain.tif", 3, 2, {1, 2, 3, 4, 5, 6}, nullptr);
   std::vector<std::string> warnings;
   const Heightfield hf = terrain::readDem((dir / "plain.tif").string(), {}, &warnings);

@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <random>
 
@@ -97,7 +98,7 @@ TEST(RayEmbree, AgreesWithEmbreeOnAMillionRays) {
   rtcCommitScene(scene);
 
   const int kRays = 1000000;
-  std::uniform_real_distribution<double> P(-6.0, n + 5.0), U01(0.0, 1.0), A(0.0, 2.0 * M_PI);
+  std::uniform_real_distribution<double> P(-6.0, n + 5.0), U01(0.0, 1.0), A(0.0, 2.0 * std::numbers::pi);
   long both = 0, neither = 0, hardFailures = 0, embreeOnlyNearEdge = 0, nestwalkOnly = 0, nestwalkOnlyInside = 0;
   long earlierNestwalkNearEdge = 0, earlierNestwalkInside = 0, earlierEmbreeNearEdge = 0, sameTriangle = 0;
   double maxOffSurface = 0.0, maxDz = 0.0, maxDt = 0.0, maxDzSame = 0.0, maxDtSame = 0.0, maxDzVertical = 0.0, maxDzGround = 0.0;
@@ -119,7 +120,7 @@ TEST(RayEmbree, AgreesWithEmbreeOnAMillionRays) {
       d = {0, 0, -1};
       lz = 200.0;
     } else {
-      const double az = A(rng), el = (1.0 + 79.0 * U01(rng)) * M_PI / 180.0;
+      const double az = A(rng), el = (1.0 + 79.0 * U01(rng)) * std::numbers::pi / 180.0;
       d = {std::cos(az), std::sin(az), -std::tan(el)};
       if (special == 3) d.x() = 0.0, d.y() = d.y() < 0 ? -1.0 : 1.0;  // along a column line
       if (special == 5) d.y() = 0.0, d.x() = d.x() < 0 ? -1.0 : 1.0;  // along a row line

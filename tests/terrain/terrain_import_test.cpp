@@ -6,13 +6,15 @@
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "tests/terrain/gdal_test_util.h"
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <cpl_conv.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 
 namespace nestwalk::test {
@@ -105,7 +107,8 @@ void expectTerrainCog(const Raster& r) {
 TEST(TerrainImport, EverySharedDemCopiesSampleForSample) {
   const fs::path data = sharedData();
   if (data.empty()) GTEST_SKIP() << "shared data folder absent (NESTWALK_SHARED_DATA): no DEM to import";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   for (const char* name : {"mt_rainier_90m.tif", "storml_elev_orig.tif", "pre_runout_DEM.asc"}) {
     const fs::path in = data / "terrain" / name;
     if (!fs::exists(in)) continue;
@@ -139,7 +142,8 @@ TEST(TerrainImport, EverySharedDemCopiesSampleForSample) {
 }
 
 TEST(TerrainImport, CropWindowSnapsToSamples) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = smoothDem(dir);
   ImportOptions o;
   o.window = std::array<double, 4>{550020.0, 4649900.0, 550100.0, 4649960.0};
@@ -158,7 +162,8 @@ TEST(TerrainImport, CropWindowSnapsToSamples) {
 }
 
 TEST(TerrainImport, ResolutionAndTargetCrsGoThroughTheWarper) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = smoothDem(dir);
   ImportOptions res;
   res.resolution = 4.0;
@@ -192,7 +197,8 @@ TEST(TerrainImport, ResolutionAndTargetCrsGoThroughTheWarper) {
 }
 
 TEST(TerrainImport, NoDataFillAndVerticalScale) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = smoothDem(dir);
   ImportOptions fill;
   fill.fillNoData = true;
@@ -210,7 +216,8 @@ TEST(TerrainImport, NoDataFillAndVerticalScale) {
 }
 
 TEST(TerrainImport, BandRotationAndNoGeoreferencing) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const double gt[6] = {100, 1, 0, 200, 0, -1};
   writeTiff(dir / "two.tif", 4, 3, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}, gt, std::nullopt, 2);
   ImportOptions b2;
@@ -221,7 +228,7 @@ TEST(TerrainImport, BandRotationAndNoGeoreferencing) {
   EXPECT_THROW(terrain::importTerrain((dir / "two.tif").string(), (dir / "b3.tif").string(), b2), InputError);
 
   // 30 degrees rotated: warped north-up, with a warning.
-  const double a = M_PI / 6;
+  const double a = std::numbers::pi / 6;
   const double rot[6] = {1000, std::cos(a), std::sin(a), 2000, std::sin(a), -std::cos(a)};
   std::vector<double> v(40 * 40);
   for (int r = 0; r < 40; ++r)
@@ -244,7 +251,8 @@ TEST(TerrainImport, BandRotationAndNoGeoreferencing) {
 }
 
 TEST(TerrainImport, SouthUpGridIsWrittenNorthUpSampleExact) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const double gt[6] = {1000.0, 2.0, 0, 500.0, 0, 3.0};  // row 0 is the south row
   writeTiff(dir / "south.tif", 3, 2, {1.25, 2, 3, 4, 5, 6.5}, gt, std::nullopt, 1, "EPSG:32651");
   terrain::importTerrain((dir / "south.tif").string(), (dir / "north.tif").string(), {});
@@ -267,7 +275,8 @@ TEST(TerrainImport, SouthUpGridIsWrittenNorthUpSampleExact) {
 }
 
 TEST(TerrainImport, OverwriteAndNoLeftovers) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = smoothDem(dir);
   const fs::path out = dir / "out.tif";
   writeText(out, "precious");
@@ -287,7 +296,8 @@ TEST(TerrainImport, OverwriteAndNoLeftovers) {
 }
 
 TEST(TerrainImport, WriteTerrainCogRoundTrips) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   std::vector<float> h = {1, 2, 3, NAN, 5, 6};
   terrain::writeTerrainCog((dir / "w.tif").string(), 3, 2, h, 550000.5, 4650000.5, 1.0, 1.0, "EPSG:32651", false);
   const auto hf = terrain::readDem((dir / "w.tif").string());

@@ -2,7 +2,7 @@
 // offscreen without a display. Times are not asserted; what it checks is measured: both
 // configurations rendered every sampled frame, the terrain error stays within its LOD budget, and
 // the nested view culling never kept more instances than OSG's bounding spheres on the same frames.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 

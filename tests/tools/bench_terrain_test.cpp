@@ -1,7 +1,7 @@
 // `nestwalk bench terrain --quick --json`: a smoke run of the terrain benchmark a user runs. Times
 // are not asserted; the agreement it measures is: every peer finds the same vertical hits as
 // nestwalk's groundHeight, and the LOD table is monotone.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 // `nestwalk bench volumes --quick --json`: a smoke run of the benchmark a user runs. Times are
 // not asserted (they belong to benchmarks); the verdict checks the benchmark makes against the
 // double SAT are: every nestwalk form must agree with it on every pair.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 

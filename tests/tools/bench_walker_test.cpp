@@ -2,7 +2,7 @@
 // are not asserted; what it checks is measured: the broad phase finds the same hits as btDbvt and
 // FCL (the run fails otherwise), and every hierarchy gives the same contacts on the bundled
 // flythroughs (the fACT Table 2 part), with the template hierarchy as the 100 % row.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 

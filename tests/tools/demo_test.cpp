@@ -1,6 +1,6 @@
 // `nestwalk demo`, the README's main job for now: it runs and its verdicts follow from the
 // station's geometry (far away: free; the body's centre on the mast: blocked).
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <map>
 #include <vector>

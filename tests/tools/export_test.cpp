@@ -3,7 +3,7 @@
 // OUT is never replaced without --overwrite and no temporary file is left behind; bad input names
 // the file and writes nothing.
 #include "nestwalk/scene/model_geometry.h"
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <osg/Geometry>
 #include <osg/LOD>
@@ -50,7 +50,6 @@ fs::path writeScene(const fs::path& dir) {
   return dir / "scene.json";
 }
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 struct GraphSummary {
   std::map<std::string, osg::MatrixTransform*> transforms;  // by name
@@ -104,7 +103,8 @@ std::vector<std::string> otherFiles(const fs::path& dir) {
 }
 
 TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path scene = writeScene(dir);
   const std::size_t triangles = loadModelGeometry(weatherStation()).triangles.size();
   for (const char* name : {"scene.osgb", "scene.osgt", "scene.ive"}) {
@@ -137,7 +137,8 @@ TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
 }
 
 TEST(Export, VolumesAndNoTerrain) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path scene = writeScene(dir);
   const fs::path out = dir / "v.osgt";
   const auto r = runNestwalk("export " + quoted(scene) + " " + quoted(out) + " --volumes --no-terrain");
@@ -151,7 +152,8 @@ TEST(Export, VolumesAndNoTerrain) {
 }
 
 TEST(Export, ExistingOutIsReplacedOnlyWithOverwrite) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path scene = writeScene(dir);
   const fs::path out = dir / "scene.osgb";
   writeText(out, "previous contents");
@@ -167,7 +169,8 @@ TEST(Export, ExistingOutIsReplacedOnlyWithOverwrite) {
 }
 
 TEST(Export, BadInputNamesTheFileAndWritesNothing) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path scene = writeScene(dir);
   struct Case {
     std::string args, message;

@@ -3,7 +3,7 @@
 // code is 1, OUT stays absent or byte-for-byte unchanged, and IN's bytes and mtime are untouched.
 // The bad files are written by hand (ASCII grids, ENVI raw + header, VRT XML) so no GDAL library
 // is needed here.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <cmath>
 #include <cstring>
@@ -54,7 +54,6 @@ void writeVrt(const fs::path& p, const fs::path& source, int cols, int rows, con
     << "  </VRTRasterBand>\n</VRTDataset>\n";
 }
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 struct Snapshot {
   std::string bytes;
@@ -63,7 +62,8 @@ struct Snapshot {
 Snapshot snapshot(const fs::path& p) { return {readText(p), fs::last_write_time(p)}; }
 
 TEST(ImportTerrain, ImportsWithSummaryAndQueriesBack) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = goodAsc(dir);
   const auto before = snapshot(in);
   const fs::path out = dir / "terrain.tif";
@@ -84,7 +84,8 @@ TEST(ImportTerrain, ImportsWithSummaryAndQueriesBack) {
 }
 
 TEST(ImportTerrain, BandOption) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   std::vector<float> v(2 * 3 * 2);
   for (int i = 0; i < 6; ++i) v[std::size_t(i)] = float(i), v[std::size_t(6 + i)] = 100.0f + float(i);
   writeEnvi(dir / "two.bin", 3, 2, v, 2);
@@ -104,7 +105,8 @@ TEST(ImportTerrain, BandOption) {
 }
 
 TEST(ImportTerrain, OverwriteSemantics) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = goodAsc(dir);
   const fs::path out = dir / "terrain.tif";
   writeText(out, "an existing file");
@@ -124,7 +126,8 @@ TEST(ImportTerrain, OverwriteSemantics) {
 }
 
 TEST(ImportTerrain, OptionsCropScaleCrs) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto in = goodAsc(dir);
   const fs::path out = dir / "crop.tif";
   const auto r = runNestwalk("import-terrain " + quoted(in) + " " + quoted(out) +
@@ -146,7 +149,8 @@ TEST(ImportTerrain, OptionsCropScaleCrs) {
 }
 
 TEST(ImportTerrain, BadInputsAreRefusedAndLeaveOutAlone) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "text.tif", "not a raster at all\n");
   writeText(dir / "zero.tif", "");
   writeAsc(dir / "allnodata.asc", 8, 6, 0, 0, 1, [](int, int) { return std::string("-9999"); });
@@ -202,7 +206,8 @@ TEST(ImportTerrain, BadInputsAreRefusedAndLeaveOutAlone) {
 }
 
 TEST(ImportTerrain, RotatedIsWarpedNorthUpAndUngeoreferencedWarns) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto src = goodAsc(dir);
   writeVrt(dir / "rotated.vrt", src, 60, 40, "1000, 0.8, 0.6, 2000, 0.6, -0.8");
   const auto r = runNestwalk("import-terrain " + quoted(dir / "rotated.vrt") + " " + quoted(dir / "r.tif"));

@@ -1,6 +1,6 @@
 // `nestwalk make-scene`: writes the scene folder (terrain, models, scene.json, scripts), refuses an
 // existing folder without --overwrite and leaves it as it was, and replaces it with --overwrite.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,10 +10,10 @@ namespace nestwalk::test {
 namespace {
 
 namespace fs = std::filesystem;
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 TEST(MakeScene, WritesTheSceneAndKeepsAnExistingFolder) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path out = dir / "dump";
   const auto r = runNestwalk("make-scene " + quoted(out) + " --seed 3");
   ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -1,12 +1,13 @@
 // `nestwalk make-terrain`: deterministic from the seed, written in EPSG:32651 as the terrain COG,
 // and the benches measured from the generated grid (through `query ground` along a profile across
 // the dump's long side): berms about 10 m apart, faces about 35 degrees.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <filesystem>
 
@@ -14,7 +15,6 @@ namespace nestwalk::test {
 namespace {
 
 namespace fs = std::filesystem;
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 std::vector<std::optional<double>> zColumn(const std::string& csv) {
   std::vector<std::optional<double>> z;
@@ -37,7 +37,8 @@ std::string gridPoints(double e0, double n0, double step, int n) {
 }
 
 TEST(MakeTerrain, DeterministicFromTheSeedInUtm51N) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   for (const char* name : {"a.tif", "b.tif"}) {
     const auto r = runNestwalk("make-terrain " + quoted(dir / name) + " --seed 7 --size 400");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -73,7 +74,8 @@ TEST(MakeTerrain, DeterministicFromTheSeedInUtm51N) {
 }
 
 TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path out = dir / "dump.tif";
   const auto r = runNestwalk("make-terrain " + quoted(out) + " --seed 3");
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -82,7 +84,7 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
   ASSERT_NE(at, std::string::npos) << r.out;
   ASSERT_EQ(std::sscanf(r.out.c_str() + at, "centre %lf %lf, long axis azimuth %lf", &ce, &cn, &az), 3) << r.out;
   // A profile from the centre across the long side away from the ramp (azimuth az + 90).
-  const double a = (az + 90.0) * M_PI / 180.0, step = 0.25;
+  const double a = (az + 90.0) * std::numbers::pi / 180.0, step = 0.25;
   const int n = 1000;  // 250 m
   std::string csv = "x,y\n";
   char buf[96];
@@ -97,7 +99,7 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
   for (const auto& v : zs) z.push_back(*v);
   // Slope over a 2 m baseline (the grid has 1 m cells and centimetre roughness).
   const int w = 8;
-  auto slopeDeg = [&](int i) { return std::atan(std::abs(z[i + w] - z[i]) / (w * step)) * 180.0 / M_PI; };
+  auto slopeDeg = [&](int i) { return std::atan(std::abs(z[i + w] - z[i]) / (w * step)) * 180.0 / std::numbers::pi; };
   std::vector<double> flats, faces;  // flat levels (median z), face slopes (fitted)
   int i = 0;
   while (i + w < n) {
@@ -107,7 +109,7 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
     if (steep && (j - i) * step > 6.0) {
       // The face between its toe and crest, trimmed by 1.5 m at each end: rise over run.
       const int t = int(1.5 / step), s0 = i + t, s1 = j + w - t;
-      faces.push_back(std::atan(std::abs(z[s1] - z[s0]) / ((s1 - s0) * step)) * 180.0 / M_PI);
+      faces.push_back(std::atan(std::abs(z[s1] - z[s0]) / ((s1 - s0) * step)) * 180.0 / std::numbers::pi);
     }
     if (flat && (j - i) * step > 3.0) {
       std::vector<double> seg(z.begin() + i, z.begin() + j + w);

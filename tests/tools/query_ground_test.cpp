@@ -2,7 +2,8 @@
 // own sample values at samples and at midpoints between horizontally / vertically adjacent samples;
 // nodata gives an empty z. GDAL's values are read independently of nestwalk with GDAL's own
 // utilities (gdalinfo -json for the frame, gdal_translate to raw Float64 for RasterIO's samples).
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <nlohmann/json.hpp>
 
@@ -143,7 +144,8 @@ TEST(QueryGround, AgreesWithGdalOnEverySharedDemOriginalAndImported) {
   const fs::path data = sharedData();
   if (data.empty()) GTEST_SKIP() << "shared data folder absent (NESTWALK_SHARED_DATA): no DEM to query";
   if (!haveGdalTools()) GTEST_SKIP() << "gdalinfo / gdal_translate not on PATH: no independent GDAL reference";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   int dems = 0;
   for (const auto& e : fs::directory_iterator(data / "terrain")) {
     const auto ext = e.path().extension().string();
@@ -170,7 +172,8 @@ TEST(QueryGround, AgreesWithGdalOnEverySharedDemOriginalAndImported) {
 TEST(QueryGround, OutsideAndBadPointsFile) {
   const fs::path data = sharedData();
   if (data.empty()) GTEST_SKIP() << "shared data folder absent (NESTWALK_SHARED_DATA)";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const std::string dem = (data / "terrain/storml_elev_orig.tif").string();
   writeText(dir / "p.csv", "x,y\n0,0\n325621.072,5103476.983\n");
   const auto r = runNestwalk("query ground '" + dem + "' --points '" + (dir / "p.csv").string() + "'");

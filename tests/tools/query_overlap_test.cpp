@@ -1,10 +1,11 @@
 // `nestwalk query overlap`: verdicts on pairs whose answer is known by construction, at the
 // origin and at UTM magnitudes, and the errors for malformed input.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace nestwalk::test {
@@ -48,7 +49,7 @@ std::vector<std::string> lines(const std::string& text) {
 
 // Pairs whose verdict follows from their construction: the gap along a known direction.
 std::string knownPairs(const Eigen::Vector3d& origin) {
-  const Eigen::Matrix3d rot45 = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d rot45 = Eigen::AngleAxisd(std::numbers::pi / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::string csv = header();
   // 1 m cubes side by side along x: gaps of 1 mm, 0 (touching) and -1 mm.
   csv += row("aabb_gap_1mm", aabb(origin, {0.5, 0.5, 0.5}), aabb(origin + Eigen::Vector3d(1.001, 0, 0), {0.5, 0.5, 0.5}));
@@ -79,7 +80,8 @@ const std::vector<std::string> kExpected = {
 };
 
 TEST(QueryOverlap, KnownPairsAtOrigin) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "pairs.csv", knownPairs(Eigen::Vector3d::Zero()));
   const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -87,7 +89,8 @@ TEST(QueryOverlap, KnownPairsAtOrigin) {
 }
 
 TEST(QueryOverlap, KnownPairsAtUtmMagnitudes) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "pairs.csv", knownPairs({550123.456, 4650789.123, 1234.5}));
   const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -95,7 +98,8 @@ TEST(QueryOverlap, KnownPairsAtUtmMagnitudes) {
 }
 
 TEST(QueryOverlap, MalformedRowNamesTheLine) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   std::string csv = knownPairs(Eigen::Vector3d::Zero());
   csv += "broken,1,2,three\n";
   writeText(dir / "pairs.csv", csv);
@@ -106,7 +110,8 @@ TEST(QueryOverlap, MalformedRowNamesTheLine) {
 }
 
 TEST(QueryOverlap, NotANumberNamesLineAndColumn) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   std::string csv = header() + row("p", aabb({0, 0, 0}, {1, 1, 1}), aabb({3, 0, 0}, {1, 1, 1}));
   csv.replace(csv.find(",3,"), 3, ",x3,");
   writeText(dir / "pairs.csv", csv);
@@ -116,7 +121,8 @@ TEST(QueryOverlap, NotANumberNamesLineAndColumn) {
 }
 
 TEST(QueryOverlap, NonOrthonormalAxesAndNegativeExtentsAreRefused) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   Box skew = aabb({0, 0, 0}, {1, 1, 1});
   skew.axes(0, 1) = 0.5;
   writeText(dir / "skew.csv", header() + row("p", skew, aabb({3, 0, 0}, {1, 1, 1})));
@@ -131,7 +137,8 @@ TEST(QueryOverlap, NonOrthonormalAxesAndNegativeExtentsAreRefused) {
 }
 
 TEST(QueryOverlap, MissingColumnAndMissingFile) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "cols.csv", "id,acx\n1,2\n");
   CommandResult r = runNestwalk("query overlap '" + (dir / "cols.csv").string() + "'");
   EXPECT_NE(r.exitCode, 0);

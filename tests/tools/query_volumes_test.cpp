@@ -1,7 +1,8 @@
 // `nestwalk query volumes`: checked against values computed without the engine: the vertices
 // parsed from the OBJ text, and the triangle counts and bounding boxes that shared/data/SOURCES.md
 // records (measured there with osg::TriangleFunctor and osg::ComputeBoundsVisitor).
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <nlohmann/json.hpp>
 
@@ -70,7 +71,8 @@ TEST(QueryVolumes, BundledWeatherStation) {
 }
 
 TEST(QueryVolumes, PointCloudWithoutTriangles) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "cloud.ply",
             "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
             "end_header\n0 0 0\n1 0 0\n0 2 0\n0 0 3\n1 2 3\n");
@@ -84,7 +86,8 @@ TEST(QueryVolumes, PointCloudWithoutTriangles) {
 }
 
 TEST(QueryVolumes, UnreadableFilesGetAClearError) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   CommandResult r = runNestwalk("query volumes '" + (dir / "absent.obj").string() + "'");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.err.find("absent.obj: no such file"), std::string::npos) << r.err;

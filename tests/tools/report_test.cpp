@@ -2,7 +2,7 @@
 // build/assets/mining_dump), quick settings: the report's files are written, every method ran over
 // every flythrough without a missed contact, nested+mesh has no false block and stops within 1 mm
 // of the real geometry, the plots read back as PNGs, and existing files are kept unless --overwrite.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 #include <osg/Image>
@@ -14,7 +14,6 @@ namespace nestwalk::test {
 namespace {
 
 namespace fs = std::filesystem;
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
 const char* const kMethods[] = {"nested", "aabb", "obb", "nested+mesh", "kdop18"};
@@ -28,7 +27,8 @@ class Report : public ::testing::Test {
 };
 
 TEST_F(Report, QuickReportOnTheBundledScene) {
-  const fs::path dir = tempFolder() / "report";
+  const TempFolder folder;
+  const fs::path dir = folder / "report";
   const auto r = runNestwalk("report --quick --out " + quoted(dir));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png"})
@@ -96,7 +96,8 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
 }
 
 TEST_F(Report, MissingScriptIsNamed) {
-  const fs::path dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto r = runNestwalk("report " + quoted(kScene) + " --scripts " + quoted(dir / "nope.txt") + " --out " +
                              quoted(dir / "report"));
   EXPECT_EQ(r.exitCode, 1);

@@ -2,7 +2,7 @@
 // into numbered PNG frames and an MP4 video (ffprobe counts its frames), render times in the same
 // CSV and summary, rendered columns deterministic between runs, and bad options refused with a
 // message.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 #include <osg/Image>
@@ -19,7 +19,6 @@ namespace nestwalk::test {
 namespace {
 
 namespace fs = std::filesystem;
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
 const fs::path kFlight = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts" / "low_flight.txt";
@@ -57,7 +56,8 @@ class RenderRun : public ::testing::Test {
 };
 
 TEST_F(RenderRun, WritesFramesVideoAndRenderTimes) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const std::string base = "run " + quoted(kScene) + " --script " + quoted(kFlight) +
                            " --headless --quiet --render --size 320x180 --every 60 --out ";
   const auto a = runNestwalk(base + quoted(dir / "a"));
@@ -146,7 +146,8 @@ TEST_F(RenderRun, FallsBackToAnXPbufferUnderXvfb) {
   // The fallback route where EGL cannot be had: an X pbuffer on the display xvfb-run provides.
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed (tools/setup-deps.sh installs it)";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const std::string args = "run " + quoted(kScene) + " --script " + quoted(kFlight) +
                            " --headless --quiet --render --size 320x180 --every 300 --no-video --out ";
   const auto egl = runNestwalk(args + quoted(dir / "egl"));
@@ -170,7 +171,8 @@ TEST_F(RenderRun, FallsBackToAnXPbufferUnderXvfb) {
 }
 
 TEST_F(RenderRun, BadRenderOptionsAreRefused) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const std::string base = "run " + quoted(kScene) + " --script " + quoted(kFlight) + " --headless --quiet --render ";
   const auto size = runNestwalk(base + "--size 12x9 --out " + quoted(dir / "o"));
   EXPECT_NE(size.exitCode, 0);

@@ -2,7 +2,7 @@
 // build/assets/mining_dump): every bundled flythrough meets its expectations, the per-frame CSV is
 // byte-identical between runs once the timing columns are cut, every hierarchy gives the same
 // contacts, and bad input and failed expectations end with their messages and exit codes.
-#include "tests/tools/run_command.h"
+#include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
 
@@ -12,7 +12,6 @@ namespace nestwalk::test {
 namespace {
 
 namespace fs = std::filesystem;
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
 const fs::path kScripts = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts";
@@ -50,7 +49,8 @@ class BundledRun : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(BundledRun, MeetsItsExpectationsAndIsDeterministic) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path script = kScripts / GetParam();
   const auto a = runNestwalk("run " + quoted(kScene) + " --script " + quoted(script) + " --headless --out " +
                              quoted(dir / "a"));
@@ -74,7 +74,8 @@ TEST_P(BundledRun, MeetsItsExpectationsAndIsDeterministic) {
 }
 
 TEST_P(BundledRun, EveryHierarchyGivesTheSameContacts) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const fs::path script = kScripts / GetParam();
   std::string reference;
   int n = 0;
@@ -95,7 +96,8 @@ TEST_P(BundledRun, EveryHierarchyGivesTheSameContacts) {
 
 TEST(Run, AWalkedCameraPathCanBeFlownAsAScript) {
   if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   const auto a = runNestwalk("run " + quoted(kScene) + " --script " + quoted(kScripts / "ramp_descent.txt") +
                              " --headless --quiet --out " + quoted(dir / "walk"));
   ASSERT_EQ(a.exitCode, 0) << a.out << a.err;
@@ -113,7 +115,8 @@ INSTANTIATE_TEST_SUITE_P(Scripts, BundledRun, ::testing::ValuesIn(kScriptNames),
 
 TEST(Run, FailedExpectationsNameTheFrameAndPositionAndExitWith3) {
   if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent";
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   // Start the bench patrol, then expect to be blocked right away (it is not).
   std::string text = readText(kScripts / "bench_patrol.txt");
   const std::size_t startLine = text.find("start ");
@@ -131,7 +134,8 @@ TEST(Run, FailedExpectationsNameTheFrameAndPositionAndExitWith3) {
 }
 
 TEST(Run, BadScriptsAndScenesNameTheFileAndLine) {
-  const auto dir = tempFolder();
+  const TempFolder folder;
+  const fs::path dir = folder.path();
   writeText(dir / "bad.txt", "mode walk\nstart 1 2\ngoto 5\n");
   if (fs::exists(kScene)) {
     const auto r = runNestwalk("run " + quoted(kScene) + " --script " + quoted(dir / "bad.txt") + " --headless --out " +

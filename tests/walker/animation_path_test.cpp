@@ -1,10 +1,12 @@
 // OpenSceneGraph AnimationPath files (engine/walker/script.h) against OSG itself: the camera
 // orientation against osg::Matrixd::lookAt, the written file against osg::AnimationPath::read and
 // osgGA::AnimationPathManipulator, and the script made from a file osg::AnimationPath::write wrote.
+#include "nestwalk/core/angles.h"
 #include "nestwalk/walker/animation_path.h"
 #include "nestwalk/walker/script.h"
 
 #include "nestwalk/core/input_error.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 #include <osg/AnimationPath>
@@ -15,6 +17,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -24,36 +27,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRad = kPi / 180.0;
 // Quaternion and direction agreement: a few ulps of the trigonometry behind both sides.
 constexpr double kRotationTol = 1e-12;
 // Angles read back from a quaternion: atan2 of components good to ~1e-16 gives ~1e-13 degrees;
 // near the vertical the heading comes from the right vector, as well conditioned.
 constexpr double kAngleTolDeg = 1e-9;
 
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "nestwalk-path-XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
+using TempDir = test::TempFolder;
 
 /// The direction of heading H (clockwise from +y) and pitch P (up) in the z-up map frame.
 osg::Vec3d direction(double h, double p) {
-  return osg::Vec3d(std::sin(h * kRad) * std::cos(p * kRad), std::cos(h * kRad) * std::cos(p * kRad),
-                    std::sin(p * kRad));
+  return osg::Vec3d(std::sin(radians(h)) * std::cos(radians(p)), std::cos(radians(h)) * std::cos(radians(p)),
+                    std::sin(radians(p)));
 }
 
 /// OSG's own camera rotation for that view: lookAt gives the view matrix, its inverse the

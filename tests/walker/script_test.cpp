@@ -3,6 +3,7 @@
 #include "nestwalk/walker/script.h"
 
 #include "nestwalk/core/input_error.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -28,27 +29,9 @@ std::string parseError(const std::string& text, const std::string& path = "patro
 }
 
 /// A fresh folder under the system's temporary folder, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "nestwalk-script-XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
+using TempDir = test::TempFolder;
+using test::writeText;
 
- private:
-  fs::path path_;
-};
-
-void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
 
 TEST(Script, EveryCommandForm) {
   const std::string text =

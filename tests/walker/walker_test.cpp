@@ -1,6 +1,7 @@
 // The walker on a small synthetic terrain (a flat toe, a 35-degree bench face up 10 m, a 10 %
 // haul ramp cut into it) with boxes as equipment, at the origin and at UTM magnitudes. Gaps are
 // checked against FCL's box-box distance (an independent GJK) and the static SAT.
+#include "nestwalk/core/angles.h"
 #include "nestwalk/walker/walker.h"
 
 #include <fcl/narrowphase/distance.h>
@@ -10,20 +11,20 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <numbers>
 #include <memory>
 #include <random>
 
 namespace nestwalk {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Toe at z = 0 south of y = 100, a 35-degree face up to the 10 m bench, and a 10 % ramp for
 /// 20 <= x <= 30 from y = 60 to y = 160. Sample (c, r) sits at map (x0 + c, y0 + 200 - r).
 std::shared_ptr<terrain::Heightfield> benchTerrain(double x0, double y0) {
   const int n = 201;
   std::vector<float> h(std::size_t(n) * n);
-  const double tan35 = std::tan(35.0 * kPi / 180.0);
+  const double tan35 = std::tan(radians(35.0));
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) {
       const double x = c, y = 200 - r;
@@ -64,7 +65,7 @@ Rig makeRig(double x0, double y0, const std::vector<Obb<double>>& mapBoxes, Walk
 Obb<double> uprightBox(double x, double y, double z0, double hx, double hy, double hz, double yawDeg = 0) {
   Obb<double> b;
   b.center = Vec3<double>(x, y, z0 + hz);
-  b.axes = Eigen::AngleAxisd(-yawDeg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  b.axes = Eigen::AngleAxisd(-radians(yawDeg), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   b.halfExtents = Vec3<double>(hx, hy, hz);
   return b;
 }
@@ -106,7 +107,7 @@ class WalkerAt : public ::testing::TestWithParam<Eigen::Vector2d> {};
 TEST_P(WalkerAt, StopsWithinAMillimetreOfRotatedBoxesAndNeverInside) {
   const double x0 = GetParam().x(), y0 = GetParam().y();
   std::mt19937 rng(21);
-  std::uniform_real_distribution<double> yaw(0, 360), ext(0.02, 1.5), ang(0, 2 * kPi), spd(0.5, 50.0);
+  std::uniform_real_distribution<double> yaw(0, 360), ext(0.02, 1.5), ang(0, 2 * std::numbers::pi), spd(0.5, 50.0);
   int blocked = 0;
   double worstGap = 0;
   for (int trial = 0; trial < 200; ++trial) {
@@ -303,7 +304,7 @@ TEST(Walker, TheSameSceneAtUtmAndAtTheOriginGivesTheSameContactsAndHeights) {
     }
     StepInput in;
     in.move = Eigen::Vector3d(d.x(), d.y(), 0).normalized() * (3.0 / 60);
-    in.headingDeg = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / kPi + 360.0, 360.0);
+    in.headingDeg = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
     r0.walker->step(in);
     r1.walker->step(in);
     const WalkerState &a = r0.walker->state(), &b = r1.walker->state();
