@@ -23,14 +23,14 @@ std::string tempPathBeside(const std::string& target, const std::string& tag, co
       .string();
 }
 
-OutputFile::OutputFile(const std::string& target, const std::string& extension, const std::string& tag)
-    : target_(target), temp_(tempPathBeside(target, tag, extension)) {}
-
-OutputFile::~OutputFile() {
+TemporaryBeside::~TemporaryBeside() {
   if (committed_) return;
   std::error_code ignored;
-  fs::remove(temp_, ignored);
+  fs::remove_all(temp_, ignored);
 }
+
+OutputFile::OutputFile(const std::string& target, const std::string& extension, const std::string& tag)
+    : TemporaryBeside(target, tempPathBeside(target, tag, extension)) {}
 
 void OutputFile::commit() {
   std::error_code ec;
@@ -39,17 +39,11 @@ void OutputFile::commit() {
   committed_ = true;
 }
 
-OutputFolder::OutputFolder(const std::string& target) : target_(target), temp_(tempPathBeside(target)) {
+OutputFolder::OutputFolder(const std::string& target) : TemporaryBeside(target, tempPathBeside(target)) {
   std::error_code ec;
   fs::remove_all(temp_, ec);
   fs::create_directories(temp_, ec);
   if (ec) throw InputError(target_ + ": cannot create a folder beside it (" + temp_ + "): " + ec.message());
-}
-
-OutputFolder::~OutputFolder() {
-  if (committed_) return;
-  std::error_code ignored;
-  fs::remove_all(temp_, ignored);
 }
 
 void OutputFolder::commit() {

@@ -16,43 +16,38 @@ namespace nestwalk {
 std::string tempPathBeside(const std::string& target, const std::string& tag = "tmp",
                            const std::string& extension = "");
 
-/// A temporary file beside `target`, removed again on destruction unless commit() renamed it onto
-/// the target. Also a scratch file that is never committed (e.g. a staging raster).
-class OutputFile {
+/// What OutputFile and OutputFolder share: the target, its temporary beside it, and the rule that
+/// the temporary (file or folder, with its contents) is removed on destruction unless committed.
+class TemporaryBeside {
  public:
-  explicit OutputFile(const std::string& target, const std::string& extension = "", const std::string& tag = "tmp");
-  ~OutputFile();
-  OutputFile(const OutputFile&) = delete;
-  OutputFile& operator=(const OutputFile&) = delete;
-
+  TemporaryBeside(const TemporaryBeside&) = delete;
+  TemporaryBeside& operator=(const TemporaryBeside&) = delete;
   const std::string& tempPath() const { return temp_; }
   const std::string& target() const { return target_; }
-  /// Renames the temporary file onto the target; throws InputError naming the target on failure.
-  void commit();
 
- private:
+ protected:
+  TemporaryBeside(const std::string& target, const std::string& temp) : target_(target), temp_(temp) {}
+  ~TemporaryBeside();
   std::string target_, temp_;
   bool committed_ = false;
 };
 
+/// A temporary file beside `target`; commit() renames it onto the target (atomic). Also a scratch
+/// file that is never committed (e.g. a staging raster).
+class OutputFile : public TemporaryBeside {
+ public:
+  explicit OutputFile(const std::string& target, const std::string& extension = "", const std::string& tag = "tmp");
+  /// Throws InputError naming the target on failure.
+  void commit();
+};
+
 /// A temporary folder beside `target`, created empty (a stale one of the same name is removed
-/// first), removed with its contents on destruction unless commit() put it in place: commit()
-/// replaces the target folder (an existing one is moved aside and removed only after the rename).
-/// Throws InputError naming the folder when it cannot be created or committed.
-class OutputFolder {
+/// first); commit() replaces the target folder (an existing one is moved aside and removed only
+/// after the rename). Throws InputError naming the folder when it cannot be created or committed.
+class OutputFolder : public TemporaryBeside {
  public:
   explicit OutputFolder(const std::string& target);
-  ~OutputFolder();
-  OutputFolder(const OutputFolder&) = delete;
-  OutputFolder& operator=(const OutputFolder&) = delete;
-
-  const std::string& tempPath() const { return temp_; }
-  const std::string& target() const { return target_; }
   void commit();
-
- private:
-  std::string target_, temp_;
-  bool committed_ = false;
 };
 
 /// Writes `content` to `path` through an OutputFile; throws InputError naming `path` on failure.

@@ -9,15 +9,7 @@
 #include <unordered_map>
 #include <utility>
 
-namespace nestwalk {
-
-using hierarchy_detail::Block;
-using hierarchy_detail::kEmptyLane;
-using hierarchy_detail::kTreeLanes;
-using hierarchy_detail::Leaf;
-using hierarchy_detail::roundDown;
-using hierarchy_detail::roundUp;
-using hierarchy_detail::TreeData;
+namespace nestwalk::hierarchy_detail {
 
 namespace {
 
@@ -360,7 +352,7 @@ class Builder {
 
 }  // namespace
 
-void hierarchy_detail::buildAutoTree(TreeData& tree, std::span<const Aabb<double>> boxes, const AutoTreeOptions& options) {
+void buildAutoTree(TreeData& tree, std::span<const Aabb<double>> boxes, const AutoTreeOptions& options) {
   if (options.degree != 2 && options.degree != 4 && options.degree != 8)
     throw std::invalid_argument("BoxTree::buildAuto: degree must be 2, 4 or 8, got " + std::to_string(options.degree));
   checkBoxes(boxes, "BoxTree::buildAuto");
@@ -373,7 +365,7 @@ void hierarchy_detail::buildAutoTree(TreeData& tree, std::span<const Aabb<double
                       splitPointName(options.point);
 }
 
-void hierarchy_detail::buildTemplateTree(TreeData& tree, std::span<const Aabb<double>> boxes, std::span<const std::string> groupPaths,
+void buildTemplateTree(TreeData& tree, std::span<const Aabb<double>> boxes, std::span<const std::string> groupPaths,
                        const TemplateTreeOptions& options) {
   checkBoxes(boxes, "BoxTree::buildTemplate");
   if (groupPaths.size() != boxes.size())
@@ -430,4 +422,4 @@ void hierarchy_detail::buildTemplateTree(TreeData& tree, std::span<const Aabb<do
                          std::to_string(options.wideGroupChildren) + ")";
 }
 
-}  // namespace nestwalk
+}  // namespace nestwalk::hierarchy_detail

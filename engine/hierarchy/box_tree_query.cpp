@@ -6,15 +6,7 @@
 #include <immintrin.h>
 #endif
 
-namespace nestwalk {
-
-using hierarchy_detail::Block;
-using hierarchy_detail::kEmptyLane;
-using hierarchy_detail::kTreeLanes;
-using hierarchy_detail::Leaf;
-using hierarchy_detail::roundDown;
-using hierarchy_detail::roundUp;
-using hierarchy_detail::TreeData;
+namespace nestwalk::hierarchy_detail {
 
 namespace {
 
@@ -137,7 +129,7 @@ void traverse(const TreeData& t, std::uint32_t first, std::uint32_t span, const 
 
 }  // namespace
 
-void hierarchy_detail::queryTree(const TreeData& t, const Aabb<double>& box, std::vector<std::uint32_t>& out,
+void queryTree(const TreeData& t, const Aabb<double>& box, std::vector<std::uint32_t>& out,
                BroadPhaseCounters* counters) {
   if (t.rootSpan == 0) return;
   FloatQuery q;
@@ -150,4 +142,4 @@ void hierarchy_detail::queryTree(const TreeData& t, const Aabb<double>& box, std
   else traverse<false>(t, 0, t.rootSpan, lanes, box, out, nullptr);
 }
 
-}  // namespace nestwalk
+}  // namespace nestwalk::hierarchy_detail
