@@ -16,6 +16,7 @@
 #include <osg/ref_ptr>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,9 +44,10 @@ Mat3<double> attitudeRotation(double headingDeg, double pitchDeg, double rollDeg
 struct SceneInstance {
   std::uint32_t spec = 0;                 // index into SceneSpec::equipment (equal to this instance's index)
   std::uint32_t model = 0;                // index into Scene::models
-  Similarity<double> toLocal;             // model frame -> local frame: rotation attitudeRotation(heading,
-                                          // pitch, roll), scale, translation = map position - origin (z: the
-                                          // ground height at (x, y) when the file gives none)
+  Similarity<double> toLocal;             // model file frame -> local frame: the type's transform (a
+                                          // typed instance), then rotation attitudeRotation(heading, pitch,
+                                          // roll), scale, translation = map position - origin (z: the
+                                          // lowest ground under the footprint when the file gives none)
   NestedVolume<double> volume;            // local frame: outer = exact AABB of the transformed hull points,
                                           // rounded outward by kOutwardRounding (volumes.h) times the
                                           // magnitudes involved (|translation| + scale * max |p|) so that
@@ -53,6 +55,8 @@ struct SceneInstance {
                                           // model's OBB transformed (exact up to rounding). The outer box
                                           // need not contain the inner one.
   std::uint32_t unit = 0;                 // the collision unit it belongs to
+  double footprintRise = 0;               // metres: highest minus lowest ground under its footprint
+                                          // (0 for an instance the file gives a z)
 };
 
 struct CollisionUnit {
@@ -70,6 +74,8 @@ struct CollisionUnit {
 struct Scene {
   SceneSpec spec;
   std::shared_ptr<const terrain::Heightfield> terrain;  // map frame
+  std::map<std::string, Similarity<double>> typeTransforms;  // per type: model file frame -> the
+                                                             // engine's model frame (model_catalog.h)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // map point of the local origin
   std::vector<SceneModel> models;         // in order of first use in the file
   std::vector<SceneInstance> instances;   // file order, one per SceneSpec::equipment entry

@@ -3,6 +3,7 @@
 #include "nestwalk/scene/scene_file.h"
 
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/scene/json_fields.h"
 
 #include <nlohmann/json.hpp>
 
@@ -24,144 +25,8 @@ using Json = nlohmann::json;
 /// Branching factors the broad phase supports (box_tree.h).
 constexpr int kAllowedDegrees[] = {2, 4, 8};
 
-std::string joinField(const std::string& parent, const std::string& key) {
-  return parent.empty() ? key : parent + "." + key;
-}
-
-std::string indexField(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
-
-/// Tracks the path of the value being parsed so that a key repeated in one object (which
-/// nlohmann_json would silently resolve to its last value) is reported with its field path.
-class DuplicateKeyTracker {
- public:
-  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
-    switch (event) {
-      case Json::parse_event_t::object_start:
-        startElement();
-        stack_.push_back({true, {}, {}, -1});
-        break;
-      case Json::parse_event_t::array_start:
-        startElement();
-        stack_.push_back({false, {}, {}, -1});
-        break;
-      case Json::parse_event_t::key: {
-        Frame& top = stack_.back();
-        const std::string key = parsed.get<std::string>();
-        if (!top.keys.insert(key).second && firstDuplicate_.empty())
-          firstDuplicate_ = joinField(path(stack_.size() - 1), key);
-        top.key = key;
-        break;
-      }
-      case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        stack_.pop_back();
-        break;
-      case Json::parse_event_t::value:
-        startElement();
-        break;
-    }
-    return true;
-  }
-  /// The field path of the first repeated key, empty when there was none.
-  const std::string& firstDuplicate() const { return firstDuplicate_; }
-
- private:
-  struct Frame {
-    bool object;
-    std::set<std::string> keys;
-    std::string key;  // object: the key whose value is being parsed
-    long index;       // array: the element being parsed
-  };
-  void startElement() {
-    if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
-  }
-  std::string path(std::size_t frames) const {
-    std::string p;
-    for (std::size_t i = 0; i < frames; ++i) {
-      const Frame& f = stack_[i];
-      p = f.object ? joinField(p, f.key) : indexField(p, std::size_t(f.index));
-    }
-    return p;
-  }
-  std::vector<Frame> stack_;
-  std::string firstDuplicate_;
-};
-
-/// Field-by-field checks of a parsed scene; every failure throws InputError "FILE: FIELD: problem".
-class SceneReader {
- public:
-  SceneReader(std::string file, fs::path folder) : file_(std::move(file)), folder_(std::move(folder)) {}
-
-  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
-    throw InputError(file_ + ": " + (field.empty() ? "" : field + ": ") + problem);
-  }
-
-  void checkObject(const Json& v, const std::string& field) const {
-    if (!v.is_object()) fail(field, std::string("expected an object, got ") + v.type_name());
-  }
-
-  void checkKeys(const Json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-      if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return it.key() == a; })) continue;
-      std::string list;
-      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      fail(joinField(field, it.key()), "unknown key (expected one of: " + list + ")");
-    }
-  }
-
-  double number(const Json& v, const std::string& field) const {
-    if (!v.is_number()) fail(field, std::string("expected a number, got ") + v.type_name());
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(field, "must be finite");
-    return x;
-  }
-  double positive(const Json& v, const std::string& field) const {
-    const double x = number(v, field);
-    if (!(x > 0)) fail(field, "must be > 0");
-    return x;
-  }
-  double nonNegative(const Json& v, const std::string& field) const {
-    const double x = number(v, field);
-    if (!(x >= 0)) fail(field, "must be >= 0");
-    return x;
-  }
-  std::string string(const Json& v, const std::string& field) const {
-    if (!v.is_string()) fail(field, std::string("expected a string, got ") + v.type_name());
-    return v.get<std::string>();
-  }
-  std::string nonEmptyString(const Json& v, const std::string& field) const {
-    std::string s = string(v, field);
-    if (s.empty()) fail(field, "must not be empty");
-    return s;
-  }
-  bool boolean(const Json& v, const std::string& field) const {
-    if (!v.is_boolean()) fail(field, std::string("expected true or false, got ") + v.type_name());
-    return v.get<bool>();
-  }
-  /// An array of `minSize`..`maxSize` numbers.
-  std::vector<double> numbers(const Json& v, const std::string& field, std::size_t minSize, std::size_t maxSize) const {
-    const std::string want = minSize == maxSize ? std::to_string(minSize) : std::to_string(minSize) + " or " + std::to_string(maxSize);
-    if (!v.is_array()) fail(field, "expected an array of " + want + " numbers, got " + v.type_name());
-    if (v.size() < minSize || v.size() > maxSize)
-      fail(field, "expected " + want + " numbers, got " + std::to_string(v.size()));
-    std::vector<double> out;
-    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(number(v[i], indexField(field, i)));
-    return out;
-  }
-  /// Resolves a path written in the scene against the scene file's folder.
-  std::string resolve(const std::string& p) const {
-    const fs::path path(p);
-    return (path.is_absolute() ? path : (folder_ / path)).lexically_normal().string();
-  }
-  const std::string& file() const { return file_; }
-
- private:
-  std::string file_;
-  fs::path folder_;
-};
-
 /// A group path: '/'-separated names, none empty (so no leading, trailing or doubled '/').
-void checkGroup(const SceneReader& r, const std::string& group, const std::string& field) {
+void checkGroup(const JsonFieldReader& r, const std::string& group, const std::string& field) {
   if (group.empty()) return;
   std::size_t start = 0;
   while (true) {
@@ -174,12 +39,25 @@ void checkGroup(const SceneReader& r, const std::string& group, const std::strin
   }
 }
 
-EquipmentSpec readEquipment(const SceneReader& r, const Json& e, const std::string& field) {
+EquipmentSpec readEquipment(const JsonFieldReader& r, const Json& e, const std::string& field,
+                            const std::map<std::string, ModelType>& types) {
   r.checkObject(e, field);
-  r.checkKeys(e, field, {"name", "model", "position", "heading", "pitch", "roll", "scale", "group", "use_only", "kind"});
+  r.checkKeys(e, field,
+              {"name", "model", "type", "position", "heading", "pitch", "roll", "scale", "group", "use_only", "kind"});
   EquipmentSpec s;
-  if (!e.contains("model")) r.fail(joinField(field, "model"), "missing (the model file is required)");
-  s.model = r.nonEmptyString(e["model"], joinField(field, "model"));
+  if (e.contains("type")) {
+    if (e.contains("model")) r.fail(joinField(field, "model"), "give either a model or a type, not both");
+    s.type = r.nonEmptyString(e["type"], joinField(field, "type"));
+    const auto t = types.find(s.type);
+    if (t == types.end()) r.fail(joinField(field, "type"), "'" + s.type + "' is not one of the scene's types");
+    s.model = t->second.model;
+    s.kind = t->second.kind;
+    s.useOnly = t->second.useOnly;
+    s.scale = t->second.scale;
+  } else {
+    if (!e.contains("model")) r.fail(joinField(field, "model"), "missing (a model file or a type is required)");
+    s.model = r.nonEmptyString(e["model"], joinField(field, "model"));
+  }
   if (!e.contains("position")) r.fail(joinField(field, "position"), "missing (map coordinates [x, y] or [x, y, z])");
   const std::vector<double> p = r.numbers(e["position"], joinField(field, "position"), 2, 3);
   s.position = {p[0], p[1], p.size() == 3 ? p[2] : 0.0};
@@ -200,7 +78,7 @@ EquipmentSpec readEquipment(const SceneReader& r, const Json& e, const std::stri
   return s;
 }
 
-ViewerSpec readViewer(const SceneReader& r, const Json& v) {
+ViewerSpec readViewer(const JsonFieldReader& r, const Json& v) {
   const std::string field = "viewer";
   r.checkObject(v, field);
   r.checkKeys(v, field, {"eye_height", "body_half_extents", "max_step", "max_slope_deg", "speed", "fly_clearance"});
@@ -222,7 +100,7 @@ ViewerSpec readViewer(const SceneReader& r, const Json& v) {
   return s;
 }
 
-MethodSpec readMethod(const SceneReader& r, const Json& m) {
+MethodSpec readMethod(const JsonFieldReader& r, const Json& m) {
   const std::string field = "method";
   r.checkObject(m, field);
   r.checkKeys(m, field, {"volumes", "hierarchy", "degree", "split_axis", "split_point", "fitter"});
@@ -266,14 +144,14 @@ MethodSpec readMethod(const SceneReader& r, const Json& m) {
   return s;
 }
 
-/// Default instance name: "<group>/<model stem>#<index>" ("<model stem>#<index>" at the root).
+/// Default instance name: "<group>/<model stem or type>#<index>" ("<...>#<index>" at the root).
 std::string defaultName(const EquipmentSpec& e, std::size_t index) {
-  const std::string stem = fs::path(e.model).stem().string();
+  const std::string stem = e.type.empty() ? fs::path(e.model).stem().string() : e.type;
   return (e.group.empty() ? "" : e.group + "/") + stem + "#" + std::to_string(index);
 }
 
 /// Names must be unique among instances and must not equal a use_only group's unit name.
-void checkNames(const SceneReader& r, std::vector<EquipmentSpec>& equipment, const std::vector<bool>& named) {
+void checkNames(const JsonFieldReader& r, std::vector<EquipmentSpec>& equipment, const std::vector<bool>& named) {
   std::map<std::string, std::size_t> seen;
   for (std::size_t i = 0; i < equipment.size(); ++i) {
     const std::string field = indexField("equipment", i);
@@ -296,22 +174,10 @@ void checkNames(const SceneReader& r, std::vector<EquipmentSpec>& equipment, con
 }  // namespace
 
 SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
-  const SceneReader r(path, fs::path(path).parent_path());
-  DuplicateKeyTracker duplicates;
-  Json root;
-  try {
-    root = Json::parse(text, std::ref(duplicates));
-  } catch (const Json::parse_error& e) {
-    // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ..."; keep
-    // the part from "parse error" on (it names the line and column).
-    std::string what = e.what();
-    const std::size_t at = what.find("parse error");
-    if (at != std::string::npos) what = what.substr(at);
-    throw InputError(path + ": not valid JSON: " + what);
-  }
-  if (!duplicates.firstDuplicate().empty()) r.fail(duplicates.firstDuplicate(), "duplicate key");
+  const JsonFieldReader r(path, fs::path(path).parent_path());
+  const Json root = parseJsonStrictly(text, path);
   r.checkObject(root, "");
-  r.checkKeys(root, "", {"terrain", "origin", "equipment", "viewer", "method"});
+  r.checkKeys(root, "", {"terrain", "origin", "types", "equipment", "viewer", "method", "source"});
 
   SceneSpec s;
   s.path = path;
@@ -321,12 +187,15 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
     const std::vector<double> o = r.numbers(root["origin"], "origin", 3, 3);
     s.origin = Eigen::Vector3d(o[0], o[1], o[2]);
   }
+  if (root.contains("types"))
+    s.types = parseModelTypes(root["types"], path, fs::path(path).parent_path().string(), "types");
+  if (root.contains("source")) r.checkObject(root["source"], "source");
   std::vector<bool> named;
   if (root.contains("equipment")) {
     const Json& list = root["equipment"];
     if (!list.is_array()) r.fail("equipment", std::string("expected an array, got ") + list.type_name());
     for (std::size_t i = 0; i < list.size(); ++i) {
-      EquipmentSpec e = readEquipment(r, list[i], indexField("equipment", i));
+      EquipmentSpec e = readEquipment(r, list[i], indexField("equipment", i), s.types);
       named.push_back(!e.name.empty());
       if (e.name.empty()) e.name = defaultName(e, i);
       s.equipment.push_back(std::move(e));
@@ -342,9 +211,10 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   std::vector<std::string> missing;
   for (std::size_t i = 0; i < s.equipment.size(); ++i) {
     EquipmentSpec& e = s.equipment[i];
-    e.model = r.resolve(e.model);
+    if (e.type.empty()) e.model = r.resolve(e.model);  // a type's path is resolved already
     if (!checked.insert(e.model).second) continue;
-    if (!fs::is_regular_file(e.model)) missing.push_back(joinField(indexField("equipment", i), "model") + ": " + e.model);
+    const std::string field = e.type.empty() ? joinField(indexField("equipment", i), "model") : "types." + e.type + ".model";
+    if (!fs::is_regular_file(e.model)) missing.push_back(field + ": " + e.model);
   }
   if (!missing.empty()) {
     std::string list;
@@ -355,16 +225,6 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   return s;
 }
 
-SceneSpec readSceneFile(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path + ": scene file not found");
-  if (fs::is_directory(path, ec)) throw InputError(path + ": is a folder, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read the scene file");
-  return parseSceneJson(ss.str(), path);
-}
+SceneSpec readSceneFile(const std::string& path) { return parseSceneJson(readJsonFile(path, "scene file"), path); }
 
 }  // namespace nestwalk

@@ -6,10 +6,17 @@
 //                                          // paths are relative to the scene file's folder
 //   "origin": [x, y, z],                   // optional: map point of the local frame's origin
 //                                          // (default: the terrain's centre, z 0)
+//   "types": { "gauge": {...} },           // optional: equipment types, as in a model catalog
+//                                          // (model_catalog.h), model paths relative as above
 //   "equipment": [                         // instances, in any order
 //     { "name": "bench3/station7/mast",    // optional, unique; default "<group>/<model stem>#<index>"
-//       "model": "models/pole.osgt",       // any format OpenSceneGraph reads (relative as above)
-//       "position": [x, y] | [x, y, z],    // map coordinates; without z the model's z=0 stands on the ground
+//                                          // ("<group>/<type>#<index>" for a typed instance)
+//       "model": "models/pole.osgt",       // any format OpenSceneGraph reads (relative as above), or
+//       "type": "gauge",                   // a type of "types": its model read as the type says,
+//                                          // kind, use_only and scale defaulting to the type's
+//       "position": [x, y] | [x, y, z],    // map coordinates; without z the instance stands on the
+//                                          // ground (scene_loader.h: the lowest ground under its
+//                                          // footprint)
 //       "heading": 0, "pitch": 0, "roll": 0,  // degrees; heading clockwise from north (map +y)
 //       "scale": 1,                        // uniform, > 0
 //       "group": "bench3/station7",        // template hierarchy path ("" or absent: under the root)
@@ -20,13 +27,15 @@
 //               "max_step": 0.3, "max_slope_deg": 30, "speed": 1.4, "fly_clearance": 2.0 },
 //   "method": { "volumes": "nested", "hierarchy": "auto" | "template", "degree": 8,
 //               "split_axis": "longest" | "splatter", "split_point": "mean" | "median",
-//               "fitter": "hull-search" | "covariance" }
+//               "fitter": "hull-search" | "covariance" },
+//   "source": {...}                        // optional, not interpreted: where the scene came from
+//                                          // (build-scene writes its inputs and findings here)
 // }
 // Unknown keys are errors (a typo must not silently fall back to a default), and so is a key given
 // twice in one object. Every error names the file and the field (e.g. "scene.json:
 // equipment[12].scale: must be > 0", "scene.json: viewer.max_slope_deg: expected a number, got
 // string"); missing model files are all reported in one error. Further checks: "terrain", and each
-// instance's "model" and "position", are required; group paths have no empty component (no
+// instance's "position" and either its "model" or its "type" (one of "types"), are required; group paths have no empty component (no
 // leading, trailing or doubled '/'); a use_only instance needs a group; names (given or default)
 // are unique, and no instance is named like a use_only group (that group's unit carries the name);
 // viewer: eye_height, speed and the half extents > 0, max_step and fly_clearance >= 0,
@@ -35,9 +44,11 @@
 #pragma once
 
 #include "nestwalk/scene/method_spec.h"
+#include "nestwalk/scene/model_catalog.h"
 
 #include <Eigen/Core>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +58,7 @@ namespace nestwalk {
 struct EquipmentSpec {
   std::string name;    // unique within the scene
   std::string model;   // resolved path (absolute or relative to the working directory)
+  std::string type;    // a key of SceneSpec::types ("" for a plain model file)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // map frame
   bool hasZ = false;   // false: position.z() is unused, the model stands on the ground
   double headingDeg = 0, pitchDeg = 0, rollDeg = 0;
@@ -69,6 +81,7 @@ struct SceneSpec {
   std::string path;        // the scene file as given
   std::string terrain;     // resolved path
   std::optional<Eigen::Vector3d> origin;
+  std::map<std::string, ModelType> types;  // "types", model paths resolved
   std::vector<EquipmentSpec> equipment;
   ViewerSpec viewer;
   MethodSpec method;

@@ -6,6 +6,7 @@
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/footprint_ground.h"
 
 #include <osgDB/Registry>
 
@@ -54,6 +55,19 @@ terrain::Heightfield shifted(const terrain::Heightfield& hf, const Eigen::Vector
 }
 
 std::string quotedName(const EquipmentSpec& e) { return "'" + e.name + "'"; }
+
+/// The ground under an instance's footprint: the x-y convex hull of its model's hull points placed
+/// by `toLocal` (its z translation is irrelevant), in map coordinates.
+terrain::GroundSpan groundUnderFootprint(const terrain::Heightfield& hf, const Eigen::Vector3d& origin,
+                                         const Similarity<double>& toLocal, const std::vector<Vec3<double>>& hull) {
+  std::vector<Eigen::Vector2d> xy;
+  xy.reserve(hull.size());
+  for (const Vec3<double>& p : hull) xy.push_back((toLocal.apply(p) + origin).head<2>());
+  std::vector<Eigen::Vector2d> outline;
+  for (int k : convexHull2d(xy)) outline.push_back(xy[std::size_t(k)]);
+  if (outline.empty()) outline.push_back((toLocal.translation + origin).head<2>());  // a model with no extent
+  return terrain::groundUnderPolygon(hf, outline);
+}
 
 }  // namespace
 
@@ -121,6 +135,12 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     m.obb = fitObb(m.hullPoints, spec.method.fitter);
   }
 
+  // Types: each type's model-frame transform, from its model's hull points.
+  for (const auto& [name, type] : spec.types) {
+    const auto m = modelIndex.find(type.model);
+    if (m != modelIndex.end()) scene.typeTransforms.emplace(name, modelTypeTransform(type, scene.models[m->second].hullPoints));
+  }
+
   // Instances.
   std::vector<std::string> noGround;
   std::vector<std::vector<Vec3<double>>> points(spec.equipment.size());  // transformed hull points
@@ -129,21 +149,26 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     SceneInstance inst;
     inst.spec = std::uint32_t(i);
     inst.model = modelIndex.at(e.model);
-    Eigen::Vector3d position = e.position + options.mapShift;
+    const SceneModel& model = scene.models[inst.model];
+    Similarity<double> placed;
+    placed.rotation = attitudeRotation(e.headingDeg, e.pitchDeg, e.rollDeg);
+    placed.scale = e.scale;
+    const Eigen::Vector3d position = e.position + options.mapShift;
+    placed.translation = Eigen::Vector3d(position.x(), position.y(), e.hasZ ? position.z() : 0.0) - scene.origin;
+    const Similarity<double> fromType = e.type.empty() ? Similarity<double>{} : scene.typeTransforms.at(e.type);
+    inst.toLocal = placed * fromType;
     if (!e.hasZ) {
-      const std::optional<double> z = hf.groundHeight(position.x(), position.y());
-      if (!z) {
+      const terrain::GroundSpan ground = groundUnderFootprint(hf, scene.origin, inst.toLocal, model.hullPoints);
+      if (!ground.complete()) {
         char where[96];
         std::snprintf(where, sizeof where, " at (%.3f, %.3f)", e.position.x(), e.position.y());
-        noGround.push_back("equipment[" + std::to_string(i) + "] " + quotedName(e) + where);
+        noGround.push_back("equipment[" + std::to_string(i) + "] " + quotedName(e) + where +
+                           (ground.points == 0 ? "" : " (under part of its footprint)"));
         continue;
       }
-      position.z() = *z;
+      inst.toLocal.translation.z() += ground.lowest;  // it was -origin.z: now the ground's map z, local
+      inst.footprintRise = ground.rise();
     }
-    inst.toLocal.rotation = attitudeRotation(e.headingDeg, e.pitchDeg, e.rollDeg);
-    inst.toLocal.scale = e.scale;
-    inst.toLocal.translation = position - scene.origin;
-    const SceneModel& model = scene.models[inst.model];
     points[i] = transformed(inst.toLocal, model.hullPoints);
     inst.volume.outer = outwardBounds(points[i], model.hullPoints, inst.toLocal);
     inst.volume.inner = inst.toLocal.apply(model.obb);

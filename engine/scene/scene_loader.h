@@ -17,11 +17,20 @@ struct SceneLoadOptions {
   Eigen::Vector3d mapShift = Eigen::Vector3d::Zero();
 };
 
-// Loads the terrain (readDem), every model once (osgDB), fits volumes, places instances (z from
-// the ground where the file gives none) and forms the units. The default origin is the centre of
+// Loads the terrain (readDem), every model once (osgDB), fits volumes, places instances and forms
+// the units.
+//
+// Standing on the ground: an instance whose position has no z stands with its model-frame z = 0
+// (a typed instance: its base, model_catalog.h) at the lowest ground under its footprint, the
+// x-y outline of its placed model (terrain/footprint_ground.h, exact for the triangulated
+// surface). So it never hangs in the air anywhere over its footprint; on a slope or over a bench
+// crest its uphill side sinks into the ground by up to SceneInstance::footprintRise (highest minus
+// lowest ground under the footprint), which the scene keeps per instance so that tools can report
+// instances that span more than they allow (build-scene's --max-footprint-rise). A footprint that is
+// not on ground everywhere (part of it over a hole or beyond the outermost samples) is an error. The default origin is the centre of
 // the terrain's sample extent (x, y) at z 0. Throws InputError naming the scene file: a bad terrain
 // (readDem's message), unreadable models (listed together), a model without vertices (named), the
-// instances with no ground under them (listed together). Model volumes: aabb = bounds of all the
+// instances without ground under all of their footprint (listed together). Model volumes: aabb = bounds of all the
 // model's vertices, hullPoints = convexHull's vertices, obb = fitObb(hullPoints, method.fitter).
 // With mapShift, the heightfield is rebuilt with the same samples and its origin moved (heights
 // move by mapShift.z, rounded to float; holes stay holes).

@@ -142,7 +142,7 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
   };
   const std::vector<Case> cases = {
       {[](Json& j) { j["terain"] = "x"; },
-       "terain: unknown key (expected one of: terrain, origin, equipment, viewer, method)"},
+       "terain: unknown key (expected one of: terrain, origin, types, equipment, viewer, method, source)"},
       {[](Json& j) { j.erase("terrain"); }, "terrain: missing (the terrain file is required)"},
       {[](Json& j) { j["terrain"] = 3; }, "terrain: expected a string, got number"},
       {[](Json& j) { j["terrain"] = ""; }, "terrain: must not be empty"},
@@ -157,9 +157,9 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
       {[](Json& j) { j["equipment"][0]["pitch"] = nullptr; }, "equipment[0].pitch: expected a number, got null"},
       {[](Json& j) { j["equipment"][0]["roll"] = {1}; }, "equipment[0].roll: expected a number, got array"},
       {[](Json& j) { j["equipment"][0]["colour"] = "red"; },
-       "equipment[0].colour: unknown key (expected one of: name, model, position, heading, pitch, roll, scale, "
+       "equipment[0].colour: unknown key (expected one of: name, model, type, position, heading, pitch, roll, scale, "
        "group, use_only, kind)"},
-      {[](Json& j) { j["equipment"][0].erase("model"); }, "equipment[0].model: missing (the model file is required)"},
+      {[](Json& j) { j["equipment"][0].erase("model"); }, "equipment[0].model: missing (a model file or a type is required)"},
       {[](Json& j) { j["equipment"][0]["model"] = ""; }, "equipment[0].model: must not be empty"},
       {[](Json& j) { j["equipment"][0].erase("position"); },
        "equipment[0].position: missing (map coordinates [x, y] or [x, y, z])"},

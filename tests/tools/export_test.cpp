@@ -106,7 +106,9 @@ TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
   const TempFolder folder;
   const fs::path dir = folder.path();
   const fs::path scene = writeScene(dir);
-  const std::size_t triangles = loadModelGeometry(weatherStation()).triangles.size();
+  const TriangleMesh station = loadModelGeometry(weatherStation());
+  const std::size_t triangles = station.triangles.size();
+  const std::vector<Vec3<double>>& stationVertices = station.vertices;
   for (const char* name : {"scene.osgb", "scene.osgt", "scene.ive"}) {
     const fs::path out = dir / name;
     const auto r = runNestwalk("export " + quoted(scene) + " " + quoted(out));
@@ -125,10 +127,17 @@ TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
     // station-b: scale 1.5, heading 0, foot on the ground at its position.
     const osg::Matrixd b = g.transforms.at("station-b")->getMatrix() * g.transforms.at("local_to_map")->getMatrix();
     const osg::Vec3d foot = osg::Vec3d(0, 0, 0) * b, top = osg::Vec3d(0, 0, 1) * b;
-    const double c = (550040.0 - kWest) / kCell - 0.5, row = (kSouth + kRows * kCell - 4650020.0) / kCell - 0.5;
+    // The foot stands at the lowest ground under the footprint: the plane (100 + column + row / 2)
+    // is lowest at one of the footprint's corners, i.e. at one of the scaled model's vertices.
+    auto plane = [](double x, double y) {
+      const double c = (x - kWest) / kCell - 0.5, row = (kSouth + kRows * kCell - y) / kCell - 0.5;
+      return 100 + c + 0.5 * row;
+    };
+    double lowest = INFINITY;
+    for (const auto& v : stationVertices) lowest = std::min(lowest, plane(550040.0 + 1.5 * v.x(), 4650020.0 + 1.5 * v.y()));
     EXPECT_NEAR(foot.x(), 550040.0, 1e-9);
     EXPECT_NEAR(foot.y(), 4650020.0, 1e-9);
-    EXPECT_NEAR(foot.z(), 100 + c + 0.5 * row, 1e-9);
+    EXPECT_NEAR(foot.z(), lowest, 1e-9);
     EXPECT_NEAR(top.z() - foot.z(), 1.5, 1e-12);
     EXPECT_GT(g.lods, 0u);
     EXPECT_FALSE(g.volumes);
