@@ -7,6 +7,7 @@
 #include <osg/TriangleIndexFunctor>
 #include <osgDB/FileUtils>
 #include <osgDB/ReadFile>
+#include <osgDB/Registry>
 
 #include <unordered_map>
 
@@ -105,13 +106,28 @@ TriangleMesh collectModelGeometry(const osg::Node& node, const std::string& name
   return geometry;
 }
 
+ModelFile readModelFile(const std::string& path) {
+  ModelFile out;
+  if (!osgDB::fileExists(path)) {
+    out.problem = "no such file";
+  } else if (osgDB::fileType(path) == osgDB::DIRECTORY) {
+    out.problem = "is a folder, not a model file";
+  } else {
+    osgDB::Registry* registry = osgDB::Registry::instance();
+    osgDB::ReaderWriter::ReadResult rr = registry->readNode(path, registry->getOptions());
+    out.node = rr.getNode();
+    if (!out.node)
+      out.problem = rr.notHandled() ? "no OpenSceneGraph plugin reads it"
+                    : rr.message().empty() ? rr.statusMessage()
+                                           : rr.message();
+  }
+  return out;
+}
+
 TriangleMesh loadModelGeometry(const std::string& path) {
-  if (!osgDB::fileExists(path)) throw InputError(path + ": no such file");
-  if (osgDB::fileType(path) == osgDB::DIRECTORY) throw InputError(path + ": is a directory, not a model file");
-  osg::ref_ptr<osg::Node> node = osgDB::readRefNodeFile(path);
-  if (!node)
-    throw InputError(path + ": OpenSceneGraph could not read it as a model (no plugin for the format, or the file is damaged)");
-  return collectModelGeometry(*node, path);
+  const ModelFile file = readModelFile(path);
+  if (!file.node) throw InputError(path + ": " + file.problem);
+  return collectModelGeometry(*file.node, path);
 }
 
 }  // namespace nestwalk

@@ -4,13 +4,21 @@
 
 #include "nestwalk/geometry/triangle_mesh.h"
 
+#include <osg/Node>
+#include <osg/ref_ptr>
+
 #include <string>
 
-namespace osg {
-class Node;
-}
-
 namespace nestwalk {
+
+/// A model file read with osgDB (any format a plugin reads): the node, or why there is none
+/// ("no such file", "is a folder", "no OpenSceneGraph plugin reads it", the plugin's message).
+/// Every model nestwalk loads is read here.
+struct ModelFile {
+  osg::ref_ptr<osg::Node> node;
+  std::string problem;  // "" when the node was read
+};
+ModelFile readModelFile(const std::string& path);
 
 /// Reads a model with osgDB (any format a plugin reads) and collects its geometry: every vertex a
 /// primitive refers to, under the file's transforms, and OSG's triangulation of every primitive

@@ -4,11 +4,10 @@
 #include "nestwalk/geometry/convex_hull.h"
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/placement.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
-#include "nestwalk/terrain/footprint_ground.h"
 
-#include <osgDB/Registry>
 
 #include <algorithm>
 #include <cmath>
@@ -56,19 +55,6 @@ terrain::Heightfield shifted(const terrain::Heightfield& hf, const Eigen::Vector
 
 std::string quotedName(const EquipmentSpec& e) { return "'" + e.name + "'"; }
 
-/// The ground under an instance's footprint: the x-y convex hull of its model's hull points placed
-/// by `toLocal` (its z translation is irrelevant), in map coordinates.
-terrain::GroundSpan groundUnderFootprint(const terrain::Heightfield& hf, const Eigen::Vector3d& origin,
-                                         const Similarity<double>& toLocal, const std::vector<Vec3<double>>& hull) {
-  std::vector<Eigen::Vector2d> xy;
-  xy.reserve(hull.size());
-  for (const Vec3<double>& p : hull) xy.push_back((toLocal.apply(p) + origin).head<2>());
-  std::vector<Eigen::Vector2d> outline;
-  for (int k : convexHull2d(xy)) outline.push_back(xy[std::size_t(k)]);
-  if (outline.empty()) outline.push_back((toLocal.translation + origin).head<2>());  // a model with no extent
-  return terrain::groundUnderPolygon(hf, outline);
-}
-
 }  // namespace
 
 Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
@@ -105,15 +91,9 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     modelIndex.emplace(e.model, std::uint32_t(scene.models.size()));
     SceneModel m;
     m.path = e.model;
-    osgDB::Registry* registry = osgDB::Registry::instance();
-    osgDB::ReaderWriter::ReadResult rr = registry->readNode(e.model, registry->getOptions());
-    m.node = rr.getNode();
-    if (!m.node) {
-      const std::string why = rr.notHandled() ? "no OpenSceneGraph plugin reads it"
-                              : rr.message().empty() ? rr.statusMessage()
-                                                     : rr.message();
-      unreadable.push_back(e.model + " (" + why + ")");
-    }
+    ModelFile read = readModelFile(e.model);
+    m.node = read.node;
+    if (!m.node) unreadable.push_back(e.model + " (" + read.problem + ")");
     scene.models.push_back(std::move(m));
   }
   if (!unreadable.empty()) {
