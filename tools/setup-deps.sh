@@ -18,6 +18,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev             # optimal OBB reference, exact arithmetic
   libqhull-dev                                   # convex hulls
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
+  libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)
 )
 
 missing=()

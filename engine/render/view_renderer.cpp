@@ -1,6 +1,9 @@
 // The offscreen view renderer (view_renderer.h).
 #include "nestwalk/render/view_renderer.h"
 
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/ui_font.h"
+
 #include <osg/BlendFunc>
 #include <osg/Depth>
 #include <osg/Fog>
@@ -13,6 +16,7 @@
 #include <osg/Program>
 #include <osg/Projection>
 #include <osg/Timer>
+#include <osgText/Font>
 #include <osgText/Text>
 #include <osgUtil/GLObjectsVisitor>
 
@@ -33,6 +37,7 @@ constexpr double kDegree = 3.14159265358979323846 / 180.0;
 const osg::Vec4 kSkyHorizon(0.78f, 0.85f, 0.93f, 1.0f);
 const osg::Vec4 kSkyZenith(0.30f, 0.50f, 0.82f, 1.0f);
 const osg::Vec4 kBlockedRed(0.90f, 0.10f, 0.10f, 1.0f);
+const osg::Vec4 kBlockedTextHalo(1.0f, 1.0f, 1.0f, 0.85f);
 // The sun: from the north-west, about 45 degrees up (the hillshade convention), as a direction
 // towards the light in map axes.
 const osg::Vec4 kSunDirection(-0.5f, 0.5f, 0.7071f, 0.0f);
@@ -295,8 +300,20 @@ void ViewRenderer::setUpOverlay() {
     std::fill(c->begin(), c->end(), kBlockedRed);
     frame->addDrawable(quads(v.get(), c.get()));
     osg::ref_ptr<osgText::Text> text = new osgText::Text;
+    if (options_.blockedOverlay) {
+      // The UI font from its file (ui_font.h), as the report's pictures use it.
+      const std::string fontPath = uiFontPath();
+      osg::ref_ptr<osgText::Font> font = osgText::readRefFontFile(fontPath);
+      if (!font)
+        throw InputError(fontPath + ": osgText cannot load the overlay's font (is OpenSceneGraph's freetype plugin installed?)");
+      text->setFont(font);
+    }
     text->setCharacterSize(float(std::max(12.0, 0.035 * h)));
     text->setColor(kBlockedRed);
+    // A light outline keeps the name readable over dark equipment and bright sky alike (the report's
+    // map labels have the same halo).
+    text->setBackdropType(osgText::Text::OUTLINE);
+    text->setBackdropColor(kBlockedTextHalo);
     text->setPosition(osg::Vec3(float(2.5 * b), float(h - 2.5 * b), 0));
     text->setAlignment(osgText::Text::LEFT_TOP);
     text->setDataVariance(osg::Object::DYNAMIC);
@@ -334,6 +351,10 @@ void ViewRenderer::updateOverlay(const ViewPose& pose) {
   const bool show = options_.blockedOverlay && pose.blocked;
   blockedFrame_->setNodeMask(show ? ~0u : 0u);
   if (show) blockedText_->setText("BLOCKED by " + pose.blockedBy);
+}
+
+std::string ViewRenderer::overlayFontFile() const {
+  return blockedText_ && blockedText_->getFont() ? blockedText_->getFont()->getFileName() : std::string();
 }
 
 osg::Matrixd ViewRenderer::viewMatrix(const ViewPose& pose) const {

@@ -12,6 +12,11 @@
 // Culling: equipment is culled with the nested volumes (outer AABB, then inner OBB, see
 // nested_cull.h) unless options.nestedCulling is off (then OSG's bounding spheres decide).
 //
+// The blocked overlay (options.blockedOverlay): a red frame and "BLOCKED by <unit>" in osgText, set
+// in the UI font (nestwalk/core/ui_font.h: DejaVu Sans from its file, through OSG's freetype
+// plugin), the font of the report's pictures; the constructor throws InputError naming the font's
+// file when it cannot be loaded.
+//
 // The ID pass (options.idPass): no lighting, no sky, no overlays; every pixel carries what it
 // shows: sky 0, terrain 1, instance i: i + 2, as 24-bit RGB (R the low byte). Tests use it to
 // check what is where on screen.
@@ -77,7 +82,8 @@ struct RenderFrameStats {
 class ViewRenderer {
  public:
   // Builds the graph, creates the offscreen context (offscreen_context.h) and realizes the
-  // viewer. Throws std::runtime_error when no context can be had.
+  // viewer. Throws std::runtime_error when no context can be had, InputError (naming the file)
+  // when the overlay's font cannot be loaded.
   explicit ViewRenderer(const Scene& scene, const RenderOptions& options = {});
   ~ViewRenderer();
   ViewRenderer(const ViewRenderer&) = delete;
@@ -109,6 +115,9 @@ class ViewRenderer {
   OffscreenRoute route() const { return context_->route(); }
   const std::string& glRenderer() const { return context_->glRenderer(); }
   const RenderOptions& options() const { return options_; }
+  // The file of the overlay text's font (kUiFontPath; empty without an overlay text font: ID pass,
+  // or blockedOverlay off).
+  std::string overlayFontFile() const;
   // The ID pass colour of a thing: 0 sky, 1 terrain, i + 2 instance i (see above).
   static std::uint32_t idAt(const osg::Image& image, int x, int yFromTop);
 

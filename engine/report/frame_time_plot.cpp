@@ -1,27 +1,22 @@
-// The frame-time plot: µs per step for each timed part against the frame number, drawn into an
-// osg::Image and written as PNG by osgDB's image writer plugin. Colours, scale and layout are
-// documented in frame_record.h. Pixels are addressed y-up (row 0 is the bottom row, as in
-// osg::Image; the PNG plugin flips rows on writing and reading); the canvas and font are canvas.h's.
+// The frame-time plot (frame_time_plot.h): µs per step for each timed part against the frame
+// number, on the drawing surface (drawing_surface.h) with the shared axes and header
+// (plot_frame.h), written as PNG.
 #include "nestwalk/report/frame_time_plot.h"
 
-#include "nestwalk/core/statistics.h"
-
 #include "nestwalk/core/input_error.h"
-#include "nestwalk/report/canvas.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/report/axis.h"
+#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/report/plot_frame.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <optional>
 #include <string>
 
 namespace nestwalk {
 namespace {
 
-// Colours (the legend and frame_record.h name them).
-constexpr Rgb kBackground{255, 255, 255};
-constexpr Rgb kInk{0, 0, 0};          // axes, ticks, text
-constexpr Rgb kGrid{224, 224, 224};   // decade and frame grid lines
+// Colours (frame_time_plot.h names them).
 constexpr Rgb kPartColour[kStepParts] = {
     {44, 160, 44},   // ground: green
     {31, 119, 180},  // broad: blue
@@ -29,40 +24,16 @@ constexpr Rgb kPartColour[kStepParts] = {
     {214, 39, 40},   // total: red
 };
 constexpr Rgb kRenderColour{227, 119, 194};  // rendering (run --render): pink, rendered frames only
-constexpr Rgb kP50Colour{148, 103, 189};  // p50 of total: purple, dashed
-constexpr Rgb kP99Colour{140, 86, 75};    // p99 of total: brown, dashed
+constexpr Rgb kP50Colour{148, 103, 189};     // p50 of total: purple, dashed
+constexpr Rgb kP99Colour{140, 86, 75};       // p99 of total: brown, dashed
 
-// Layout, pixels. The left margin holds y labels up to 7 glyphs ("0.00001"), the top margin the
-// legend, the bottom margin the frame labels.
-constexpr int kLeftMargin = 8 * kGlyphAdvance + 8;
-constexpr int kRightMargin = 16;
-constexpr int kTopMargin = 2 * kGlyphHeight + 12;
-constexpr int kBottomMargin = 2 * kGlyphHeight + 14;  // tick labels, then "FRAME" below them
-constexpr int kTickLength = 4;
-constexpr int kDataInset = 3;  // data starts this far inside the axes, so the axes never hide it
-constexpr int kDashOn = 6, kDashOff = 4;  // percentile lines
-
-
-// Below this the log axis stops (a part that took 0 µs, e.g. with timing off, sits on the floor).
-constexpr double kFloorMicros = 1e-3;
-constexpr int kFrameTicksWanted = 8;
-
-/// Label of the decade 10^k: plain decimals from 0.00001 to 1000000, "1E-9" style beyond.
-std::string decadeLabel(int k) {
-  if (k >= 0 && k <= 6) return "1" + std::string(std::size_t(k), '0');
-  if (k < 0 && k >= -5) return "0." + std::string(std::size_t(-k - 1), '0') + "1";
-  return "1E" + std::to_string(k);
-}
-
-/// A 1-2-5 step giving about `wanted` intervals over `span`.
-std::uint64_t niceStep(std::uint64_t span, int wanted) {
-  std::uint64_t step = 1;
-  for (;;) {
-    for (std::uint64_t m : {1ull, 2ull, 5ull})
-      if (span / (step * m) <= std::uint64_t(wanted)) return step * m;
-    step *= 10;
-  }
-}
+constexpr double kPercentileWidth = 1;  // pixels
+constexpr double kPixelsPerXTick = 110;   // about one frame tick per this many pixels of the x axis
+constexpr double kPixelsPerYTick = 40;
+constexpr double kRightRoom = 4;   // between the plot area and the image's padding, pixels
+constexpr double kHeaderGap = 8;   // between the header and the plot area, pixels
+constexpr double kLeastPlotHeight = 60;  // below this the legend is left out, pixels
+constexpr const char* kTitle = "walker step time per frame";
 
 }  // namespace
 
@@ -72,128 +43,77 @@ void writeFrameTimePlot(const std::string& path, const std::vector<FrameRecord>&
     throw InputError(path + ": frame-time plot of " + std::to_string(width) + " x " + std::to_string(height) +
                      " pixels is too small (at least " + std::to_string(kMinFrameTimePlotWidth) + " x " +
                      std::to_string(kMinFrameTimePlotHeight) + ")");
-  Canvas canvas(width, height, kBackground);
-  const int px0 = kLeftMargin, px1 = width - 1 - kRightMargin;   // plot area, columns
-  const int py0 = kBottomMargin, py1 = height - 1 - kTopMargin;  // plot area, rows (y up)
+  DrawingSurface s(width, height, kPlotPaper);
 
-  // Log10 y axis over whole decades holding every positive time (at least one decade).
-  double lo = HUGE_VAL, hi = 0;
+  // The axes over the data.
+  std::vector<double> times, frames;
   bool rendered = false;
-  auto cover = [&](double us) {
-    if (us > 0 && std::isfinite(us)) {
-      lo = std::min(lo, std::max(us, kFloorMicros));
-      hi = std::max(hi, us);
-    }
-  };
-  for (const FrameRecord& r : records)
-    for (double us : r.micros) cover(us);
+  for (const FrameRecord& r : records) {
+    frames.push_back(double(r.frame));
+    for (double us : r.micros) times.push_back(us);
+  }
   for (const RenderRecord& r : renders)
     if (r.rendered) {
       rendered = true;
-      cover(r.micros[RenderPart::Total]);
+      times.push_back(r.micros[RenderPart::Total]);
     }
-  int kLo = 0, kHi = 1;
-  if (hi > 0) {
-    kLo = int(std::floor(std::log10(lo)));
-    kHi = std::max(kLo + 1, int(std::ceil(std::log10(hi))));
-  }
-  auto yOf = [&](double us) {
-    const double l = us > 0 && std::isfinite(us) ? std::clamp(std::log10(us), double(kLo), double(kHi)) : double(kLo);
-    return py0 + kDataInset + int(std::lround((l - kLo) / (kHi - kLo) * (py1 - py0 - kDataInset)));
-  };
+  const int yTicks = std::max(3, int(height / kPixelsPerYTick));
+  const Axis ay = Axis::fit(times, {.scale = AxisScale::Log10, .logFloor = kFrameTimeFloorMicros,
+                                    .maxTicks = std::min(yTicks, 10), .unit = "µs"});
+  if (frames.size() == 1) frames = {frames[0] - 1, frames[0] + 1};  // a single record in the middle
+  const Axis ax = Axis::fit(frames, {.tight = true, .maxTicks = std::max(3, int(width / kPixelsPerXTick)), .minStep = 1});
 
-  // x: frame numbers from the first record's to the last's.
-  const std::uint64_t f0 = records.empty() ? 0 : records.front().frame;
-  const std::uint64_t f1 = records.empty() ? 0 : std::max(records.back().frame, f0);
-  auto xOf = [&](std::uint64_t f) {
-    if (f1 == f0) return (px0 + px1) / 2;
-    return px0 + kDataInset + int(std::lround(double(f - f0) / double(f1 - f0) * (px1 - px0 - kDataInset)));
-  };
+  // Layout: the header at the top, the frame axis title under the tick labels.
+  std::vector<LegendEntry> legend = {{"ground", kPartColour[0], Swatch::Line},
+                                     {"broad phase", kPartColour[1], Swatch::Line},
+                                     {"narrow phase", kPartColour[2], Swatch::Line},
+                                     {"step total", kPartColour[3], Swatch::Line},
+                                     {"p50 of total", kP50Colour, Swatch::DashedLine, kPercentileWidth},
+                                     {"p99 of total", kP99Colour, Swatch::DashedLine, kPercentileWidth}};
+  if (rendered) legend.push_back({"render", kRenderColour, Swatch::Line});
+  const DrawingSurface::FontMetrics font = DrawingSurface::fontMetrics(kTickFontSize);
+  const double titleRow = font.ascent + font.descent;
+  const double bottom = kPlotPadding + titleRow + xTickMargin();
+  // The legend is left out where it would leave the plot too low (small images).
+  PlotHeader header(kTitle, legend, kPlotPadding, width - kPlotPadding);
+  if (height - kPlotPadding - header.height() - kHeaderGap - bottom < kLeastPlotHeight)
+    header = PlotHeader(kTitle, {}, kPlotPadding, width - kPlotPadding);
+  const PlotArea area = PlotArea::inside(kPlotPadding + yTickMargin(ay), bottom, width - kPlotPadding - kRightRoom,
+                                         height - kPlotPadding - header.height() - kHeaderGap);
 
-  // Grid and axis labels.
-  for (int k = kLo; k <= kHi; ++k) {
-    const int y = yOf(std::pow(10.0, k));
-    canvas.line(px0, y, px1, y, kGrid);
-    canvas.line(px0 - kTickLength, y, px0, y, kInk);
-    const std::string label = decadeLabel(k);
-    canvas.text(px0 - kTickLength - 3 - textWidth(label), y + kGlyphHeight / 2, label, kInk);
-  }
-  if (!records.empty()) {
-    const std::uint64_t step = niceStep(f1 - f0, kFrameTicksWanted);
-    for (std::uint64_t f = (f0 + step - 1) / step * step; f <= f1; f += step) {
-      const int x = xOf(f);
-      canvas.line(x, py0, x, py1, kGrid);
-      canvas.line(x, py0 - kTickLength, x, py0, kInk);
-      const std::string label = std::to_string(f);
-      canvas.text(std::clamp(x - textWidth(label) / 2, 0, width - textWidth(label) - 1), py0 - kTickLength - 3, label,
-                  kInk);
-    }
-  }
+  drawAxes(s, area, &ax, ay);
+  s.text({area.right, kPlotPadding}, "frame", {.size = kTickFontSize, .colour = kPlotInk, .h = HAlign::Right, .v = VAlign::Bottom});
+  header.draw(s, height - kPlotPadding);
 
-  // The parts, total first so that the parts it contains are drawn over it.
+  // The series, clipped to the plot area; total first so that the parts it contains lie over it.
+  s.clip(area.left, area.bottom - kFrameTimeLineWidth, area.right + kFrameTimeLineWidth, area.top + kFrameTimeLineWidth);
+  std::vector<Point> points;
   for (StepPart part : {StepPart::Total, StepPart::Narrow, StepPart::BroadPhase, StepPart::Ground}) {
-    const Rgb c = kPartColour[std::size_t(part)];
-    for (std::size_t i = 0; i < records.size(); ++i) {
-      const int x = xOf(records[i].frame), y = yOf(records[i].micros[part]);
-      if (i == 0) {
-        canvas.set(x, y, c);
-      } else {
-        canvas.line(xOf(records[i - 1].frame), yOf(records[i - 1].micros[part]), x, y, c);
-      }
-    }
+    points.clear();
+    for (const FrameRecord& r : records) points.push_back({area.x(ax, double(r.frame)), area.y(ay, r.micros[part])});
+    s.polyline(points, kFrameTimeLineWidth, kPartColour[std::size_t(part)]);
   }
-  // Rendering, through the rendered frames only.
-  std::optional<std::size_t> previous;
-  for (std::size_t i = 0; i < renders.size(); ++i) {
-    if (!renders[i].rendered) continue;
-    const int x = xOf(records[i].frame), y = yOf(renders[i].micros[RenderPart::Total]);
-    if (previous) {
-      canvas.line(xOf(records[*previous].frame), yOf(renders[*previous].micros[RenderPart::Total]), x, y,
-                  kRenderColour);
-    } else {
-      canvas.set(x, y, kRenderColour);
-    }
-    previous = i;
-  }
+  points.clear();
+  for (std::size_t i = 0; i < renders.size() && i < records.size(); ++i)
+    if (renders[i].rendered)
+      points.push_back({area.x(ax, double(records[i].frame)), area.y(ay, renders[i].micros[RenderPart::Total])});
+  s.polyline(points, kFrameTimeLineWidth, kRenderColour);
+  s.resetClip();
+
   if (!records.empty()) {
     std::vector<double> total;
     total.reserve(records.size());
     for (const FrameRecord& r : records) total.push_back(r.micros[StepPart::Total]);
-    canvas.dashedHLine(px0, px1, yOf(percentile(total, 50)), kP50Colour, kDashOn, kDashOff);
-    canvas.dashedHLine(px0, px1, yOf(percentile(total, 99)), kP99Colour, kDashOn, kDashOff);
-  } else {
-    canvas.text((px0 + px1 - textWidth("NO FRAMES")) / 2, (py0 + py1) / 2, "NO FRAMES", kInk);
-  }
-
-  // Axes, and the legend and units above the plot.
-  canvas.line(px0, py0, px1, py0, kInk);
-  canvas.line(px0, py0, px0, py1, kInk);
-  canvas.text(px1 - textWidth("FRAME"), py0 - kTickLength - 3 - kGlyphHeight - 3, "FRAME", kInk);
-  const int legendTop = height - 1 - 4;
-  canvas.text(4, legendTop, "US (LOG)", kInk);
-  struct Entry {
-    const char* name;
-    Rgb colour;
-    bool dashed;
-  };
-  std::vector<Entry> entries = {{"GROUND", kPartColour[0], false}, {"BROAD", kPartColour[1], false},
-                                {"NARROW", kPartColour[2], false}, {"TOTAL", kPartColour[3], false},
-                                {"P50", kP50Colour, true},         {"P99", kP99Colour, true}};
-  if (rendered) entries.push_back({"RENDER", kRenderColour, false});
-  int x = px0 + 8;
-  constexpr int kSwatch = 16;
-  for (const Entry& e : entries) {
-    const int y = legendTop - kGlyphHeight / 2;
-    if (e.dashed) {
-      canvas.dashedHLine(x, x + kSwatch - 1, y, e.colour, kDashOn, kDashOff);
-    } else {
-      canvas.fill(x, y - 1, x + kSwatch - 1, y + 1, e.colour);
+    for (const auto& [p, colour] : {std::pair{50.0, kP50Colour}, std::pair{99.0, kP99Colour}}) {
+      const double y = std::floor(area.y(ay, percentile(total, p))) + 0.5;  // a pixel row: crisp
+      s.line({area.left, y}, {area.right, y}, kPercentileWidth, colour, kPlotDash);
     }
-    canvas.text(x + kSwatch + 4, legendTop, e.name, kInk);
-    x += kSwatch + 4 + textWidth(e.name) + 14;
+  } else {
+    s.text({(area.left + area.right) / 2, (area.bottom + area.top) / 2}, "no frames",
+           {.size = kTitleFontSize, .colour = kPlotInk, .h = HAlign::Centre, .v = VAlign::Middle});
   }
-
-  writePng(canvas, path);
+  drawAxisLines(s, area);
+  s.writePng(path);
 }
 
 }  // namespace nestwalk

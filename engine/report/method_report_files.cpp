@@ -307,7 +307,7 @@ void writePareto(const ReportData& d, const std::string& path) {
     if (front.points.empty() || p.y < front.points.back().y) front.points.push_back({p.x, p.y, ""});
   series.insert(series.begin(), front);
   writeScatterPlot(path, "time per frame against stop gap (" + std::string(d.quick ? "quick" : "full") + ")",
-                   {"mean us per frame", true}, {"mean stop gap mm", true}, series);
+                   {"mean time per frame", true, 0, "µs"}, {"mean stop gap", true, 0, "mm"}, series);
 }
 
 void writeMethodBars(const ReportData& d, const std::string& path) {
@@ -316,9 +316,9 @@ void writeMethodBars(const ReportData& d, const std::string& path) {
     const Aggregate a = m.overall();
     groups.push_back({volumeMethodName(m.method), {a.p50, a.mean, a.p99}});
   }
-  writeBarPlot(path, "us per frame per method over the flythroughs",
-               {{"p50", {31, 119, 180}}, {"mean", {255, 127, 14}}, {"p99", {214, 39, 40}}}, {"us per frame", true},
-               groups);
+  writeBarPlot(path, "time per frame of each method over the flythroughs",
+               {{"p50", {31, 119, 180}}, {"mean", {255, 127, 14}}, {"p99", {214, 39, 40}}},
+               {"time per frame", true, 0, "µs"}, groups);
 }
 
 void writeTerrainPlot(const ReportData& d, const std::string& path) {
@@ -334,7 +334,7 @@ void writeTerrainPlot(const ReportData& d, const std::string& path) {
     meanError.points.push_back({r.nsPerQuery, r.meanError, ""});
   }
   writeScatterPlot(path, "terrain levels: height error against time per query (below 0.1 mm on the floor)",
-                   {"ns per query", true}, {"error m", true, 1e-4}, {maxError, meanError, full});
+                   {"time per query", true, 0, "ns"}, {"height error", true, 1e-4, "m"}, {maxError, meanError, full});
 }
 
 }  // namespace

@@ -1,15 +1,24 @@
 // The methods report's plots (method_report.h): a scatter plot of labelled points (log or linear
-// axes, series optionally joined by lines) and a grouped bar chart, drawn on the project's
-// pixel canvas (engine/report/canvas.h) and written as PNG. The bitmap font has capital letters
-// only: every text is drawn upper-cased, characters it lacks ('+', lower-case ones) as blanks.
+// axes, series optionally joined by lines) and a grouped bar chart, drawn on the drawing surface
+// (drawing_surface.h) with the shared axes, title and legend (plot_frame.h) and written as PNG.
+// Texts are drawn as given (UTF-8: "µs", "nested+mesh").
+//
+// Layout, top to bottom: the title, the legend (wrapping), the y axis's title over the plot's top
+// left corner, the plot area, the x tick labels and the x axis's title under the right end. Axes
+// follow axis.h's rule; white background, black axes and text, light grey grid lines at the ticks.
+// Markers are discs of radius 4.5 pixels (kPlotMarkerRadius), series lines 2 pixels wide.
 #pragma once
 
-#include "nestwalk/report/canvas.h"
+#include "nestwalk/report/drawing_surface.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nestwalk {
+
+inline constexpr double kPlotMarkerRadius = 4.5;  // pixels
+inline constexpr double kPlotSeriesWidth = 2;     // pixels
 
 struct PlotPoint {
   double x = 0, y = 0;
@@ -25,15 +34,16 @@ struct PlotSeries {
 };
 
 struct PlotAxis {
-  std::string title;
-  bool log = false;  // log10 over the values (whole decades, or 1-2-5 steps when they span less
-                     // than one); values below `floor` (and <= 0) sit on the axis's lower end.
-                     // Linear: from min(0, values) with a 1-2-5 step
-  double floor = 0;  // log axes: the smallest value shown as itself (0: the smallest positive)
+  std::string title;  // "(log)" is appended on a log axis
+  bool log = false;   // log10 (axis.h): values <= 0 sit at the lower end, values below `floor`
+                      // at the floor. Linear: from min(0, values)
+  double floor = 0;   // log axes: the smallest value shown as itself (0: the smallest positive)
+  std::string unit = "";  // appended to the tick labels ("10 µs"); "" for none
 };
 
-/// A scatter plot: `title` and the legend above, the axes' titles beside them. Throws InputError
-/// naming `path` when it cannot be written.
+/// A scatter plot. Point labels go right of their point, else left, else a line further up or
+/// down, where they cover no marker nor another label (at worst right of the point). Throws
+/// InputError naming `path` when it cannot be written.
 void writeScatterPlot(const std::string& path, const std::string& title, const PlotAxis& x, const PlotAxis& y,
                       const std::vector<PlotSeries>& series, int width = 900, int height = 600);
 
@@ -43,8 +53,10 @@ struct PlotBarGroup {
   std::vector<double> values;  // one per series (NaN: no bar)
 };
 
-/// A bar chart: groups along x, each series' bar in its colour (`series`: legend names and
-/// colours), the value printed above each bar. On a log axis the bars rise from its lower end.
+/// A bar chart: groups side by side in equal slots along x, each series' bar in its colour
+/// (`series`: legend names and colours, in the order of the values), the value printed above each
+/// bar (raised a line where it would cover its left neighbour's). On a log axis the bars rise from
+/// its lower end. Throws InputError naming `path` when it cannot be written.
 void writeBarPlot(const std::string& path, const std::string& title,
                   const std::vector<std::pair<std::string, Rgb>>& series, const PlotAxis& y,
                   const std::vector<PlotBarGroup>& groups, int width = 900, int height = 500);

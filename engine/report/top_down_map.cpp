@@ -1,21 +1,20 @@
-// The top-down map of a walker run: the terrain's hillshade, equipment footprints, the path, blocked
-// frames, expectations and a legend column drawn on a Canvas and written as PNG. What is drawn, and
-// in which colours, is documented in top_down_map.h. Map coordinates are UTM-sized, so every
-// position goes through TopDownFrame (a difference from the image's corner, in double) before it
-// becomes a pixel.
+// The top-down map of a walker run: the terrain's hillshade (hillshade.h), equipment footprints, the
+// path, blocked frames, expectations and a legend column drawn on the drawing surface
+// (drawing_surface.h) and written as PNG. What is drawn, and in which colours, is documented in
+// top_down_map.h. Map coordinates are UTM-sized, so every position goes through TopDownFrame (a
+// difference from the image's corner, in double) before it becomes a pixel.
 #include "nestwalk/report/top_down_map.h"
 
 #include "nestwalk/core/input_error.h"
-#include "nestwalk/report/canvas.h"
+#include "nestwalk/report/axis.h"
+#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/report/hillshade.h"
 
 #include <algorithm>
-#include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <numbers>
 #include <optional>
 #include <set>
 
@@ -49,29 +48,34 @@ constexpr Rgb kOtherKindColours[] = {{230, 120, 180}, {120, 170, 255}, {180, 100
 constexpr double kSunAzimuthDeg = 315, kSunAltitudeDeg = 45;
 
 // Sizes, pixels.
-constexpr int kPathRadius = 1;           // the path's brush: 3 pixels wide
-constexpr int kCrossArm = 4;             // blocked cross: arms of 4, brush radius 1 -> 11 across
-constexpr double kMarkerRadius = 5;      // start and end discs
+constexpr double kPathWidth = 3;          // the path; 3 pixels cover the pixel of every eye entirely
+constexpr double kCrossArm = 4;           // blocked cross: arms reaching 4 along x and y from the eye,
+constexpr double kCrossWidth = 3;         // 3 wide
+constexpr double kMarkerRadius = 5;       // start and end discs
 constexpr double kExpectationRadius = 6;
-constexpr double kTinyFootprint = 4;     // footprints narrower than this become discs
+constexpr double kRimWidth = 1.5;         // the rims of markers, just outside them
+constexpr double kTinyFootprint = 4;      // footprints narrower than this become discs
+constexpr double kTinyRadius = 2;         // their disc, and its outline's radius
+constexpr double kTinyRimRadius = 3;
+constexpr double kBlockerWidth = 3;       // the outline of a blocking unit; a tiny one's circle:
+constexpr double kTinyBlockerRadius = 4.5, kTinyBlockerWidth = 2;
+constexpr double kMapFontSize = 12;       // labels on the map and in the legend column, pixels per em
 // The legend column.
-constexpr int kColumnPadding = 8;
-constexpr int kRowHeight = 12, kSwatchWidth = 14;
-constexpr int kArrowLength = 28;
-constexpr int kMinScaleBar = 60;         // the column leaves at least this much room for the scale bar
-constexpr std::size_t kMaxLabelChars = 20;  // kinds' labels are cut to this
+constexpr double kColumnPadding = 8;
+constexpr double kRowHeight = 18, kSwatchWidth = 16, kSwatchGap = 6;
+constexpr double kArrowLength = 28;
+constexpr double kMinScaleBar = 60;       // the column leaves at least this much room for the scale bar
+constexpr int kScaleBarTicks = 6;         // at most this many ticks (5 segments) on the scale bar
+constexpr double kScaleBarHeight = 6;
+constexpr double kLabelGap = 6;           // least gap between the scale bar's labels
+constexpr std::size_t kMaxLabelChars = 20;  // kinds' labels are cut to this (bytes, at a character)
 
-Eigen::Vector3d sunDirection() {
-  const double az = kSunAzimuthDeg * std::numbers::pi / 180, alt = kSunAltitudeDeg * std::numbers::pi / 180;
-  return {std::cos(alt) * std::sin(az), std::cos(alt) * std::cos(az), std::sin(alt)};
+/// The first `n` bytes of UTF-8 text, not cutting a character.
+std::string cutText(const std::string& s, std::size_t n) {
+  if (s.size() <= n) return s;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
+  return s.substr(0, n);
 }
-
-std::string upper(std::string s) {
-  for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
-Rgb darker(Rgb c) { return {std::uint8_t(c.r / 2), std::uint8_t(c.g / 2), std::uint8_t(c.b / 2)}; }
 
 Rgb kindColour(const std::string& kind) {
   if (kind.empty()) return kNoKindColour;
@@ -95,29 +99,13 @@ void checkInputs(const Scene& scene, const TopDownMapOptions& options, const std
 
 // ---- terrain -------------------------------------------------------------------------------------
 
-/// Horn's hillshade at a valid sample: max(0, n . sun), n from the 3 x 3 weighted differences.
-double hornShade(const terrain::Heightfield& hf, int col, int row, const Eigen::Vector3d& sun) {
-  const double centre = hf.sample(col, row);
-  auto usable = [&](int c, int r) { return c >= 0 && r >= 0 && c < hf.cols() && r < hf.rows() && hf.valid(c, r); };
-  // Neighbour (col + dc, row + dr); a missing one extrapolated through the centre.
-  auto z = [&](int dc, int dr) -> double {
-    if (usable(col + dc, row + dr)) return hf.sample(col + dc, row + dr);
-    if (usable(col - dc, row - dr)) return 2 * centre - hf.sample(col - dc, row - dr);
-    return centre;
-  };
-  // Rows run south: dr = -1 is the northern neighbour.
-  const double dzdx = ((z(1, -1) + 2 * z(1, 0) + z(1, 1)) - (z(-1, -1) + 2 * z(-1, 0) + z(-1, 1))) / (8 * hf.dx());
-  const double dzdy = ((z(-1, -1) + 2 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2 * z(0, 1) + z(1, 1))) / (8 * hf.dy());
-  return std::max(0.0, Eigen::Vector3d(-dzdx, -dzdy, 1).normalized().dot(sun));
-}
-
 /// Per-sample shades over a window of the grid (NaN at holes).
 class ShadeWindow {
  public:
   ShadeWindow(const terrain::Heightfield& hf, int firstCol, int lastCol, int firstRow, int lastRow)
       : firstCol_(firstCol), firstRow_(firstRow), cols_(lastCol - firstCol + 1),
         shade_(std::size_t(cols_) * std::size_t(lastRow - firstRow + 1), std::numeric_limits<float>::quiet_NaN()) {
-    const Eigen::Vector3d sun = sunDirection();
+    const Eigen::Vector3d sun = sunDirection(kSunAzimuthDeg, kSunAltitudeDeg);
     for (int r = firstRow; r <= lastRow; ++r)
       for (int c = firstCol; c <= lastCol; ++c)
         if (hf.valid(c, r)) shade_[index(c, r)] = float(hornShade(hf, c, r, sun));
@@ -160,7 +148,7 @@ Rgb terrainColour(double heightFraction, double shade) {
   return {channel(kLowTint.r, kHighTint.r), channel(kLowTint.g, kHighTint.g), channel(kLowTint.b, kHighTint.b)};
 }
 
-void drawTerrain(Canvas& canvas, const TopDownFrame& frame, const terrain::Heightfield& hf) {
+void drawTerrain(DrawingSurface& surface, const TopDownFrame& frame, const terrain::Heightfield& hf) {
   const Eigen::Vector2d origin = hf.origin();
   const double lastU = hf.cols() - 1, lastV = hf.rows() - 1;
   auto gridU = [&](double x) { return (x - origin.x()) / hf.dx(); };
@@ -174,23 +162,23 @@ void drawTerrain(Canvas& canvas, const TopDownFrame& frame, const terrain::Heigh
 
   const auto range = hf.heightRange();
   const double lowest = range ? range->first : 0, highest = range ? range->second : 0;
+  std::vector<Rgb> pixels(std::size_t(frame.width) * std::size_t(frame.height), kOutsideTerrain);
   for (int j = 0; j < frame.height; ++j)
     for (int i = 0; i < frame.width; ++i) {
+      Rgb& out = pixels[std::size_t(j) * std::size_t(frame.width) + std::size_t(i)];
       const Eigen::Vector2d p = frame.pixelCentre(i, j);
       const double u = gridU(p.x()), v = gridV(p.y());
-      if (!(u >= 0 && v >= 0 && u <= lastU && v <= lastV)) {
-        canvas.set(i, j, kOutsideTerrain);
-        continue;
-      }
+      if (!(u >= 0 && v >= 0 && u <= lastU && v <= lastV)) continue;
       const std::optional<double> ground = hf.groundHeight(p.x(), p.y());
       const std::optional<double> shade = ground ? shadeAt(shades, hf, u, v) : std::nullopt;
       if (!shade) {
-        canvas.set(i, j, kHoleGrey);
+        out = kHoleGrey;
         continue;
       }
       const double fraction = highest > lowest ? std::clamp((*ground - lowest) / (highest - lowest), 0.0, 1.0) : 0.5;
-      canvas.set(i, j, terrainColour(fraction, *shade));
+      out = terrainColour(fraction, *shade);
     }
+  surface.putPixels(0, 0, frame.width, frame.height, pixels);
 }
 
 // ---- footprints ----------------------------------------------------------------------------------
@@ -230,13 +218,10 @@ std::vector<Eigen::Vector2d> footprint(const Obb<double>& box, const Scene& scen
 
 struct PixelBox {
   Eigen::Vector2d min, max;
-  Eigen::Vector2i centre() const {
-    const Eigen::Vector2d c = 0.5 * (min + max);
-    return {int(std::floor(c.x())), int(std::floor(c.y()))};
-  }
+  Point centre() const { return 0.5 * (min + max); }
   bool tiny() const { return (max - min).maxCoeff() < kTinyFootprint; }
-  bool meets(const Canvas& canvas) const {
-    return max.x() >= 0 && max.y() >= 0 && min.x() <= canvas.width() && min.y() <= canvas.height();
+  bool meets(const DrawingSurface& surface) const {
+    return max.x() >= 0 && max.y() >= 0 && min.x() <= surface.width() && min.y() <= surface.height();
   }
 };
 
@@ -249,112 +234,114 @@ PixelBox boundsOf(const std::vector<Eigen::Vector2d>& polygon) {
   return b;
 }
 
-Eigen::Vector2i pixelIndex(const Eigen::Vector2d& p) { return {int(std::floor(p.x())), int(std::floor(p.y()))}; }
-
-void outlinePolygon(Canvas& canvas, const std::vector<Eigen::Vector2d>& polygon, int radius, Rgb c) {
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2i a = pixelIndex(polygon[i]), b = pixelIndex(polygon[(i + 1) % polygon.size()]);
-    canvas.thickLine(a.x(), a.y(), b.x(), b.y(), radius, c);
-  }
-}
-
-void drawFootprint(Canvas& canvas, const std::vector<Eigen::Vector2d>& polygon, Rgb fill) {
+void drawFootprint(DrawingSurface& surface, const std::vector<Eigen::Vector2d>& polygon, Rgb fill) {
   const PixelBox box = boundsOf(polygon);
-  if (!box.meets(canvas)) return;
+  if (!box.meets(surface)) return;
   if (box.tiny()) {
-    canvas.disc(box.centre().x(), box.centre().y(), 2, fill);
-    canvas.ring(box.centre().x(), box.centre().y(), 3, darker(fill));
+    surface.disc(box.centre(), kTinyRadius, fill);
+    surface.circle(box.centre(), kTinyRimRadius, 1, darker(fill));
     return;
   }
-  canvas.fillPolygon(polygon, fill);
-  outlinePolygon(canvas, polygon, 0, darker(fill));
+  surface.fillPolygon(polygon, fill);
+  surface.strokePolygon(polygon, 1, darker(fill));
 }
 
-void drawBlockerOutline(Canvas& canvas, const std::vector<Eigen::Vector2d>& polygon) {
+void drawBlockerOutline(DrawingSurface& surface, const std::vector<Eigen::Vector2d>& polygon) {
   const PixelBox box = boundsOf(polygon);
-  if (!box.meets(canvas)) return;
+  if (!box.meets(surface)) return;
   if (box.tiny()) {
-    for (double r : {4.0, 5.0}) canvas.ring(box.centre().x(), box.centre().y(), r, kRed);
+    surface.circle(box.centre(), kTinyBlockerRadius, kTinyBlockerWidth, kRed);
     return;
   }
-  outlinePolygon(canvas, polygon, 1, kRed);
+  surface.strokePolygon(polygon, kBlockerWidth, kRed);
 }
 
 // ---- run marks -----------------------------------------------------------------------------------
 
-void drawCross(Canvas& canvas, Eigen::Vector2i p, Rgb c) {
-  canvas.thickLine(p.x() - kCrossArm, p.y() - kCrossArm, p.x() + kCrossArm, p.y() + kCrossArm, 1, c);
-  canvas.thickLine(p.x() - kCrossArm, p.y() + kCrossArm, p.x() + kCrossArm, p.y() - kCrossArm, 1, c);
-}
+/// The continuous pixel position of a map point.
+Point at(const TopDownFrame& frame, const Eigen::Vector3d& map) { return frame.toPixel(map.head<2>()); }
 
-void drawMarker(Canvas& canvas, Eigen::Vector2i p, double radius, Rgb fill, Rgb rim) {
-  canvas.disc(p.x(), p.y(), radius, fill);
-  canvas.ring(p.x(), p.y(), radius + 1, rim);
-}
-
-/// Text in `ink` with a one-pixel `halo` around it, readable on any background.
-void haloText(Canvas& canvas, int x, int top, const std::string& s, Rgb ink, Rgb halo) {
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx)
-      if (dx || dy) canvas.text(x + dx, top + dy, s, halo);
-  canvas.text(x, top, s, ink);
-}
-
-void drawPath(Canvas& canvas, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
-  std::optional<Eigen::Vector2i> previous;
-  for (const FrameRecord& r : records) {
-    if (!finite2(r.eye)) {
-      previous.reset();
-      continue;
-    }
-    const Eigen::Vector2i p = frame.pixelOf(r.eye.head<2>());
-    const Eigen::Vector2i from = previous.value_or(p);
-    canvas.thickLine(from.x(), from.y(), p.x(), p.y(), kPathRadius, r.flying ? kFlyColour : kWalkColour);
-    previous = p;
+void drawCross(DrawingSurface& surface, Point p, Rgb c) {
+  for (const Point& arm : {Point(kCrossArm, kCrossArm), Point(kCrossArm, -kCrossArm)}) {
+    const Point ends[] = {p - arm, p + arm};
+    surface.polyline(ends, kCrossWidth, c);
   }
 }
 
+void drawMarker(DrawingSurface& surface, Point p, double radius, Rgb fill, Rgb rim) {
+  surface.disc(p, radius, fill);
+  surface.circle(p, radius + kRimWidth / 2, kRimWidth, rim);
+}
+
+void drawPath(DrawingSurface& surface, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
+  // Runs of one mode as one line each; the segment into a record takes that record's mode, so a
+  // run starts at the last eye of the run before it.
+  std::vector<Point> run;
+  bool flying = false;
+  auto flush = [&] {
+    surface.polyline(run, kPathWidth, flying ? kFlyColour : kWalkColour);
+    run.clear();
+  };
+  for (const FrameRecord& r : records) {
+    if (!finite2(r.eye)) {
+      flush();
+      continue;
+    }
+    if (!run.empty() && r.flying != flying) {
+      const Point last = run.back();
+      flush();
+      run.push_back(last);
+    }
+    flying = r.flying;
+    run.push_back(at(frame, r.eye));
+  }
+  flush();
+}
+
 /// The footprints of the collision units that blocked the run, outlined in red.
-void drawBlockingUnits(Canvas& canvas, const TopDownFrame& frame, const Scene& scene,
+void drawBlockingUnits(DrawingSurface& surface, const TopDownFrame& frame, const Scene& scene,
                        const std::vector<FrameRecord>& records) {
   std::set<std::string> blockers;
   for (const FrameRecord& r : records)
     if (r.blocked) blockers.insert(r.blockedBy);
   for (const std::string& name : blockers) {
     const int unit = scene.findUnit(name);
-    if (unit >= 0) drawBlockerOutline(canvas, footprint(scene.units[std::size_t(unit)].volume.inner, scene, frame));
+    if (unit >= 0) drawBlockerOutline(surface, footprint(scene.units[std::size_t(unit)].volume.inner, scene, frame));
   }
 }
 
-void drawBlockedFrames(Canvas& canvas, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
+void drawBlockedFrames(DrawingSurface& surface, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
   for (const FrameRecord& r : records)
-    if (r.blocked && finite2(r.eye)) drawCross(canvas, frame.pixelOf(r.eye.head<2>()), kRed);
+    if (r.blocked && finite2(r.eye)) drawCross(surface, at(frame, r.eye), kRed);
 }
 
-void drawStartAndEnd(Canvas& canvas, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
+void drawStartAndEnd(DrawingSurface& surface, const TopDownFrame& frame, const std::vector<FrameRecord>& records) {
   std::vector<const FrameRecord*> drawn;
   for (const FrameRecord& r : records)
     if (finite2(r.eye)) drawn.push_back(&r);
   if (drawn.empty()) return;
-  const Eigen::Vector2i start = frame.pixelOf(drawn.front()->eye.head<2>());
-  const Eigen::Vector2i end = frame.pixelOf(drawn.back()->eye.head<2>());
-  drawMarker(canvas, end, kMarkerRadius, kInk, kPaper);
-  drawMarker(canvas, start, kMarkerRadius, kPaper, kInk);
-  const int labelOffset = int(kMarkerRadius) + 4;
-  haloText(canvas, end.x() + labelOffset, end.y() - labelOffset, "END", kInk, kPaper);
-  haloText(canvas, start.x() + labelOffset, start.y() + labelOffset + kGlyphHeight, "START", kInk, kPaper);
+  const Point start = at(frame, drawn.front()->eye), end = at(frame, drawn.back()->eye);
+  drawMarker(surface, end, kMarkerRadius, kInk, kPaper);
+  drawMarker(surface, start, kMarkerRadius, kPaper, kInk);
+  const double offset = kMarkerRadius + 4;
+  TextStyle label{.size = kMapFontSize, .colour = kInk, .v = VAlign::Top, .halo = true, .haloColour = kPaper};
+  surface.text(end + Point(offset, -offset), "end", label);
+  label.v = VAlign::Bottom;
+  surface.text(start + Point(offset, offset), "start", label);
 }
 
-void drawExpectations(Canvas& canvas, const TopDownFrame& frame, const std::vector<ExpectationResult>& expectations) {
+void drawExpectations(DrawingSurface& surface, const TopDownFrame& frame,
+                      const std::vector<ExpectationResult>& expectations) {
   for (const ExpectationResult& e : expectations)
-    if (finite2(e.eye)) drawMarker(canvas, frame.pixelOf(e.eye.head<2>()), kExpectationRadius, e.met ? kMetColour : kRed, kInk);
+    if (finite2(e.eye)) drawMarker(surface, at(frame, e.eye), kExpectationRadius, e.met ? kMetColour : kRed, kInk);
 }
 
 // ---- the legend column ---------------------------------------------------------------------------
 
 struct LegendEntry {
   std::string label;
-  std::function<void(Canvas&, int x, int y)> swatch;  // draws in [x, x + kSwatchWidth - 1] x [y - 4, y + 4]
+  std::function<void(DrawingSurface&, Point left)> swatch;  // draws in kSwatchWidth from `left`, about
+                                                            // 5 pixels above and below it
 };
 
 /// The marks the run put on the map, then the scene's equipment kinds (sorted).
@@ -362,104 +349,118 @@ std::vector<LegendEntry> legendEntries(const Scene& scene, const std::vector<Fra
                                        const std::vector<ExpectationResult>& expectations) {
   auto any = [](const auto& list, auto predicate) { return std::any_of(list.begin(), list.end(), predicate); };
   auto pathSwatch = [](Rgb c) {
-    return [c](Canvas& canvas, int x, int y) { canvas.thickLine(x, y, x + kSwatchWidth - 1, y, kPathRadius, c); };
+    return [c](DrawingSurface& s, Point p) { s.line(p, p + Point(kSwatchWidth, 0), kPathWidth, c); };
   };
   auto discSwatch = [](Rgb c) {
-    return [c](Canvas& canvas, int x, int y) {
-      canvas.disc(x + kSwatchWidth / 2, y, 3.5, c);
-      canvas.ring(x + kSwatchWidth / 2, y, 4.5, kInk);
-    };
+    return [c](DrawingSurface& s, Point p) { drawMarker(s, p + Point(kSwatchWidth / 2, 0), 4, c, kInk); };
   };
   std::vector<LegendEntry> entries;
-  if (any(records, [](const FrameRecord& r) { return !r.flying; })) entries.push_back({"WALK", pathSwatch(kWalkColour)});
-  if (any(records, [](const FrameRecord& r) { return r.flying; })) entries.push_back({"FLY", pathSwatch(kFlyColour)});
+  if (any(records, [](const FrameRecord& r) { return !r.flying; })) entries.push_back({"walk", pathSwatch(kWalkColour)});
+  if (any(records, [](const FrameRecord& r) { return r.flying; })) entries.push_back({"fly", pathSwatch(kFlyColour)});
   if (any(records, [](const FrameRecord& r) { return r.blocked; }))
-    entries.push_back({"BLOCKED", [](Canvas& canvas, int x, int y) {
-                         const int cx = x + kSwatchWidth / 2;
-                         canvas.line(cx - 3, y - 3, cx + 3, y + 3, kRed);
-                         canvas.line(cx - 3, y + 3, cx + 3, y - 3, kRed);
+    entries.push_back({"blocked", [](DrawingSurface& s, Point p) {
+                         for (const Point& arm : {Point(3, 3), Point(3, -3)}) {
+                           const Point ends[] = {p + Point(kSwatchWidth / 2, 0) - arm, p + Point(kSwatchWidth / 2, 0) + arm};
+                           s.polyline(ends, 2, kRed);
+                         }
                        }});
   if (any(expectations, [](const ExpectationResult& e) { return e.met; }))
-    entries.push_back({"EXPECTATION MET", discSwatch(kMetColour)});
+    entries.push_back({"expectation met", discSwatch(kMetColour)});
   if (any(expectations, [](const ExpectationResult& e) { return !e.met; }))
-    entries.push_back({"EXPECTATION FAILED", discSwatch(kRed)});
+    entries.push_back({"expectation failed", discSwatch(kRed)});
   std::set<std::string> kinds;
   for (const SceneInstance& instance : scene.instances) kinds.insert(scene.spec.equipment[instance.spec].kind);
   for (const std::string& kind : kinds) {
     const Rgb c = kindColour(kind);
-    entries.push_back({kind.empty() ? "NO KIND" : upper(kind.substr(0, kMaxLabelChars)),
-                       [c](Canvas& canvas, int x, int y) {
-                         canvas.fill(x + 1, y - 3, x + kSwatchWidth - 2, y + 3, darker(c));
-                         canvas.fill(x + 2, y - 2, x + kSwatchWidth - 3, y + 2, c);
+    entries.push_back({kind.empty() ? "no kind" : cutText(kind, kMaxLabelChars), [c](DrawingSurface& s, Point p) {
+                         const double y = std::floor(p.y());
+                         s.fillRect(p.x() + 1, y - 4, p.x() + kSwatchWidth - 1, y + 5, darker(c));
+                         s.fillRect(p.x() + 2, y - 3, p.x() + kSwatchWidth - 2, y + 4, c);
                        }});
   }
   return entries;
 }
 
-int legendColumnWidth(const std::vector<LegendEntry>& entries) {
-  int widest = 0;
-  for (const LegendEntry& e : entries) widest = std::max(widest, textWidth(e.label));
-  return 2 * kColumnPadding + std::max(kSwatchWidth + kGlyphAdvance + widest, kMinScaleBar);
+/// The scale bar's ticks: the bar is the longest 1-2-5 length of metres (axis.h's niceFloor) that
+/// fits the column's room, its ticks those of a tight linear axis over it: 4 or 5 segments of a
+/// 1-2-5 length each (1: 5 x 0.2, 2: 4 x 0.5, 5: 5 x 1).
+Axis scaleBarAxis(double roomPixels, double metresPerPixel) {
+  const double metres[] = {0.0, niceFloor(roomPixels * metresPerPixel)};
+  return Axis::fit(metres, {.tight = true, .maxTicks = kScaleBarTicks});
 }
 
-// Column layout, top to bottom: "N" and the north arrow, the entries, the scale bar and its label.
-constexpr int kArrowTop = kGlyphHeight + 3;  // below the column's top padding
-constexpr int kEntriesTop = kArrowTop + kArrowLength + 12;
-constexpr int kScaleBarHeight = 5;
-constexpr int kScaleBlock = kScaleBarHeight + 3 + kGlyphHeight;  // above the bottom padding
+int legendColumnWidth(const std::vector<LegendEntry>& entries) {
+  double widest = 0;
+  for (const LegendEntry& e : entries) widest = std::max(widest, DrawingSurface::textWidth(e.label, kMapFontSize));
+  return int(std::ceil(2 * kColumnPadding + std::max(kSwatchWidth + kSwatchGap + widest, kMinScaleBar)));
+}
+
+// Column layout, top to bottom: "N" and the north arrow, the entries, the scale bar and its labels.
+double textRow() {
+  const DrawingSurface::FontMetrics m = DrawingSurface::fontMetrics(kMapFontSize);
+  return m.ascent + m.descent;
+}
+double entriesTop() { return textRow() + kArrowLength + 14; }            // below the top padding
+double scaleBlock() { return kScaleBarHeight + 3 + textRow(); }         // above the bottom padding
 
 int legendColumnHeight(const std::vector<LegendEntry>& entries) {
-  return 2 * kColumnPadding + kEntriesTop + int(entries.size()) * kRowHeight + 8 + kScaleBlock;
+  return int(std::ceil(2 * kColumnPadding + entriesTop() + double(entries.size()) * kRowHeight + 8 + scaleBlock()));
 }
 
-/// The longest 1-2-5 length (metres) not above `limit`.
-double niceLength(double limit) {
-  const double decade = std::pow(10.0, std::floor(std::log10(limit)));
-  for (double m : {5.0, 2.0, 1.0})
-    if (m * decade <= limit) return m * decade;
-  return decade;
+void drawNorthArrow(DrawingSurface& s, double cx, double top) {
+  const TextBox n = s.text({cx, top}, "N", {.size = kMapFontSize + 2, .colour = kInk, .h = HAlign::Centre, .v = VAlign::Top});
+  const double tip = n.bottom - 2;
+  s.line({cx, tip - 8}, {cx, tip - kArrowLength}, 2, kInk);
+  const Point head[] = {{cx, tip}, {cx - 5, tip - 11}, {cx + 5, tip - 11}};
+  s.fillPolygon(head, kInk);
 }
 
-std::string metresLabel(double metres) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, metres, std::chars_format::fixed);
-  return std::string(buffer, result.ptr) + " M";
+/// The scale bar: segments between the axis's ticks, alternately black and white, outlined; the
+/// ticks' labels below, the last with the unit.
+void drawScaleBar(DrawingSurface& s, double left, double bottom, double room, double right, double metresPerPixel) {
+  const Axis axis = scaleBarAxis(room, metresPerPixel);
+  const std::vector<AxisTick>& ticks = axis.ticks();
+  const double barBottom = bottom + textRow() + 3, barTop = barBottom + kScaleBarHeight;
+  auto xOf = [&](double metres) { return std::round(left + metres / metresPerPixel); };
+  for (std::size_t i = 0; i + 1 < ticks.size(); ++i)
+    s.fillRect(xOf(ticks[i].value), barBottom, xOf(ticks[i + 1].value), barTop, i % 2 ? kPaper : kInk);
+  const Point outline[] = {{xOf(0) + 0.5, barBottom + 0.5}, {xOf(ticks.back().value) - 0.5, barBottom + 0.5},
+                           {xOf(ticks.back().value) - 0.5, barTop - 0.5}, {xOf(0) + 0.5, barTop - 0.5}};
+  s.strokePolygon(outline, 1, kInk);
+  // Labels under the ticks, the last with the unit, kept inside the column: all of them when they
+  // fit side by side, else the two ends only.
+  const TextStyle style{.size = kMapFontSize, .colour = kInk, .h = HAlign::Centre, .v = VAlign::Top};
+  std::vector<std::pair<Point, std::string>> labels;
+  std::vector<TextBox> boxes;
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    labels.push_back({{xOf(ticks[i].value), barBottom - 2}, ticks[i].label + (i + 1 == ticks.size() ? " m" : "")});
+    TextBox b = DrawingSurface::textBox(labels.back().first, labels.back().second, style);
+    const double shift = std::max(0.0, left - b.left) - std::max(0.0, b.right - right);
+    labels.back().first.x() += shift;
+    b.left += shift, b.right += shift;
+    boxes.push_back(b);
+  }
+  bool all = true;
+  for (std::size_t i = 1; i < boxes.size(); ++i) all = all && boxes[i].left >= boxes[i - 1].right + kLabelGap;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    if (all || i == 0 || i + 1 == labels.size()) s.text(labels[i].first, labels[i].second, style);
 }
 
-void drawNorthArrow(Canvas& canvas, int cx, int top) {
-  canvas.text(cx - kGlyphWidth / 2, top, "N", kInk);
-  const int tip = top - kArrowTop;
-  canvas.line(cx, tip - kArrowLength, cx, tip - 8, kInk);
-  canvas.fillPolygon({{cx + 0.5, tip + 1.0}, {cx - 4.5, tip - 10.0}, {cx + 5.5, tip - 10.0}}, kInk);
-}
-
-/// A bar of alternating black and white quarters standing for a 1-2-5 length, its label below.
-void drawScaleBar(Canvas& canvas, int x, int bottom, int room, double metresPerPixel) {
-  const double metres = niceLength(room * metresPerPixel);
-  const int length = std::max(4, int(std::lround(metres / metresPerPixel)));
-  const int barBottom = bottom + kGlyphHeight + 3, barTop = barBottom + kScaleBarHeight - 1;
-  for (int quarter = 0; quarter < 4; ++quarter)
-    canvas.fill(x + quarter * length / 4, barBottom, x + (quarter + 1) * length / 4, barTop,
-                quarter % 2 ? kPaper : kInk);
-  canvas.line(x, barBottom, x + length, barBottom, kInk);
-  canvas.line(x, barTop, x + length, barTop, kInk);
-  canvas.line(x + length, barBottom, x + length, barTop, kInk);
-  canvas.text(x, bottom + kGlyphHeight - 1, metresLabel(metres), kInk);
-}
-
-void drawLegendColumn(Canvas& canvas, const TopDownFrame& frame, const std::vector<LegendEntry>& entries) {
-  const int x0 = frame.width, x1 = canvas.width() - 1;
-  canvas.fill(x0, 0, x1, canvas.height() - 1, kPaper);
-  canvas.line(x0, 0, x0, canvas.height() - 1, kInk);
-  const int left = x0 + kColumnPadding, top = canvas.height() - 1 - kColumnPadding;
-  drawNorthArrow(canvas, (x0 + x1) / 2, top);
-  int rowTop = top - kEntriesTop;
+void drawLegendColumn(DrawingSurface& s, const TopDownFrame& frame, const std::vector<LegendEntry>& entries) {
+  const double x0 = frame.width, x1 = s.width();
+  s.fillRect(x0, 0, x1, s.height(), kPaper);
+  s.line({x0 + 0.5, 0}, {x0 + 0.5, double(s.height())}, 1, kInk);
+  const double left = x0 + kColumnPadding, top = s.height() - kColumnPadding;
+  drawNorthArrow(s, std::round((x0 + x1) / 2) + 0.5, top);
+  const DrawingSurface::FontMetrics m = DrawingSurface::fontMetrics(kMapFontSize);
+  double rowTop = top - entriesTop();
   for (const LegendEntry& e : entries) {
-    e.swatch(canvas, left, rowTop - kGlyphHeight / 2);
-    canvas.text(left + kSwatchWidth + kGlyphAdvance, rowTop, e.label, kInk);
+    const double middle = rowTop - m.ascent + m.capHeight / 2;
+    e.swatch(s, {left, middle});
+    s.text({left + kSwatchWidth + kSwatchGap, middle}, e.label, {.size = kMapFontSize, .colour = kInk, .v = VAlign::Middle});
     rowTop -= kRowHeight;
   }
-  drawScaleBar(canvas, left, kColumnPadding, x1 - x0 - 2 * kColumnPadding, frame.metresPerPixel);
+  drawScaleBar(s, left, kColumnPadding, x1 - x0 - 2 * kColumnPadding, x1 - kColumnPadding / 2, frame.metresPerPixel);
 }
 
 }  // namespace
@@ -516,18 +517,18 @@ void writeTopDownMap(const std::string& path, const Scene& scene, const std::vec
                      const std::vector<ExpectationResult>& expectations, const TopDownMapOptions& options) {
   checkInputs(scene, options, path);
   const TopDownFrame frame = topDownFrame(scene, records, expectations, options);
-  Canvas canvas(frame.width + frame.legendWidth, frame.height, kOutsideTerrain);
-  drawTerrain(canvas, frame, *scene.terrain);
+  DrawingSurface surface(frame.width + frame.legendWidth, frame.height, kOutsideTerrain);
+  drawTerrain(surface, frame, *scene.terrain);
   for (const SceneInstance& instance : scene.instances)
-    drawFootprint(canvas, footprint(instance.volume.inner, scene, frame),
+    drawFootprint(surface, footprint(instance.volume.inner, scene, frame),
                   kindColour(scene.spec.equipment[instance.spec].kind));
-  drawBlockingUnits(canvas, frame, scene, records);
-  drawPath(canvas, frame, records);
-  drawStartAndEnd(canvas, frame, records);
-  drawExpectations(canvas, frame, expectations);
-  drawBlockedFrames(canvas, frame, records);
-  drawLegendColumn(canvas, frame, legendEntries(scene, records, expectations));
-  writePng(canvas, path);
+  drawBlockingUnits(surface, frame, scene, records);
+  drawPath(surface, frame, records);
+  drawStartAndEnd(surface, frame, records);
+  drawExpectations(surface, frame, expectations);
+  drawBlockedFrames(surface, frame, records);
+  drawLegendColumn(surface, frame, legendEntries(scene, records, expectations));
+  surface.writePng(path);
 }
 
 }  // namespace nestwalk

@@ -9,6 +9,11 @@
 // image read back through osgDB has the same rows); TopDownFrame maps map x, y to pixels. The map
 // fills the image's left TopDownFrame::width columns, the legend column the rest.
 //
+// Drawn with cairo (drawing_surface.h): marks are antialiased, placed at the exact (continuous)
+// pixel position of their map point, and have exactly their colour where they cover a pixel
+// entirely (the pixel holding a path's eye, a cross's centre, a marker's centre always). Text is
+// the UI font (DejaVu Sans, core/ui_font.h), 12 pixels per em.
+//
 // What is drawn, bottom to top (colours RGB):
 //  - terrain: colour = tint × (0.35 + 0.65 × shade) per channel, rounded. tint runs linearly from
 //    (96, 140, 96) at the terrain's lowest valid sample to (236, 214, 170) at its highest
@@ -18,29 +23,37 @@
 //    weighted differences of the sample grid at each sample (a missing neighbour, a hole or beyond
 //    the grid, is extrapolated linearly through the centre sample from the opposite one, or taken
 //    as the centre's height when that is missing too, so a plane shades exactly), interpolated
-//    bilinearly to the pixel's centre from the valid samples of its cell. A pixel whose centre has
-//    no ground (a hole) is flat grey (128, 128, 128); beyond the outermost samples white.
+//    bilinearly to the pixel's centre from the valid samples of its cell (hillshade.h; the rule of
+//    GDAL's `gdaldem hillshade`, tested against it). A pixel whose centre has no ground (a hole) is
+//    flat grey (128, 128, 128); beyond the outermost samples white.
 //  - equipment: each instance's footprint, the x-y outline of its inner OBB (the convex hull of
-//    the 8 corners' x, y), filled in its kind's colour and outlined in half that colour; a
-//    footprint under 4 pixels across is drawn as a disc of radius 2 with that outline around it.
+//    the 8 corners' x, y), filled in its kind's colour and outlined (1 pixel) in half that colour;
+//    a footprint under 4 pixels across is drawn as a disc of radius 2 with a circle of radius 3 in
+//    that outline colour around it.
 //    Kinds (EquipmentSpec::kind, the bundled generator's labels): pole (255, 215, 0), station
 //    (0, 150, 150), solar (30, 40, 130), logger (245, 240, 200), piezometer (255, 140, 0),
 //    container (150, 65, 25), barrier (205, 205, 205), vehicle (40, 40, 40); any other kind one
 //    of (230, 120, 180), (120, 170, 255), (180, 100, 255), (255, 175, 120), (0, 110, 80),
 //    (150, 150, 60) chosen by the kind's FNV-1a hash; no kind magenta (255, 0, 255).
 //  - units that blocked the run (FrameRecord::blockedBy naming a collision unit): the footprint of
-//    the unit's inner OBB outlined in red (230, 0, 0), 3 pixels wide.
-//  - the path: a line through the records' eyes, 3 pixels wide, blue (40, 90, 255) where walking,
-//    cyan (0, 215, 255) where flying (the segment into a record takes that record's mode).
-//  - start and end: a white disc (radius 5, black rim) at the first eye labelled START, a black
-//    disc (white rim) at the last labelled END.
+//    the unit's inner OBB outlined in red (230, 0, 0), 3 pixels wide (a tiny one: a red circle of
+//    radius 4.5, 2 pixels wide).
+//  - the path: a line through the records' eyes, 3 pixels wide with round joins, blue
+//    (40, 90, 255) where walking, cyan (0, 215, 255) where flying (the segment into a record takes
+//    that record's mode).
+//  - start and end: a white disc (radius 5, black rim 1.5 pixels wide) at the first eye labelled
+//    "start", a black disc (white rim) at the last labelled "end"; the labels with a white halo.
 //  - expectations: a disc of radius 6 at the eye where each was checked, green (0, 190, 0) met or
 //    red (230, 0, 0) failed, with a black rim.
-//  - blocked frames: a red (230, 0, 0) cross, 11 pixels across, at each blocked record's eye (on
-//    top, so that an expectation checked where the walker was blocked shows both).
-//  - the legend column (white, right of the map): "N" and a north arrow at the top, then the
-//    marks the run drew and the scene's equipment kinds (sorted, names cut to 20 characters),
-//    then a scale bar (a 1-2-5 length in metres, as long as fits the column) at the bottom.
+//  - blocked frames: a red (230, 0, 0) cross at each blocked record's eye, its arms reaching 4
+//    pixels along x and y from it, 3 pixels wide (on top, so that an expectation checked where the
+//    walker was blocked shows both).
+//  - the legend column (white, right of the map, a black line between them): "N" and a north arrow
+//    at the top, then the marks the run drew ("walk", "fly", "blocked", "expectation met",
+//    "expectation failed") and the scene's equipment kinds as written (sorted, cut to 20 bytes at
+//    a character), then a scale bar at the bottom: the longest 1-2-5 length of metres that fits
+//    the column, in 4 or 5 black and white segments at the ticks of axis.h's rule, labelled "0" and
+//    "<length> m" (and at every tick when the labels fit).
 #pragma once
 
 #include "nestwalk/walker/frame_record.h"

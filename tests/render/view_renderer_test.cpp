@@ -5,6 +5,7 @@
 // near equipment, and nested culling draws exactly what OSG's own culling draws.
 #include "nestwalk/render/view_renderer.h"
 
+#include "nestwalk/core/ui_font.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 
@@ -361,6 +362,36 @@ TEST_F(RenderTest, BlockedStateIsShown) {
   renderer.render(pose);
   EXPECT_TRUE(isRed(renderer.image(), 1, kHeight / 2));
   EXPECT_TRUE(isRed(renderer.image(), kWidth / 2, 1));
+}
+
+TEST_F(RenderTest, BlockedTextIsSetInTheUiFont) {
+  const Scene& scene = bundledScene();
+  const auto views = viewsOf(scene, "container", 25.0, 1);
+  ASSERT_FALSE(views.empty());
+  EXPECT_EQ(ViewRenderer(scene, smallOptions(true)).overlayFontFile(), "");  // the ID pass has no overlay
+  ViewRenderer renderer(scene, smallOptions(false));
+  // The report's font, from its file (core/ui_font.h), not osgText's built-in one.
+  EXPECT_EQ(renderer.overlayFontFile(), kUiFontPath);
+  // "BLOCKED by <name>" lies inside the red frame at the top left: red-ish pixels there (text is
+  // antialiased: red over the scene) that the unblocked frame does not have. The frame is
+  // max(4, 0.6 % of the height) = 4 pixels wide; the text starts 2.5 frame widths in and is
+  // max(12, 3.5 % of the height) = 12 pixels high.
+  auto redInTextArea = [&](const osg::Image& image) {
+    int n = 0;
+    for (int y = 6; y < 6 + 24; ++y)
+      for (int x = 6; x < kWidth / 2; ++x) {
+        const unsigned char* p = image.data(x, image.t() - 1 - y);
+        n += p[0] > 150 && p[0] > p[1] + 60 && p[0] > p[2] + 60;
+      }
+    return n;
+  };
+  ViewPose pose = views.front().second;
+  renderer.render(pose);
+  const int before = redInTextArea(renderer.image());
+  pose.blocked = true;
+  pose.blockedBy = scene.spec.equipment[views.front().first].name;
+  renderer.render(pose);
+  EXPECT_GT(redInTextArea(renderer.image()), before + 40) << "no blocked text drawn";
 }
 
 }  // namespace

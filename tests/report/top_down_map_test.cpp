@@ -2,7 +2,8 @@
 // a synthetic scene at UTM magnitudes (a plane falling to the south-east with a pit and a hole,
 // a rotated container and a pole) and a run over it; the image's size and north-up frame, the
 // hillshade against the plane's own Lambert shade, the hole, the path, blocked frames, the blocking
-// unit's outline, expectations and footprints are checked at pixels computed from the construction.
+// unit's outline, expectations and footprints are checked at pixels computed from the construction;
+// the legend column's swatches and text, and its scale bar (segments of a 1-2-5 length of metres).
 #include "nestwalk/report/top_down_map.h"
 
 #include "nestwalk/core/input_error.h"
@@ -184,7 +185,7 @@ class TopDownMapImage : public ::testing::Test {
 TEST_F(TopDownMapImage, SizeFollowsThePathExtentAndMargin) {
   // Eyes span x 550060..550140 and y 4649990..4650010; with 40 m of margin each side the area is
   // 160 m x 100 m, wide enough to fill the 800 pixels less the legend column.
-  ASSERT_GT(frame_.legendWidth, 100);  // "EXPECTATION FAILED" alone is 107 pixels
+  ASSERT_GT(frame_.legendWidth, 100);  // "expectation failed" alone is ~110 pixels at 12 px
   ASSERT_LT(frame_.legendWidth, 300);
   const int mapColumns = 800 - frame_.legendWidth;
   EXPECT_EQ(frame_.width, mapColumns);
@@ -210,8 +211,10 @@ TEST_F(TopDownMapImage, FrameIsNorthUpWithSquarePixels) {
   EXPECT_EQ(frame_.pixelOf(centre), Eigen::Vector2i(123, 45));
   EXPECT_EQ(frame_.pixelOf(centre + Eigen::Vector2d(0, 10 * m)), Eigen::Vector2i(123, 55));  // north: rows up
   EXPECT_EQ(frame_.pixelOf(centre + Eigen::Vector2d(10 * m, 0)), Eigen::Vector2i(133, 45));  // east: columns right
-  // The legend column is white paper, right of the map.
-  EXPECT_EQ(pixel(*image_, {frame_.width + frame_.legendWidth / 2, frame_.height / 2}), (Rgb{255, 255, 255}));
+  // The legend column is white paper right of the map (here its left padding), a black line
+  // between them.
+  EXPECT_EQ(pixel(*image_, {frame_.width + 3, frame_.height / 2}), (Rgb{255, 255, 255}));
+  EXPECT_EQ(pixel(*image_, {frame_.width, frame_.height / 2}), (Rgb{0, 0, 0}));
 }
 
 TEST_F(TopDownMapImage, HillshadeIsTheLambertShadeOfThePlane) {
@@ -288,14 +291,69 @@ TEST_F(TopDownMapImage, ExpectationsAreGreenWhenMetAndRedWhenFailed) {
   EXPECT_EQ(at(expectations[1].eye.head<2>()), kRed);
 }
 
+TEST_F(TopDownMapImage, LegendColumnShowsTheRunsMarksAndTheKinds) {
+  // Every mark of the run and both kinds have a swatch of their colour in the column.
+  for (const Rgb c : {kWalk, kFly, kRed, kMet, kContainer, kPole}) {
+    int n = 0;
+    for (int y = 0; y < image_->t(); ++y)
+      for (int x = frame_.width + 1; x < image_->s(); ++x) n += pixel(*image_, {x, y}) == c;
+    EXPECT_GT(n, 3) << c;
+  }
+  // Text: the labels right of the swatches, in the column's upper half.
+  int ink = 0;
+  for (int y = image_->t() / 2; y < image_->t(); ++y)
+    for (int x = frame_.width + 30; x < image_->s(); ++x) ink += !(pixel(*image_, {x, y}) == Rgb{255, 255, 255});
+  EXPECT_GT(ink, 7 * 40);  // seven entries
+}
+
+TEST_F(TopDownMapImage, ScaleBarIsAWholeNumberOfOneTwoFiveSegments) {
+  // The bar's outline is the longest black run in the column's bottom rows; its middle row is
+  // black and white segments of one 1-2-5 length each, at most 5 of them, and the whole bar is a
+  // 1-2-5 length too.
+  int bestRow = -1, bestFirst = -1, best = 0;
+  for (int y = 0; y < 60; ++y)
+    for (int x = frame_.width + 2, run = 0; x < image_->s(); ++x) {
+      run = pixel(*image_, {x, y}) == Rgb{0, 0, 0} ? run + 1 : 0;
+      if (run > best) best = run, bestRow = y, bestFirst = x - run + 1;
+    }
+  ASSERT_GT(best, 20) << "no scale bar";
+  EXPECT_LE(best, frame_.legendWidth - 2 * 8);  // within the column's padding
+  const int middle = bestRow + 3;
+  int segments = 0;
+  bool black = false;
+  for (int x = bestFirst + 1; x < bestFirst + best - 1; ++x) {
+    const Rgb c = pixel(*image_, {x, middle});
+    if (c == Rgb{0, 0, 0} && !black) ++segments, black = true;
+    if (c == Rgb{255, 255, 255} && black) ++segments, black = false;
+  }
+  ASSERT_GE(segments, 2);
+  ASSERT_LE(segments, 5);
+  // The bar's ends are rounded to whole pixels: a pixel of slack over its length.
+  auto oneTwoFive = [&](double metres, double pixels) {
+    const double mantissa = metres / std::pow(10.0, std::floor(std::log10(metres)));
+    const double slack = 1.0 / pixels;  // relative
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+      if (std::abs(mantissa - m) < m * slack) return true;
+    return false;
+  };
+  const double barMetres = best * frame_.metresPerPixel;
+  EXPECT_TRUE(oneTwoFive(barMetres, best)) << "a bar of " << barMetres << " m";
+  EXPECT_TRUE(oneTwoFive(barMetres / segments, double(best) / segments)) << segments << " segments of " << barMetres / segments << " m";
+  // Labels under the bar.
+  int ink = 0;
+  for (int y = 0; y < bestRow; ++y)
+    for (int x = bestFirst; x < bestFirst + best; ++x) ink += !(pixel(*image_, {x, y}) == Rgb{255, 255, 255});
+  EXPECT_GT(ink, 30);
+}
+
 TEST(TopDownMap, WholeTerrainFrameCoversTheSamples) {
   TopDownMapOptions options;
   options.maxSize = 600;
   options.wholeTerrain = true;
   const Scene scene = testScene();
-  // No run: the legend lists the two kinds only ("CONTAINER", 53 pixels).
+  // No run: the legend lists the two kinds only ("container", ~60 pixels).
   const TopDownFrame frame = topDownFrame(scene, {}, {}, options);
-  ASSERT_GT(frame.legendWidth, 53);
+  ASSERT_GT(frame.legendWidth, 60);
   ASSERT_LT(frame.legendWidth, 200);
   // Samples span 240 m x 200 m, the width limits.
   const int mapColumns = 600 - frame.legendWidth;

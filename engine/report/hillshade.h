@@ -1,0 +1,30 @@
+// The hillshade of the top-down map (top_down_map.h): Horn's (1981) slope from the 3 x 3 weighted
+// differences of the sample grid and Lambert's cosine towards the sun, the rule of GDAL's
+// `gdaldem hillshade` (GDALDEMProcessing "hillshade", algorithm Horn, z factor 1); the report's
+// tests compare the two sample by sample (tests/report/hillshade_test.cpp).
+//
+// Frames: the heightfield's (terrain/heightfield.h): columns east, rows south, dx and dy metres;
+// heights metres. The sun direction is a unit vector towards the sun in map axes (x east, y north,
+// z up).
+//
+// Where GDAL and this rule differ: a neighbour that is missing (a hole, or beyond the grid) is here
+// extrapolated linearly through the centre sample from the opposite neighbour (or taken as the
+// centre's height when that is missing too), so that a plane shades exactly to its edges; GDAL
+// leaves such samples without a value (or, with -compute_edges, takes the centre's height).
+#pragma once
+
+#include "nestwalk/terrain/heightfield.h"
+
+#include <Eigen/Core>
+
+namespace nestwalk {
+
+/// The unit vector towards a sun at `azimuthDeg` (clockwise from north) and `altitudeDeg` above
+/// the horizon, in map axes.
+Eigen::Vector3d sunDirection(double azimuthDeg, double altitudeDeg);
+
+/// The shade at the valid sample (col, row): max(0, n · sun) in [0, 1], n the unit normal of the
+/// surface from Horn's differences (see above).
+double hornShade(const terrain::Heightfield& hf, int col, int row, const Eigen::Vector3d& sun);
+
+}  // namespace nestwalk
