@@ -6,6 +6,7 @@
 #include "nestwalk/report/top_down_map.h"
 
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/geometry/convex_hull.h"
 #include "nestwalk/report/axis.h"
 #include "nestwalk/report/drawing_surface.h"
 #include "nestwalk/report/hillshade.h"
@@ -183,29 +184,6 @@ void drawTerrain(DrawingSurface& surface, const TopDownFrame& frame, const terra
 
 // ---- footprints ----------------------------------------------------------------------------------
 
-double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-}
-
-/// Andrew's monotone chain: the convex hull, counter-clockwise, without collinear points.
-std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points) {
-  std::sort(points.begin(), points.end(),
-            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
-  if (points.size() < 3) return points;
-  std::vector<Eigen::Vector2d> hull(2 * points.size());
-  std::size_t k = 0;
-  for (const Eigen::Vector2d& p : points) {  // lower chain
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
-    hull[k++] = p;
-  }
-  for (std::size_t i = points.size() - 1, lowerSize = k + 1; i-- > 0;) {  // upper chain
-    while (k >= lowerSize && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k > 1 ? k - 1 : k);  // the last point repeats the first
-  return hull;
-}
-
 /// The x-y footprint of a local-frame OBB in continuous pixel coordinates.
 std::vector<Eigen::Vector2d> footprint(const Obb<double>& box, const Scene& scene, const TopDownFrame& frame) {
   std::vector<Eigen::Vector2d> corners;
@@ -213,7 +191,9 @@ std::vector<Eigen::Vector2d> footprint(const Obb<double>& box, const Scene& scen
     const Vec3<double> p = box.corner(i);
     corners.push_back(frame.toPixel({p.x() + scene.origin.x(), p.y() + scene.origin.y()}));
   }
-  return convexHull2d(std::move(corners));
+  std::vector<Eigen::Vector2d> outline;
+  for (int k : convexHull2d(corners)) outline.push_back(corners[std::size_t(k)]);
+  return outline;
 }
 
 struct PixelBox {

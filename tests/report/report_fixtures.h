@@ -1,52 +1,20 @@
-// Shared by the report tests: a temporary folder and a run's worth of varied frame records.
+// Shared by the report tests: a run's worth of varied frame records (and the common temporary folder).
 #pragma once
 
 #include "nestwalk/report/render_record.h"
 #include "nestwalk/walker/frame_record.h"
-
-#include <unistd.h>
+#include "tests/common/temp_folder.h"
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace nestwalk::testing {
 
-/// A fresh folder under the system's temporary folder, removed with everything in it at the end.
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (std::filesystem::temp_directory_path() / "nestwalk-report-XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  const std::filesystem::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  /// Names of the entries in the folder (a writer must leave no temporary file behind).
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : std::filesystem::directory_iterator(path_)) names.push_back(e.path().filename().string());
-    return names;
-  }
-
- private:
-  std::filesystem::path path_;
-};
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+/// The tests' one temporary folder (tests/common/temp_folder.h) and file reader.
+using TempDir = test::TempFolder;
+inline std::string readFile(const std::string& path) { return test::readText(path); }
 
 /// `n` records at UTM magnitudes: a walk north-east with blocked stretches (by a unit, by a name
 /// with a comma, by the terrain), every counter different, and step times of different orders
