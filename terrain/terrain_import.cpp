@@ -134,6 +134,18 @@ Stats scanStaging(GDALDatasetH ds, const std::string& name) {
 
 }  // namespace
 
+bool isTerrainCog(const std::string& path) {
+  initGdal();
+  GdalDataset ds(GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+  if (!ds) return false;
+  GDALDriverH driver = GDALGetDatasetDriver(ds.get());
+  const char* layout = GDALGetMetadataItem(ds.get(), "LAYOUT", "IMAGE_STRUCTURE");
+  double gt[6];
+  return driver && std::string(GDALGetDriverShortName(driver)) == "GTiff" && layout && std::string(layout) == "COG" &&
+         GDALGetRasterCount(ds.get()) == 1 && GDALGetRasterDataType(GDALGetRasterBand(ds.get(), 1)) == GDT_Float32 &&
+         GDALGetGeoTransform(ds.get(), gt) == CE_None;
+}
+
 ImportSummary importTerrain(const std::string& in, const std::string& out, const ImportOptions& options) {
   initGdal();
   ImportSummary summary;

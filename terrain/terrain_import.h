@@ -56,6 +56,10 @@ struct ImportSummary {
   std::vector<std::string> warnings;
 };
 
+/// Whether `path` is already in the engine's terrain format: a GeoTIFF with the COG layout, one
+/// Float32 band, georeferenced. (build-scene uses such a DEM as it is instead of importing it.)
+bool isTerrainCog(const std::string& path);
+
 /// Imports `in` to `out` (see above).
 ImportSummary importTerrain(const std::string& in, const std::string& out, const ImportOptions& options);
 

@@ -15,6 +15,7 @@ void registerMakeTerrain(CLI::App& app);     // nestwalk make-terrain OUT
 void registerQueryGround(CLI::App& query);   // nestwalk query ground TERRAIN --points POINTS.csv
 void registerBenchTerrain(CLI::App& bench);  // nestwalk bench terrain [--json]
 void registerMakeScene(CLI::App& app);       // nestwalk make-scene DIR
+void registerBuildScene(CLI::App& app);      // nestwalk build-scene --terrain DEM --equipment SOURCE ...
 void registerExport(CLI::App& app);          // nestwalk export SCENE OUT.osgb
 void registerRun(CLI::App& app);             // nestwalk run SCENE --script FILE --headless --out DIR
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerImportTerrain(app);
   nestwalk::tools::registerMakeTerrain(app);
   nestwalk::tools::registerMakeScene(app);
+  nestwalk::tools::registerBuildScene(app);
   nestwalk::tools::registerExport(app);
   nestwalk::tools::registerRun(app);
   nestwalk::tools::registerReport(app);
