@@ -58,7 +58,8 @@ void declareOptions(CLI::App& cmd, TerrainBenchOptions& o) {
   cmd.add_option("--grid", o.gridSamples, "Samples per side of the synthetic DEM (default 2049)")
       ->check(CLI::Range(3, 20000));
   addCount(cmd, "--rays", o.rays, "Rays per set (default 1000000)");
-  addCount(cmd, "--slow-rays", o.slowRays, "Rays per set for OSG, and for Bullet's oblique rays (default min(rays, 50000))");
+  addCount(cmd, "--slow-rays", o.slowRays,
+           "Rays per set for OSG, and for Bullet's oblique rays (default min(rays, 50000))");
 }
 
 void declareOptions(CLI::App& cmd, BroadPhaseBenchOptions& o) {

@@ -67,7 +67,8 @@ int benchProgram(int argc, char** argv) {
   Options o;
   const std::string minTimeFlag = "--benchmark_min_time=";
   for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]).rfind(minTimeFlag, 0) == 0) o.minTimeSeconds = std::strtod(argv[i] + minTimeFlag.size(), nullptr);
+    if (std::string(argv[i]).rfind(minTimeFlag, 0) == 0)
+      o.minTimeSeconds = std::strtod(argv[i] + minTimeFlag.size(), nullptr);
   benchmark::Initialize(&argc, argv);
   CLI::App app{std::string(argv[0]) + ": a nestwalk benchmark; also takes Google Benchmark's --benchmark_* flags"};
   declareOptions(app, o);

@@ -1,5 +1,7 @@
 #include "tools/bench/bench_document.h"
 
+#include "tools/bench/peers/peer_versions.h"
+
 #include "nestwalk/core/machine.h"
 #include "nestwalk/report/number_text.h"
 
@@ -41,7 +43,7 @@ std::string flagList(const Json& flags) {
 
 }  // namespace
 
-Json machineJson(const Json& libraries) {
+Json machineJson() {
   const benchmark::CPUInfo& cpu = benchmark::CPUInfo::Get();
   Json m;
   m["cpu_model"] = cpuModelName();
@@ -65,13 +67,11 @@ Json machineJson(const Json& libraries) {
 #else
   m["ndebug"] = false;
 #endif
-  m["libraries"] = libraries;
+  m["libraries"] = peerVersions();
   return m;
 }
 
-Document::Document(std::string title, const Json& libraries) : title_(std::move(title)) {
-  json["machine"] = machineJson(libraries);
-}
+Document::Document(std::string title) : title_(std::move(title)) { json["machine"] = machineJson(); }
 
 std::string Document::runSettings(double minTime, bool quick, std::size_t repetitions) {
   Json& m = json["machine"];

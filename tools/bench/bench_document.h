@@ -17,15 +17,15 @@
 namespace nestwalk::bench {
 
 /// The machine and the build: CPU model, count, MHz, frequency scaling, caches, load, the
-/// instruction sets compiled for and those the CPU supports, compiler, NDEBUG, and `libraries`
-/// (the peers' versions, name -> text).
-Json machineJson(const Json& libraries);
+/// instruction sets compiled for and those the CPU supports, compiler, NDEBUG, and the versions of
+/// the peer libraries linked (peers/peer_versions.h) as "libraries".
+Json machineJson();
 
 class Document {
  public:
   /// `title`: the text's first line, e.g. "nestwalk bench volumes: ns per test (CPU time); ...".
-  /// json["machine"] is machineJson(libraries).
-  Document(std::string title, const Json& libraries);
+  /// json["machine"] is machineJson().
+  explicit Document(std::string title);
 
   /// The JSON document; the benchmark adds its sections (tables() stores the tables' rows here).
   Json json;

@@ -10,7 +10,6 @@
 #include "tools/bench/broadphase_bench.h"
 
 #include "tools/bench/peers/broadphase_peers.h"
-#include "tools/bench/peers/peer_versions.h"
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/hierarchy/box_tree.h"
@@ -308,11 +307,12 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   fclMismatches().clear();
   std::string sizes;
   for (std::size_t n : c.sizes) sizes += (sizes.empty() ? "" : "|") + std::to_string(n);
-  Document doc("nestwalk bench broadphase: µs per query (CPU time); ratio = peer µs / nestwalk µs (> 1: nestwalk faster)",
-               peerVersions());
+  Document doc("nestwalk bench broadphase: µs per query (CPU time);"
+               " ratio = peer µs / nestwalk µs (> 1: nestwalk faster)");
   Suite& s = suite();
   std::ostringstream noMatch;
-  if (s.run(opts, minTime, "^broadphase/[^/]+/(" + sizes + ")(/|$)", noMatch) == 1) doc.errors["filter"] = noMatch.str();
+  if (s.run(opts, minTime, "^broadphase/[^/]+/(" + sizes + ")(/|$)", noMatch) == 1)
+    doc.errors["filter"] = noMatch.str();
   doc.errors.insert(s.errors().begin(), s.errors().end());
 
   Table table;
@@ -346,8 +346,9 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
            << mach["libraries"]["fcl"].get<std::string>()
            << " DynamicAABBTreeCollisionManager (registerObjects + setup, collide with a recording callback)\n\n";
   doc.table("benchmarks", table);
-  doc.text << "(hits: total over all queries; differ: queries whose hit set differs from nestwalk d=8's; depth: levels of\n"
-              " inner nodes; nodeT/q, leafT/q: inner-node and unit box tests per query, the BV counts of fACT's Table 2)\n"
+  doc.text << "(hits: total over all queries; differ: queries whose hit set differs from nestwalk d=8's; depth: "
+              "levels of\n inner nodes; nodeT/q, leafT/q: inner-node and unit box tests per query, the BV counts of "
+              "fACT's Table 2)\n"
               "brute-force check of nestwalk d=8:";
   Json checks = Json::array();
   for (const auto& [n, check] : referenceChecks()) {
@@ -368,7 +369,8 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   for (std::size_t n : c.sizes) {
     const std::string size = std::to_string(n);
     const double v = s.ns(kBullet.key, size) / s.ns(kDefaultTree.key, size);
-    if (!std::isnan(v)) doc.targets.push_back({"query_vs_btdbvt/" + size, "btDbvt / nestwalk d=8 >= 2", v, v >= kQueryVsDbvt});
+    if (!std::isnan(v))
+      doc.targets.push_back({"query_vs_btdbvt/" + size, "btDbvt / nestwalk d=8 >= 2", v, v >= kQueryVsDbvt});
     const double build = s.fact(kDefaultTree.key, size, "build_s");
     if (n >= kBuildTargetBoxes && !std::isnan(build))
       doc.targets.push_back({"build_s/" + size, "nestwalk d=8 build < 1 s", build, build < kBuildSeconds});

@@ -116,7 +116,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
 int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   const Scene scene = loadScene(o.scene);
   const int width = o.quick ? 320 : o.width, height = o.quick ? 180 : o.height;
-  Document doc("nestwalk bench render: " + o.scene, Json::object());
+  Document doc("nestwalk bench render: " + o.scene);
   Json& j = doc.json;
   j["benchmark"] = "render";
   j["cpu"] = j["machine"]["cpu_model"];
@@ -157,7 +157,8 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   const double n = double(std::max<std::size_t>(cull.frames, 1));
   char line[512];
   std::snprintf(line, sizeof line,
-                "(cull: event, update and cull traversals; draw: until glFinish; readback: glReadPixels; err px / err m:\n"
+                "(cull: event, update and cull traversals; draw: until glFinish; readback: glReadPixels; "
+                "err px / err m:\n"
                 " the largest vertical error of a drawn terrain level, projected on screen / in metres)\n\n"
                 "view culling of %zu instances, mean per frame over %zu frames:\n"
                 "  nested volumes: keep %.1f (outer AABB culls %.1f; %.1f undecided go to the inner OBB, which culls "

@@ -10,7 +10,6 @@
 #include "tools/bench/terrain_bench.h"
 
 #include "tools/bench/bench_document.h"
-#include "tools/bench/peers/peer_versions.h"
 #include "tools/bench/peers/terrain_peers.h"
 
 #include "nestwalk/core/random.h"
@@ -74,7 +73,8 @@ HeightGrid makeGrid(int n) {
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) {
       double z = 300.0, amp = 120.0;
-      for (int o = 0; o < 8; ++o, amp *= 0.5) z += amp * valueNoise(c, r, 512.0 / double(1 << o), 0x1234 + std::uint64_t(o));
+      for (int o = 0; o < 8; ++o, amp *= 0.5)
+        z += amp * valueNoise(c, r, 512.0 / double(1 << o), 0x1234 + std::uint64_t(o));
       g.heights[std::size_t(r) * std::size_t(n) + std::size_t(c)] = float(z + rng.uniform(-0.25, 0.25));
     }
   const auto [lo, hi] = std::minmax_element(g.heights.begin(), g.heights.end());
@@ -407,7 +407,11 @@ void printLevels(Document& doc, const Terrain& t) {
       .column({"triangles", "/triangles", 13, 0})
       .column({"max error (m)", "/max_error_m", 16, 4});
   for (const terrain::TerrainLevelStats& l : mesh.levelTable())
-    table.add({{"level", l.level}, {"step", l.step}, {"tiles", l.tiles}, {"triangles", l.triangles}, {"max_error_m", l.maxError}});
+    table.add({{"level", l.level},
+               {"step", l.step},
+               {"tiles", l.tiles},
+               {"triangles", l.triangles},
+               {"max_error_m", l.maxError}});
   doc.text << "\nterrain mesh levels (tiles of " << kLodTileCells
            << " cells; error = exact max vertical error vs full resolution, " << fixedText(secondsSince(t0), 2)
            << " s to compute):\n";
@@ -444,8 +448,8 @@ int runBenchmark(const TerrainBenchOptions& opts, std::ostream& out) {
 
   const Terrain& t = terrainData();
   const std::size_t triangles = 2 * std::size_t(t.grid.n - 1) * std::size_t(t.grid.n - 1);
-  Document doc("nestwalk bench terrain: ns per ray (CPU time); ratio = peer ns / nestwalk ns (> 1: nestwalk faster)",
-               peerVersions());
+  Document doc("nestwalk bench terrain: ns per ray (CPU time);"
+               " ratio = peer ns / nestwalk ns (> 1: nestwalk faster)");
   doc.errors = s.errors();
   Json& m = doc.json["machine"];
   m["grid_samples"] = t.grid.n;

@@ -10,7 +10,6 @@
 
 #include "tools/bench/bench_document.h"
 #include "tools/bench/peers/box_peers.h"
-#include "tools/bench/peers/peer_versions.h"
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/geometry/obb_batch.h"
@@ -387,6 +386,10 @@ Json makeRow(const MethodDef& m, const SetSpec& set) {
   return row;
 }
 
+/// The fractions a row's disagreement note adds, in %: JSON key, text.
+constexpr std::pair<const char*, const char*> kNoteFractions[] = {{"uncertain_fraction", "uncertain lanes"},
+                                                                  {"hit_fraction", "final hits"}};
+
 /// Per row, the disagreements with the reference, the uncertain lanes and the final hits.
 void printDisagreements(std::ostream& out, const Table& table) {
   out << "\ndisagreements with satObbObb<double> (queries: with testNested<double> per stored box), counted once per"
@@ -397,8 +400,8 @@ void printDisagreements(std::ostream& out, const Table& table) {
       if (r["disagreements"][key].is_number())
         line += (line.empty() ? " " : ", ") + title + " " + std::to_string(r["disagreements"][key].get<long long>());
     if (line.empty()) continue;
-    if (r.contains("uncertain_fraction")) line += "; uncertain lanes " + fixedText(100 * r["uncertain_fraction"].get<double>(), 3) + "%";
-    if (r.contains("hit_fraction")) line += "; final hits " + fixedText(100 * r["hit_fraction"].get<double>(), 3) + "%";
+    for (const auto& [key, what] : kNoteFractions)
+      if (r.contains(key)) line += std::string("; ") + what + " " + fixedText(100 * r[key].get<double>(), 3) + "%";
     out << "  " << std::left << std::setw(26) << r["test"].get<std::string>() << std::setw(8)
         << r["set"].get<std::string>() << std::right << line << "\n";
   }
@@ -428,8 +431,8 @@ int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
         table.add(std::move(row));
     }
 
-  Document doc("nestwalk bench volumes: ns per test (CPU time); ratio = peer ns / nestwalk ns (> 1: nestwalk faster)",
-               peerVersions());
+  Document doc("nestwalk bench volumes: ns per test (CPU time);"
+               " ratio = peer ns / nestwalk ns (> 1: nestwalk faster)");
   doc.errors = s.errors();
   Json& m = doc.json["machine"];
   m["batch_kernel"] = batchKernel();

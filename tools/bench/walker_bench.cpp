@@ -159,7 +159,8 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
 /// Part 1: the steps table.
 void walkerSteps(Document& doc, const WalkerBenchOptions& o) {
   std::vector<std::size_t> sizes = o.sizes;
-  if (sizes.empty()) sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
+  if (sizes.empty())
+    sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
   const std::size_t steps = o.steps ? o.steps : (o.quick ? 5000 : 200000);
   Table table;
   table.column({"instances", "/instances", 10});
@@ -191,7 +192,8 @@ std::vector<std::pair<std::string, MethodSpec>> hierarchies(const MethodSpec& ba
         MethodSpec m = base;
         m.templateHierarchy = false;
         m.autoTree = {degree, axis, point};
-        out.emplace_back("delta=" + std::to_string(degree) + " " + splitAxisName(axis) + "/" + splitPointName(point), m);
+        out.emplace_back(
+            "delta=" + std::to_string(degree) + " " + splitAxisName(axis) + "/" + splitPointName(point), m);
       }
   return out;
 }
@@ -252,8 +254,8 @@ bool table2(Document& doc, const WalkerBenchOptions& o) {
 }  // namespace
 
 int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
-  Document doc("nestwalk bench walker: walker steps, the broad phase against btDbvt and FCL, BV tests per hierarchy",
-               Json::object());
+  Document doc("nestwalk bench walker:"
+               " walker steps, the broad phase against btDbvt and FCL, BV tests per hierarchy");
   walkerSteps(doc, o);
   if (o.broadPhase) {
     BroadPhaseBenchOptions bo;

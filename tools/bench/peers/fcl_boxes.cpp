@@ -47,8 +47,9 @@ Pass<std::uint8_t> fclBoxQuery(const NestedVolume<double>& viewer, const std::ve
   }
   return [s](std::uint8_t* verdicts) {
     const Boxes& b = *s;
-    return answerAll(b.outer.size(), verdicts,
-                     [&](std::size_t k) { return b.outer[k].overlap(b.viewerOuter) && b.viewerInner.overlap(b.inner[k]); });
+    return answerAll(b.outer.size(), verdicts, [&](std::size_t k) {
+      return b.outer[k].overlap(b.viewerOuter) && b.viewerInner.overlap(b.inner[k]);
+    });
   };
 }
 

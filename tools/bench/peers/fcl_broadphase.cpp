@@ -34,7 +34,8 @@ std::size_t mismatches(const std::vector<std::unique_ptr<fcl::CollisionObjectd>>
 
 /// Records the stored object of every pair; returns false: go on, all pairs, no narrow phase.
 bool record(fcl::CollisionObjectd* stored, fcl::CollisionObjectd*, void* hits) {
-  static_cast<Hits*>(hits)->push_back(static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(stored->getUserData())));
+  const auto index = reinterpret_cast<std::uintptr_t>(stored->getUserData());
+  static_cast<Hits*>(hits)->push_back(static_cast<std::uint32_t>(index));
   return false;
 }
 

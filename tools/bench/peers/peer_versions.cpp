@@ -16,7 +16,8 @@ Json peerVersions() {
                         std::to_string(EIGEN_MINOR_VERSION)},
           {"fcl", FCL_VERSION},
           {"ccd", sizeof(ccd_real_t) == 8 ? "double" : "float"},
-          {"bullet", std::to_string(BT_BULLET_VERSION) + (sizeof(btScalar) == 8 ? " (btScalar double)" : " (btScalar float)")},
+          {"bullet",
+           std::to_string(BT_BULLET_VERSION) + (sizeof(btScalar) == 8 ? " (btScalar double)" : " (btScalar float)")},
           {"embree", RTC_VERSION_STRING},
           {"openscenegraph", osgGetVersion()}};
 }
