@@ -8,21 +8,23 @@
 // per frame for the nested volumes and for OSG's spheres. Target: 30 frames per second.
 #pragma once
 
+#include "tools/bench/bench_runner.h"
+
 #include <iosfwd>
 #include <string>
 #include <vector>
 
 namespace nestwalk::bench {
 
-struct RenderBenchOptions {
-  bool json = false;
-  bool quick = false;                // 320 x 180, a few frames per flythrough, two configurations
-  int width = 1280, height = 720;
-  int framesPerScript = 120;         // poses sampled evenly along each flythrough
+struct RenderBenchOptions : BenchOptions {
+  int width = 1280, height = 720;    // quick: 320 x 180
+  int framesPerScript = 120;         // poses sampled evenly along each flythrough; quick: 8
   std::string scene;                 // scene file
   std::vector<std::string> scripts;  // its flythroughs
 };
 
-int runRenderBench(const RenderBenchOptions& opts, std::ostream& out);
+/// Renders the configurations (quick: the first two) and prints their table, the culling
+/// comparison and the target (or one JSON document) to `out`. Returns 0.
+int runBenchmark(const RenderBenchOptions& opts, std::ostream& out);
 
 }  // namespace nestwalk::bench

@@ -1,29 +1,36 @@
+// The walker benchmark (see walker_bench.h).
 #include "tools/bench/walker_bench.h"
 
+#include "tools/bench/bench_document.h"
+#include "tools/bench/broadphase_bench.h"
+
+#include "nestwalk/core/random.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
-#include "tools/bench/bench_runner.h"
-#include "tools/bench/broadphase_bench.h"
 
 #include <Eigen/Geometry>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <iomanip>
-#include <iostream>
+#include <filesystem>
 #include <memory>
-#include <sstream>
+#include <numbers>
+#include <ostream>
 
 namespace nestwalk::bench {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr double kSide = 10000.0;  // metres
 constexpr double kCell = 5.0;
 constexpr double kOriginX = 550000.0, kOriginY = 4650000.0;
+constexpr std::size_t kTargetInstances = 1'000'000;  // the target is for steps among this many instances
+constexpr double kTargetP99Us = 2.0;                 // target: p99 µs per walker step at most
+constexpr const char* kStageKeys[3] = {"aabb_aabb_per_script", "aabb_obb_per_script", "obb_obb_per_script"};
+constexpr const char* kStageTitles[3] = {"aabb-aabb", "aabb-obb", "obb-obb"};
 
 /// Rolling hills, slopes below 10 degrees: the walker is never stopped by the terrain here.
 std::shared_ptr<terrain::Heightfield> rollingTerrain() {
@@ -86,19 +93,14 @@ World scatter(const std::shared_ptr<terrain::Heightfield>& hf, std::size_t n, st
   w.hf = hf;
   const auto t0 = std::chrono::steady_clock::now();
   w.world = std::make_unique<CollisionWorld>(std::move(units), std::move(names), std::move(groups), MethodSpec{});
-  w.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  w.buildSeconds = secondsSince(t0);
   return w;
 }
 
-struct StepStats {
-  std::size_t instances = 0, steps = 0, contacts = 0;
-  double p50 = 0, p99 = 0, max = 0, mean = 0, buildSeconds = 0;
-  double nodeTestsPerStep = 0, stageTestsPerStep[3] = {0, 0, 0};
-};
-
 /// Walks the viewer at 5 m/s between random waypoints 50-500 m apart (a new one when reached or
-/// after 10 blocked steps) and times every step.
-StepStats timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
+/// after 10 blocked steps) and times every step. The row of the steps table: µs per step (p50, p99,
+/// max, mean), contacts per 1000 steps, hierarchy node and stage tests per step.
+Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
   WalkerOptions opts;
   opts.timeParts = false;
   Walker walker(*w.hf, *w.world, w.origin, opts);
@@ -119,8 +121,8 @@ StepStats timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
   const std::size_t warmup = std::min<std::size_t>(1000, steps / 10);
   std::vector<double> us;
   us.reserve(steps);
-  StepStats s;
-  s.instances = w.world->size();
+  std::size_t contacts = 0;
+  double nodeTests = 0, stageTests[3] = {0, 0, 0};
   int blockedRun = 0;
   for (std::size_t i = 0; i < steps + warmup; ++i) {
     Eigen::Vector2d d = target - walker.state().feet.head<2>();
@@ -134,187 +136,140 @@ StepStats timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
     in.headingDeg = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / kPi + 360.0, 360.0);
     const auto t0 = std::chrono::steady_clock::now();
     const StepReport r = walker.step(in);
-    const auto t1 = std::chrono::steady_clock::now();
+    const double seconds = secondsSince(t0);
     blockedRun = walker.state().blocked ? blockedRun + 1 : 0;
     if (i < warmup) continue;
-    us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-    s.contacts += walker.state().blocked;
-    s.nodeTestsPerStep += double(r.counters.nodeTests);
-    for (int k = 0; k < 3; ++k) s.stageTestsPerStep[k] += double(r.counters.stageTests.values[std::size_t(k)]);
+    us.push_back(1e6 * seconds);
+    contacts += walker.state().blocked;
+    nodeTests += double(r.counters.nodeTests);
+    for (int k = 0; k < 3; ++k) stageTests[k] += double(r.counters.stageTests.values[std::size_t(k)]);
   }
-  s.steps = us.size();
-  s.nodeTestsPerStep /= double(s.steps);
-  for (double& v : s.stageTestsPerStep) v /= double(s.steps);
-  double sum = 0;
-  for (double v : us) sum += v;
-  s.mean = sum / double(us.size());
-  s.p50 = percentile(us, 50);
-  s.p99 = percentile(us, 99);
-  s.max = percentile(us, 100);
-  return s;
+  const double n = double(us.size());
+  return {{"instances", w.world->size()},
+          {"steps", us.size()},
+          {"p50_us", percentile(us, 50)},
+          {"p99_us", percentile(us, 99)},
+          {"max_us", percentile(us, 100)},
+          {"mean_us", mean(us)},
+          {"contacts_per_1000", 1000.0 * double(contacts) / n},
+          {"node_tests_per_step", nodeTests / n},
+          {"stage_tests_per_step", {stageTests[0] / n, stageTests[1] / n, stageTests[2] / n}},
+          {"build_s", w.buildSeconds}};
 }
 
-struct HierarchyCounts {
-  std::string name;
-  std::vector<std::uint64_t> perScript;  // BV tests (nodes + three stages) per script
-  std::vector<std::uint64_t> nodeTests, stage[3];
-  std::uint64_t total = 0;
-  std::vector<std::string> contacts;  // per script: blocked-by sequence signature
-};
+/// Part 1: the steps table.
+void walkerSteps(Document& doc, const WalkerBenchOptions& o) {
+  std::vector<std::size_t> sizes = o.sizes;
+  if (sizes.empty())
+    sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
+  const std::size_t steps = o.steps ? o.steps : (o.quick ? 5000 : 200000);
+  Table table;
+  table.column({"instances", "/instances", 10});
+  for (const char* p : {"p50", "p99", "max", "mean"})  // µs per step
+    table.column({std::string(p) + " us", "/" + std::string(p) + "_us", 10, std::string(p) == "max" ? 1 : 3});
+  table.column({"contacts/k", "/contacts_per_1000", 12, 1}).column({"node tests", "/node_tests_per_step", 12, 1});
+  for (int k = 0; k < 3; ++k)  // tests per step of each stage
+    table.column({kStageTitles[k], "/stage_tests_per_step/" + std::to_string(k), 10, 2});
+  table.column({"build s", "/build_s", 10, 3});
+  const auto hf = rollingTerrain();
+  for (std::size_t n : sizes) table.add(timeSteps(scatter(hf, n, 42 + n), steps, 7));
+  doc.text << "\nwalker step without rendering (10 km x 10 km, auto delta=8 longest/median, " << steps
+           << " timed steps at 5 m/s)\n";
+  doc.table("walker_steps", table);
+  const Json& last = table.rows().back();
+  if (last["instances"].get<std::size_t>() >= kTargetInstances)
+    doc.targets.push_back({"walker step p99 at 1M instances", "<= 2 us", last["p99_us"].get<double>(),
+                           last["p99_us"].get<double>() <= kTargetP99Us});
+}
 
-std::vector<MethodSpec> hierarchies(const MethodSpec& base, std::vector<std::string>& names) {
-  std::vector<MethodSpec> out;
+/// The hierarchies of Table 2: the scene's template hierarchy, then every automatic one.
+std::vector<std::pair<std::string, MethodSpec>> hierarchies(const MethodSpec& base) {
   MethodSpec t = base;
   t.templateHierarchy = true;
-  out.push_back(t);
-  names.push_back("template");
+  std::vector<std::pair<std::string, MethodSpec>> out = {{"template", t}};
   for (int degree : {2, 4, 8})
     for (SplitAxis axis : {SplitAxis::LongestSide, SplitAxis::Splatter})
       for (SplitPoint point : {SplitPoint::Mean, SplitPoint::Median}) {
         MethodSpec m = base;
         m.templateHierarchy = false;
         m.autoTree = {degree, axis, point};
-        out.push_back(m);
-        names.push_back("delta=" + std::to_string(degree) + " " + splitAxisName(axis) + "/" + splitPointName(point));
+        out.emplace_back(
+            "delta=" + std::to_string(degree) + " " + splitAxisName(axis) + "/" + splitPointName(point), m);
       }
   return out;
 }
 
+/// Part 3: the BV tests of every hierarchy on the flythroughs, fACT's Table 2. False when the
+/// hierarchies' contacts differ.
+bool table2(Document& doc, const WalkerBenchOptions& o) {
+  const Scene scene = loadScene(o.scene);
+  std::vector<Script> scripts;
+  for (const auto& p : o.scripts) scripts.push_back(readScript(p));
+  WalkerOptions wo;
+  wo.viewer = scene.spec.viewer;
+  wo.timeParts = false;
+  Table table;
+  table.column({"hierarchy", "/hierarchy", 28});
+  for (std::size_t i = 0; i < scripts.size(); ++i)
+    table.column({std::filesystem::path(o.scripts[i]).filename().string().substr(0, 21),
+                  "/bv_tests_per_script/" + std::to_string(i), 22});
+  table.column({"total", "/total", 14}).column({"%", "/percent_of_template", 9, 1, false, false, "%"});
+  std::vector<std::string> firstContacts;
+  bool identical = true;
+  double base = 0;
+  for (const auto& [name, method] : hierarchies(scene.spec.method)) {
+    const CollisionWorld world = CollisionWorld::fromScene(scene, method);
+    Json row = {{"hierarchy", name}};
+    std::vector<std::string> contacts;  // per script: the blocked-by sequence
+    std::uint64_t total = 0;
+    for (const Script& sc : scripts) {
+      std::uint64_t node = 0, stage[3] = {0, 0, 0};
+      std::string signature;
+      for (const auto& r : runFlythrough(scene, world, sc, wo).records) {
+        node += r.nodeTests;
+        for (int k = 0; k < 3; ++k) stage[k] += r.stageTests.values[std::size_t(k)];
+        signature += r.blocked ? r.blockedBy + ";" : "-;";
+      }
+      row["bv_tests_per_script"].push_back(node + stage[0] + stage[1] + stage[2]);
+      row["node_tests_per_script"].push_back(node);
+      for (int k = 0; k < 3; ++k) row[kStageKeys[k]].push_back(stage[k]);
+      total += node + stage[0] + stage[1] + stage[2];
+      contacts.push_back(signature);
+    }
+    if (base == 0) base = double(total);
+    if (firstContacts.empty()) firstContacts = contacts;
+    identical = identical && contacts == firstContacts;
+    row["total"] = total;
+    row["percent_of_template"] = 100.0 * double(total) / base;
+    table.add(std::move(row));
+  }
+  doc.text << "\nBV tests on the bundled flythroughs (fACT Table 2 style: hierarchy node tests + AABB-AABB + "
+              "AABB-OBB + OBB-OBB; % of the template hierarchy)\n";
+  doc.table("table2", table);
+  doc.text << "contacts identical across hierarchies: " << (identical ? "yes" : "NO") << "\n";
+  doc.json["table2_identical_contacts"] = identical;
+  doc.json["table2_scripts"] = o.scripts;
+  return identical;
+}
+
 }  // namespace
 
-int runWalkerBench(const WalkerBenchOptions& o, std::ostream& out) {
-  std::vector<std::size_t> sizes = o.sizes;
-  if (sizes.empty()) sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
-  const std::size_t steps = o.steps ? o.steps : (o.quick ? 5000 : 200000);
-  nlohmann::ordered_json j;
-  std::ostringstream text;
-
-  // 1. Walker steps.
-  const auto hf = rollingTerrain();
-  std::vector<StepStats> stats;
-  for (std::size_t n : sizes) {
-    const World w = scatter(hf, n, 42 + n);
-    StepStats s = timeSteps(w, steps, 7);
-    s.buildSeconds = w.buildSeconds;
-    stats.push_back(s);
-  }
-  text << "cpu: " << cpuModelName() << "\n\nwalker step without rendering (10 km x 10 km, auto delta=8 longest/median, "
-       << steps << " timed steps at 5 m/s)\n";
-  text << std::setw(10) << "instances" << std::setw(10) << "p50 us" << std::setw(10) << "p99 us" << std::setw(10)
-       << "max us" << std::setw(10) << "mean us" << std::setw(12) << "contacts/k" << std::setw(12) << "node tests"
-       << std::setw(10) << "aabb-aabb" << std::setw(10) << "aabb-obb" << std::setw(10) << "obb-obb" << std::setw(10)
-       << "build s" << "\n";
-  for (const auto& s : stats) {
-    text << std::setw(10) << s.instances << std::setw(10) << fixedText(s.p50, 3) << std::setw(10) << fixedText(s.p99, 3)
-         << std::setw(10) << fixedText(s.max, 1) << std::setw(10) << fixedText(s.mean, 3) << std::setw(12)
-         << fixedText(1000.0 * double(s.contacts) / double(s.steps), 1) << std::setw(12) << fixedText(s.nodeTestsPerStep, 1)
-         << std::setw(10) << fixedText(s.stageTestsPerStep[0], 2) << std::setw(10) << fixedText(s.stageTestsPerStep[1], 2)
-         << std::setw(10) << fixedText(s.stageTestsPerStep[2], 2) << std::setw(10) << fixedText(s.buildSeconds, 3) << "\n";
-    nlohmann::ordered_json r;
-    r["instances"] = s.instances;
-    r["steps"] = s.steps;
-    r["p50_us"] = s.p50;
-    r["p99_us"] = s.p99;
-    r["max_us"] = s.max;
-    r["mean_us"] = s.mean;
-    r["contacts_per_1000"] = 1000.0 * double(s.contacts) / double(s.steps);
-    r["node_tests_per_step"] = s.nodeTestsPerStep;
-    r["stage_tests_per_step"] = {s.stageTestsPerStep[0], s.stageTestsPerStep[1], s.stageTestsPerStep[2]};
-    r["build_s"] = s.buildSeconds;
-    j["walker_steps"].push_back(r);
-  }
-  std::vector<Target> targets;
-  if (!stats.empty() && stats.back().instances >= 1000000)
-    targets.push_back({"walker step p99 at 1M instances", "<= 2 us", stats.back().p99, stats.back().p99 <= 2.0});
-
-  // 2. The broad phase against btDbvt and FCL on the same boxes.
+int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
+  Document doc("nestwalk bench walker:"
+               " walker steps, the broad phase against btDbvt and FCL, BV tests per hierarchy");
+  walkerSteps(doc, o);
   if (o.broadPhase) {
     BroadPhaseBenchOptions bo;
     bo.quick = o.quick;
-    const BroadPhaseReport bp = measureBroadPhase(bo);
-    text << "\n" << bp.table;
-    j["broad_phase"] = bp.json;
-    targets.insert(targets.end(), bp.targets.begin(), bp.targets.end());
-    if (bp.rc != 0) {
-      out << text.str();
-      return bp.rc;
-    }
+    const Document bp = measureBroadPhase(bo);
+    doc.text << "\n" << bp.title() << "\n" << bp.text.str();
+    doc.json["broad_phase"] = bp.finalJson();
+    doc.targets.insert(doc.targets.end(), bp.targets.begin(), bp.targets.end());
+    for (const auto& [name, message] : bp.errors) doc.errors["broad phase: " + name] = message;
   }
-
-  // 3. Table 2 on the bundled flythroughs.
-  if (!o.scene.empty() && !o.scripts.empty()) {
-    const Scene scene = loadScene(o.scene);
-    std::vector<Script> scripts;
-    for (const auto& p : o.scripts) scripts.push_back(readScript(p));
-    std::vector<std::string> names;
-    const std::vector<MethodSpec> methods = hierarchies(scene.spec.method, names);
-    std::vector<HierarchyCounts> rows;
-    WalkerOptions wo;
-    wo.viewer = scene.spec.viewer;
-    wo.timeParts = false;
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      const CollisionWorld world = CollisionWorld::fromScene(scene, methods[m]);
-      HierarchyCounts row;
-      row.name = names[m];
-      for (const Script& sc : scripts) {
-        const FlythroughResult res = runFlythrough(scene, world, sc, wo);
-        std::uint64_t node = 0, st[3] = {0, 0, 0};
-        std::string sig;
-        for (const auto& r : res.records) {
-          node += r.nodeTests;
-          for (int k = 0; k < 3; ++k) st[k] += r.stageTests.values[std::size_t(k)];
-          sig += r.blocked ? r.blockedBy + ";" : "-;";
-        }
-        row.nodeTests.push_back(node);
-        for (int k = 0; k < 3; ++k) row.stage[k].push_back(st[k]);
-        row.perScript.push_back(node + st[0] + st[1] + st[2]);
-        row.total += row.perScript.back();
-        row.contacts.push_back(sig);
-      }
-      rows.push_back(row);
-    }
-    bool identical = true;
-    for (const auto& r : rows) identical = identical && r.contacts == rows.front().contacts;
-    text << "\nBV tests on the bundled flythroughs (fACT Table 2 style: hierarchy node tests + AABB-AABB + "
-            "AABB-OBB + OBB-OBB; % of the template hierarchy)\n";
-    text << std::setw(28) << "hierarchy";
-    for (const auto& p : o.scripts) {
-      std::string s = p.substr(p.find_last_of('/') + 1);
-      text << std::setw(22) << s.substr(0, 21);
-    }
-    text << std::setw(14) << "total" << std::setw(9) << "%" << "\n";
-    const double base = double(rows.front().total);
-    for (const auto& r : rows) {
-      text << std::setw(28) << r.name;
-      for (std::size_t s = 0; s < r.perScript.size(); ++s) text << std::setw(22) << r.perScript[s];
-      text << std::setw(14) << r.total << std::setw(8) << fixedText(100.0 * double(r.total) / base, 1) << "%\n";
-      nlohmann::ordered_json jr;
-      jr["hierarchy"] = r.name;
-      jr["bv_tests_per_script"] = r.perScript;
-      jr["node_tests_per_script"] = r.nodeTests;
-      jr["aabb_aabb_per_script"] = r.stage[0];
-      jr["aabb_obb_per_script"] = r.stage[1];
-      jr["obb_obb_per_script"] = r.stage[2];
-      jr["total"] = r.total;
-      jr["percent_of_template"] = 100.0 * double(r.total) / base;
-      j["table2"].push_back(jr);
-    }
-    text << "contacts identical across hierarchies: " << (identical ? "yes" : "NO") << "\n";
-    j["table2_identical_contacts"] = identical;
-    j["table2_scripts"] = o.scripts;
-    if (!identical) {
-      out << text.str();
-      return 1;
-    }
-  }
-  j["targets"] = targetsJson(targets);
-  if (o.json) {
-    out << j.dump(2) << "\n";
-  } else {
-    out << text.str();
-    printTargets(out, targets, 36, 12);
-  }
-  return 0;
+  if (o.table2 && !o.scene.empty() && !o.scripts.empty() && !table2(doc, o))
+    doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
+  return doc.write(out, o.json);
 }
 
 }  // namespace nestwalk::bench

@@ -9,6 +9,8 @@
 //     hierarchy's; every hierarchy must give the same contacts (checked, reported).
 #pragma once
 
+#include "tools/bench/bench_runner.h"
+
 #include <cstddef>
 #include <iosfwd>
 #include <string>
@@ -16,16 +18,17 @@
 
 namespace nestwalk::bench {
 
-struct WalkerBenchOptions {
-  bool json = false;
-  bool quick = false;                 // 1k and 10k instances, fewer steps
-  std::vector<std::size_t> sizes;     // instance counts; empty: 1k, 100k, 1M (quick: 1k, 10k)
-  std::size_t steps = 0;              // timed steps per size; 0: 200k (quick 5k)
-  std::string scene;                  // scene for the Table-2 counts; empty: skip that part
-  std::vector<std::string> scripts;   // its flythroughs
-  bool broadPhase = true;             // run part 2
+struct WalkerBenchOptions : BenchOptions {
+  std::vector<std::size_t> sizes;    // instance counts; empty: 1k, 100k, 1M (quick: 1k, 10k)
+  std::size_t steps = 0;             // timed steps per size; 0: 200k (quick 5k)
+  std::string scene;                 // scene for the Table-2 counts
+  std::vector<std::string> scripts;  // its flythroughs
+  bool table2 = true;                // run part 3 (needs scene and scripts)
+  bool broadPhase = true;            // run part 2
 };
 
-int runWalkerBench(const WalkerBenchOptions& opts, std::ostream& out);
+/// Runs the three parts and prints their tables (or one JSON document) to `out`. Returns 0, or 1
+/// when the broad phase failed or its hits disagree, or the hierarchies' contacts differ.
+int runBenchmark(const WalkerBenchOptions& opts, std::ostream& out);
 
 }  // namespace nestwalk::bench

@@ -3,8 +3,8 @@
 // reference, the terrain levels of detail and the OBB fitters, as report.md with PNG plots and
 // report.json in DIR. SCENE defaults to the bundled mining dump; the scripts to every .txt in the
 // scripts/ folder beside the scene file (the bundled scene's three flythroughs).
+#include "assets/generators/bundled_scene.h"
 #include "nestwalk/report/method_report.h"
-#include "tools/nestwalk/bundled_scene.h"
 #include "tools/nestwalk/commands.h"
 
 #include <iostream>
@@ -25,7 +25,7 @@ void registerReport(CLI::App& app) {
   cmd->add_flag("--overwrite", opts->overwrite, "Replace the report's files in the folder");
   cmd->callback([opts] {
     MethodReportOptions o = *opts;
-    defaultSceneAndScripts(o.scene, o.scripts);
+    assets::defaultSceneAndScripts(o.scene, o.scripts);
     const int rc = runMethodReport(o, std::cout);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });

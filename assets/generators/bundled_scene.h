@@ -1,11 +1,11 @@
-// The one way the program finds the bundled mining-dump scene and a scene's flythroughs, for every
-// subcommand that defaults to them (report, bench walker, bench render).
+// The one way the program and the benchmarks find the bundled mining-dump scene and a scene's
+// flythroughs, for every subcommand that defaults to them (report, bench walker, bench render).
 #pragma once
 
 #include <string>
 #include <vector>
 
-namespace nestwalk::tools {
+namespace nestwalk::assets {
 
 /// The bundled scene's file: where the build generates it (the bundled_scene target).
 std::string bundledSceneFile();
@@ -19,4 +19,4 @@ std::vector<std::string> scriptsBeside(const std::string& sceneFile);
 /// absent ("build the bundled_scene target or give ...") or no script is found.
 void defaultSceneAndScripts(std::string& scene, std::vector<std::string>& scripts);
 
-}  // namespace nestwalk::tools
+}  // namespace nestwalk::assets

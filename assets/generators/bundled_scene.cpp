@@ -1,11 +1,11 @@
-#include "tools/nestwalk/bundled_scene.h"
+#include "assets/generators/bundled_scene.h"
 
 #include "nestwalk/core/input_error.h"
 
 #include <algorithm>
 #include <filesystem>
 
-namespace nestwalk::tools {
+namespace nestwalk::assets {
 
 namespace fs = std::filesystem;
 
@@ -30,4 +30,4 @@ void defaultSceneAndScripts(std::string& scene, std::vector<std::string>& script
   if (scripts.empty()) throw InputError(scene + ": no flythrough scripts in its scripts/ folder; give them with --scripts");
 }
 
-}  // namespace nestwalk::tools
+}  // namespace nestwalk::assets

@@ -1,0 +1,96 @@
+#include "tools/bench/bench_cli.h"
+
+#include "assets/generators/bundled_scene.h"
+
+#include "nestwalk/core/input_error.h"
+
+#include <filesystem>
+
+namespace nestwalk::bench {
+namespace {
+
+/// Sizes and counts given on the command line: at least 1, at most this.
+constexpr std::size_t kMaxCount = 100'000'000;
+
+void declareCommon(CLI::App& cmd, BenchOptions& o, const std::string& quick) {
+  cmd.add_flag("--json", o.json, "Print the results as one JSON document instead of tables");
+  cmd.add_flag("--quick", o.quick, "Smoke test: " + quick);
+}
+
+void declareSuite(CLI::App& cmd, SuiteOptions& o, const std::string& quick, const std::string& defaultMinTime,
+                  const std::string& names) {
+  declareCommon(cmd, o, quick);
+  cmd.add_option("--min-time", o.minTimeSeconds,
+                 "Minimum time per benchmark in seconds (default " + defaultMinTime + ")")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--repetitions", o.repetitions, "Runs per benchmark; the tables show the median (default 1)")
+      ->check(CLI::Range(1, 100));
+  cmd.add_option("--filter", o.filter, "Regular expression on the benchmark names (" + names + ")");
+}
+
+CLI::Option* addCount(CLI::App& cmd, const std::string& name, std::size_t& value, const std::string& what) {
+  return cmd.add_option(name, value, what)->check(CLI::Range(std::size_t(1), kMaxCount));
+}
+
+void declareScene(CLI::App& cmd, std::string& scene, std::vector<std::string>& scripts, const std::string& use) {
+  cmd.add_option("--scene", scene, "Scene file for " + use + " (default: the bundled mining dump)");
+  cmd.add_option("--scripts", scripts, "Its flythroughs (default: the bundled ones)");
+}
+
+
+}  // namespace
+
+void declareOptions(CLI::App& cmd, VolumeBenchOptions& o) {
+  declareSuite(cmd, o, "20k pairs and stored boxes, short runs (a few seconds)", "0.5", "volumes/<test>/<set>");
+  addCount(cmd, "--pairs", o.pairs, "Pairs per set, and stored boxes per query set (default 1000000)");
+}
+
+void declareOptions(CLI::App& cmd, TerrainBenchOptions& o) {
+  declareSuite(cmd, o, "257 x 257 grid, 20k rays, short runs (a few seconds)", "0.5", "terrain/<method>/<set>");
+  cmd.add_option("--grid", o.gridSamples, "Samples per side of the synthetic DEM (default 2049)")
+      ->check(CLI::Range(3, 20000));
+  addCount(cmd, "--rays", o.rays, "Rays per set (default 1000000)");
+  addCount(cmd, "--slow-rays", o.slowRays,
+           "Rays per set for OSG, and for Bullet's oblique rays (default min(rays, 50000))");
+}
+
+void declareOptions(CLI::App& cmd, BroadPhaseBenchOptions& o) {
+  declareSuite(cmd, o, "1k and 10k boxes, 10k queries, short runs", "0.3", "broadphase/<method>/<boxes>");
+  cmd.add_option("--sizes", o.sizes, "Box counts (default 1000 10000 100000 1000000)")
+      ->delimiter(',')
+      ->check(CLI::Range(std::size_t(1), kMaxCount));
+  addCount(cmd, "--queries", o.queries, "Queries per size (default 100000)");
+}
+
+void declareOptions(CLI::App& cmd, WalkerBenchOptions& o) {
+  declareCommon(cmd, o, "1k and 10k instances, 5k steps");
+  cmd.add_option("--sizes", o.sizes, "Instance counts (default 1000 100000 1000000)")
+      ->delimiter(',')
+      ->check(CLI::Range(std::size_t(1), kMaxCount));
+  addCount(cmd, "--steps", o.steps, "Timed walker steps per size (default 200000)");
+  declareScene(cmd, o.scene, o.scripts, "the BV-test table");
+  cmd.add_flag("!--no-table2", o.table2, "Skip the BV-test table");
+  cmd.add_flag("!--no-broad-phase", o.broadPhase, "Skip the broad-phase comparison");
+}
+
+void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
+  declareCommon(cmd, o, "320x180, 8 frames per flythrough, two configurations");
+  cmd.add_option("--width", o.width, "Frame width (default 1280)")->check(CLI::Range(16, 8192));
+  cmd.add_option("--height", o.height, "Frame height (default 720)")->check(CLI::Range(16, 8192));
+  cmd.add_option("--frames", o.framesPerScript, "Frames per flythrough (default 120)")->check(CLI::Range(1, 100000));
+  declareScene(cmd, o.scene, o.scripts, "the flythroughs");
+}
+
+void completeOptions(WalkerBenchOptions& o) {
+  if (!o.table2) return;
+  try {
+    assets::defaultSceneAndScripts(o.scene, o.scripts);
+  } catch (const InputError& e) {
+    std::cerr << "nestwalk: note: " << e.what() << "; skipping the BV-test table\n";
+    o.table2 = false;
+  }
+}
+
+void completeOptions(RenderBenchOptions& o) { assets::defaultSceneAndScripts(o.scene, o.scripts); }
+
+}  // namespace nestwalk::bench
