@@ -91,6 +91,14 @@ Json parseJsonStrictly(const std::string& text, const std::string& file) {
   return root;
 }
 
+void failOnMissingModels(const std::string& file, const std::vector<std::string>& missing) {
+  if (missing.empty()) return;
+  std::string list;
+  for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
+  throw InputError(file + ": " + std::to_string(missing.size()) + " model file" + (missing.size() == 1 ? "" : "s") +
+                   " not found: " + list);
+}
+
 std::string readJsonFile(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
   std::error_code ec;

@@ -27,6 +27,10 @@ nlohmann::json parseJsonStrictly(const std::string& text, const std::string& fil
 /// it is absent, a folder or unreadable.
 std::string readJsonFile(const std::string& path, const std::string& what);
 
+/// Throws InputError "FILE: N model files not found: FIELD: PATH; ..." when `missing` (each
+/// "FIELD: PATH") is not empty: every missing file in one error.
+void failOnMissingModels(const std::string& file, const std::vector<std::string>& missing);
+
 /// Field-by-field checks of a parsed document; relative paths resolve against `folder`.
 class JsonFieldReader {
  public:

@@ -136,12 +136,7 @@ ModelCatalog readModelCatalog(const std::string& path) {
   for (const auto& [name, type] : catalog.types)
     if (checked.insert(type.model).second && !fs::is_regular_file(type.model))
       missing.push_back("types." + name + ".model: " + type.model);
-  if (!missing.empty()) {
-    std::string list;
-    for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
-    throw InputError(path + ": " + std::to_string(missing.size()) + " model file" + (missing.size() == 1 ? "" : "s") +
-                     " not found: " + list);
-  }
+  failOnMissingModels(path, missing);
   return catalog;
 }
 

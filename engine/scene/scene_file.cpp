@@ -216,12 +216,7 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
     const std::string field = e.type.empty() ? joinField(indexField("equipment", i), "model") : "types." + e.type + ".model";
     if (!fs::is_regular_file(e.model)) missing.push_back(field + ": " + e.model);
   }
-  if (!missing.empty()) {
-    std::string list;
-    for (const auto& m : missing) list += (list.empty() ? "" : "; ") + m;
-    throw InputError(path + ": " + std::to_string(missing.size()) + " model file" + (missing.size() == 1 ? "" : "s") +
-                     " not found: " + list);
-  }
+  failOnMissingModels(path, missing);
   return s;
 }
 

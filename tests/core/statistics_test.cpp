@@ -1,6 +1,7 @@
 // Order statistics (core/statistics.h): the nearest-rank percentile against the textbook example
 // and an integer-arithmetic reference, the mean.
 #include "nestwalk/core/statistics.h"
+#include "tests/common/nearest_rank.h"
 
 #include <gtest/gtest.h>
 
@@ -11,15 +12,8 @@
 namespace nestwalk {
 namespace {
 
-/// Nearest rank for integer p: the value at rank ceil(p n / 100) (1-based, at least 1) of the
-/// sorted list, all in integer arithmetic.
-double nearestRank(std::vector<double> v, int p) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  std::size_t rank = (std::size_t(p) * n + 99) / 100;
-  if (rank < 1) rank = 1;
-  return v[rank - 1];
-}
+using test::nearestRank;
+
 
 TEST(Percentile, TextbookExample) {
   // The nearest-rank example on five values (15, 20, 35, 40, 50).

@@ -2,6 +2,7 @@
 // computed here independently: sorted lists indexed by integer rank, sums, counts.
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/report/run_summary.h"
+#include "tests/common/nearest_rank.h"
 
 #include "nestwalk/core/input_error.h"
 #include "tests/report/report_fixtures.h"
@@ -16,19 +17,12 @@
 namespace nestwalk {
 namespace {
 
+using test::nearestRank;
+
 using testing::readFile;
 using testing::sampleRecords;
 using testing::TempDir;
 
-/// Nearest rank for integer p: the value at rank ceil(p n / 100) (1-based, at least 1) of the
-/// sorted list, all in integer arithmetic.
-double nearestRank(std::vector<double> v, int p) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  std::size_t rank = (std::size_t(p) * n + 99) / 100;
-  if (rank < 1) rank = 1;
-  return v[rank - 1];
-}
 
 TEST(RunSummary, ValuesAgainstIndependentComputation) {
   TempDir dir;

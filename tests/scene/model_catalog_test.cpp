@@ -6,6 +6,7 @@
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "tests/common/box_model.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>
@@ -23,22 +24,6 @@ namespace {
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-/// An axis-aligned box model from `lo` to `hi` (file units), 12 triangles, written with osgDB.
-void writeBox(const fs::path& path, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
-  for (int k = 0; k < 8; ++k)
-    v->push_back(osg::Vec3((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()));
-  osg::ref_ptr<osg::DrawElementsUShort> tris = new osg::DrawElementsUShort(GL_TRIANGLES);
-  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& q : quads)
-    for (int k : {q[0], q[1], q[2], q[0], q[2], q[3]}) tris->push_back((unsigned short)k);
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setVertexArray(v);
-  g->addPrimitiveSet(tris);
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g);
-  ASSERT_TRUE(osgDB::writeNodeFile(*geode, path.string()));
-}
 
 class ModelCatalogTest : public test::TempFolderTest {
  protected:
@@ -53,7 +38,7 @@ class ModelCatalogTest : public test::TempFolderTest {
 };
 
 TEST_F(ModelCatalogTest, ReadsEveryFieldWithItsDefaults) {
-  writeBox(dir() / "box.osgt", {0, 0, 0}, {1, 1, 1});
+  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {1, 1, 1});
   const ModelCatalog c = readModelCatalog(write(
       {{"types",
         {{"gauge", {{"model", "box.osgt"}, {"units", "mm"}, {"up", "y"}, {"forward", "-x"}, {"origin", "centre"},
@@ -99,7 +84,7 @@ TEST_F(ModelCatalogTest, ReadsEveryFieldWithItsDefaults) {
 }
 
 TEST_F(ModelCatalogTest, BadFieldsAreNamed) {
-  writeBox(dir() / "box.osgt", {0, 0, 0}, {1, 1, 1});
+  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {1, 1, 1});
   const std::string f = (dir() / "catalog.json").string() + ": ";
   auto typeWith = [](const char* key, Json value) {
     Json t = {{"model", "box.osgt"}};
@@ -167,7 +152,7 @@ TEST_F(ModelCatalogTest, TypedInstancesStandUprightInMetresOnTheGround) {
   test::PlaneTerrain terrain;
   test::writePlaneTiff(dir() / "terrain.tif", terrain);
   // A 600 x 250 x 400 mm cabinet drawn y up, forward along +x, origin far from the model.
-  writeBox(dir() / "cabinet.osgt", {1000, 2000, 3000}, {1600, 2400, 3250});
+  test::writeBoxModel(dir() / "cabinet.osgt", {1000, 2000, 3000}, {1600, 2400, 3250});
   const Json scene = {
       {"terrain", "terrain.tif"},
       {"types", {{"cabinet", {{"model", "cabinet.osgt"}, {"units", "mm"}, {"up", "y"}, {"forward", "+x"}, {"kind", "logger"}}}}},

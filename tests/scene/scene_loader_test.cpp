@@ -7,6 +7,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "tests/common/box_model.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>
@@ -69,21 +70,6 @@ double standingZ(const std::vector<Vec3<double>>& modelVertices, const Eigen::Af
   return lo;
 }
 
-/// A 2 x 1 x 0.5 m box model (12 triangles), corner at the origin, written with osgDB.
-void writeBoxModel(const fs::path& path) {
-  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
-  for (int i = 0; i < 8; ++i) v->push_back(osg::Vec3((i & 1) ? 2.0f : 0.0f, (i & 2) ? 1.0f : 0.0f, (i & 4) ? 0.5f : 0.0f));
-  osg::ref_ptr<osg::DrawElementsUShort> tris = new osg::DrawElementsUShort(GL_TRIANGLES);
-  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& q : quads)
-    for (int k : {q[0], q[1], q[2], q[0], q[2], q[3]}) tris->push_back((unsigned short)k);
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setVertexArray(v);
-  g->addPrimitiveSet(tris);
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g);
-  ASSERT_TRUE(osgDB::writeNodeFile(*geode, path.string()));
-}
 
 /// Every Geometry under a node with its local-to-world matrix (all LOD children, all paths).
 class GeometryFinder : public osg::NodeVisitor {
@@ -213,7 +199,7 @@ TEST_P(SceneLoad, VolumesMatchAnIndependentTransformOfTheVertices) {
 }
 
 TEST_P(SceneLoad, SharedNodeAndTerrainCoincideInTheGraph) {
-  writeBoxModel(dir() / "box.osgt");
+  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {2, 1, 0.5});  // 2 x 1 x 0.5 m, corner at the origin
   const Json eq = Json::array({{{"name", "ws1"}, {"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 30}},
                                {{"name", "box"}, {"model", "box.osgt"}, {"position", at(10, 10)}, {"scale", 2}},
                                {{"name", "ws2"}, {"model", weatherStation()}, {"position", at(40.2, 8.9)}}});
@@ -303,7 +289,7 @@ TEST_P(SceneLoad, SharedNodeAndTerrainCoincideInTheGraph) {
 }
 
 TEST_P(SceneLoad, UseOnlyMembersFormOneUnitPerGroup) {
-  writeBoxModel(dir() / "box.osgt");
+  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {2, 1, 0.5});  // 2 x 1 x 0.5 m, corner at the origin
   const Json eq = Json::array({
       {{"name", "lone"}, {"model", "box.osgt"}, {"position", at(5, 5)}, {"kind", "container"}},
       {{"model", weatherStation()}, {"position", at(20, 20)}, {"group", "bench1/st1"}, {"use_only", true}, {"kind", "mast"}},
@@ -355,7 +341,7 @@ TEST_P(SceneLoad, UseOnlyMembersFormOneUnitPerGroup) {
 }
 
 TEST_P(SceneLoad, ExplicitOriginAndMapShiftGiveTheSameLocalVolumes) {
-  writeBoxModel(dir() / "box.osgt");
+  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {2, 1, 0.5});  // 2 x 1 x 0.5 m, corner at the origin
   const Json eq = Json::array({
       {{"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 37}, {"pitch", 3}},
       {{"model", "box.osgt"}, {"position", at(44.4, 12.1)}, {"heading", 120}, {"group", "g"}, {"use_only", true}},
