@@ -9,6 +9,7 @@
 
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/heightfield.h"
+#include "tests/common/test_data.h"
 
 #include <gdal.h>
 #include <gdal_utils.h>
@@ -125,10 +126,9 @@ TEST(Hillshade, MatchesGdalOnAGeneratedDem) {
 }
 
 TEST(Hillshade, MatchesGdalOnARealDem) {
-  const char* env = std::getenv("NESTWALK_SHARED_DATA");
-  const std::filesystem::path path =
-      std::filesystem::path(env ? env : NESTWALK_SHARED_DATA_DIR) / "terrain" / "storml_elev_orig.tif";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " absent (shared data, NESTWALK_SHARED_DATA)";
+  const std::filesystem::path data = test::sharedData();
+  if (data.empty()) GTEST_SKIP() << "shared data folder absent (NESTWALK_SHARED_DATA): no real DEM";
+  const std::filesystem::path path = data / "terrain" / "storml_elev_orig.tif";
   const terrain::Heightfield hf = terrain::readDem(path.string());
   GDALDatasetH src = GDALOpen(path.string().c_str(), GA_ReadOnly);
   ASSERT_NE(src, nullptr);

@@ -4,6 +4,7 @@
 #include "tools/bench/bench_document.h"
 #include "tools/bench/broadphase_bench.h"
 
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/random.h"
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/core/stopwatch.h"
@@ -23,7 +24,6 @@
 namespace nestwalk::bench {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kSide = 10000.0;  // metres
 constexpr double kCell = 5.0;
 constexpr double kOriginX = 550000.0, kOriginY = 4650000.0;
@@ -83,7 +83,7 @@ World scatter(const std::shared_ptr<terrain::Heightfield>& hf, std::size_t n, st
     const double z = *hf->groundHeight(kOriginX + x, kOriginY + y);
     Obb<double> b;
     b.center = Vec3<double>(x, y, z + k->hz);
-    b.axes = Eigen::AngleAxisd(rng.uniform(0, 2 * kPi), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    b.axes = Eigen::AngleAxisd(rng.uniform(0, 2 * std::numbers::pi), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     b.halfExtents = Vec3<double>(k->hx, k->hy, k->hz);
     units.push_back(NestedVolume<double>::fromObb(b));
     names.push_back(k->name);
@@ -112,7 +112,7 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
   while (!free(x, y)) x += 1.0;
   Eigen::Vector2d target;
   auto newTarget = [&] {
-    const double a = rng.uniform(0, 2 * kPi), dist = rng.uniform(50, 500);
+    const double a = rng.uniform(0, 2 * std::numbers::pi), dist = rng.uniform(50, 500);
     const Eigen::Vector2d p = walker.state().feet.head<2>() + dist * Eigen::Vector2d(std::cos(a), std::sin(a));
     target = p.cwiseMax(Eigen::Vector2d(kOriginX + 50, kOriginY + 50))
                  .cwiseMin(Eigen::Vector2d(kOriginX + kSide - 50, kOriginY + kSide - 50));
@@ -133,7 +133,7 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
     }
     StepInput in;
     in.move = Eigen::Vector3d(d.x(), d.y(), 0).normalized() * (5.0 / 60.0);
-    in.headingDeg = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / kPi + 360.0, 360.0);
+    in.headingDeg = headingOf(d.x(), d.y());
     const auto t0 = std::chrono::steady_clock::now();
     const StepReport r = walker.step(in);
     const double seconds = secondsSince(t0);

@@ -1,6 +1,7 @@
 // nestwalk demo: the main job until the flythrough exists. Fits the nested volumes of the bundled
 // weather station, places it on a UTM-sized site, and walks a viewer's body box towards it,
 // printing the three-stage verdict at each position.
+#include "nestwalk/core/angles.h"
 #include "nestwalk/geometry/nested.h"
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/scene/model_geometry.h"
@@ -44,7 +45,7 @@ void runDemo(const std::string& assets) {
 
   // The station stands on a bench of a dump in UTM zone 51N, turned 30 degrees.
   Similarity<double> place;
-  place.rotation = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  place.rotation = Eigen::AngleAxisd(radians(30.0), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   place.translation = {550012.25, 4650034.75, 812.0};
   const Obb<double> station = place.apply(inner);
   std::printf("\nStation placed at E %.2f N %.2f Z %.2f, heading 30 deg\n", place.translation.x(), place.translation.y(),
@@ -55,7 +56,7 @@ void runDemo(const std::string& assets) {
   for (double d : {20.0, 3.0, 1.0, 0.6, 0.45, 0.40, 0.30, 0.0}) {
     Obb<double> body;
     body.center = place.translation + Eigen::Vector3d(d, 0.05, 0.9);
-    body.axes = Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    body.axes = Eigen::AngleAxisd(radians(10.0), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     body.halfExtents = {0.25, 0.25, 0.9};
     const NestedResult r = testBoxPair(body, station);
     const char* axis = r.stage == OverlapStage::AabbAabb ? aabbAxisName(r.axis) : satAxisName(r.axis);
