@@ -202,15 +202,6 @@ class LayerReader {
     }
     crs_ = srsName(layerSrs.get());
     transform_ = std::make_unique<LayerTransform>(layerSrs.get(), target, what_);
-    OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-    typeField_ = OGR_FD_GetFieldIndex(defn, sel.fields.type.c_str());
-    nameField_ = OGR_FD_GetFieldIndex(defn, sel.fields.name.c_str());
-    headingField_ = OGR_FD_GetFieldIndex(defn, sel.fields.heading.c_str());
-    scaleField_ = OGR_FD_GetFieldIndex(defn, sel.fields.scale.c_str());
-    groupField_ = OGR_FD_GetFieldIndex(defn, sel.fields.group.c_str());
-    if (typeField_ < 0 && sel.defaultType.empty())
-      throw InputError(what_ + ": has no field '" + sel.fields.type +
-                       "' for the equipment type (name the field with --type-field, or give --default-type)");
   }
 
   void read() {
@@ -219,19 +210,28 @@ class LayerReader {
       if (OGR_L_SetAttributeFilter(layer_, sel_.where.c_str()) != OGRERR_NONE)
         throw InputError(what_ + ": --where '" + sel_.where + "': " + terrain::lastGdalError());
     }
+    if (OGR_L_GetFeatureCount(layer_, TRUE) == 0)
+      throw InputError(what_ + (sel_.where.empty() ? ": has no features" : ": --where '" + sel_.where + "' matches no feature"));
+    OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer_);
+    typeField_ = OGR_FD_GetFieldIndex(defn, sel_.fields.type.c_str());
+    nameField_ = OGR_FD_GetFieldIndex(defn, sel_.fields.name.c_str());
+    headingField_ = OGR_FD_GetFieldIndex(defn, sel_.fields.heading.c_str());
+    scaleField_ = OGR_FD_GetFieldIndex(defn, sel_.fields.scale.c_str());
+    groupField_ = OGR_FD_GetFieldIndex(defn, sel_.fields.group.c_str());
+    if (typeField_ < 0 && sel_.defaultType.empty())
+      throw InputError(what_ + ": has no field '" + sel_.fields.type +
+                       "' for the equipment type (name the field with --type-field, or give --default-type)");
     OGR_L_ResetReading(layer_);
     std::size_t count = 0;
     for (Feature f(OGR_L_GetNextFeature(layer_)); f; f.reset(OGR_L_GetNextFeature(layer_))) {
       ++count;
       readFeature(f.get());
     }
-    if (count == 0)
-      throw InputError(what_ + (sel_.where.empty() ? ": has no features" : ": --where '" + sel_.where + "' matches no feature"));
     out_.layers.push_back({source_, layerName_, crs_, count});
   }
 
  private:
-  void problem(const std::string& where, const std::string& what) { out_.problems.push_back({where, what}); }
+  void problem(const MapFeature& f, const std::string& what) { out_.problems.push_back({f.where, what, f.source, f.layer, f.fid}); }
 
   void readFeature(OGRFeatureH f) {
     MapFeature base;
@@ -241,19 +241,19 @@ class LayerReader {
     base.where = what_ + " feature " + std::to_string(base.fid);
     base.type = typeField_ >= 0 ? textField(f, typeField_) : std::string();
     if (base.type.empty()) base.type = sel_.defaultType;
-    if (base.type.empty()) return problem(base.where, "no type (the field '" + sel_.fields.type + "' is empty)");
+    if (base.type.empty()) return problem(base, "no type (the field '" + sel_.fields.type + "' is empty)");
     base.name = textField(f, nameField_);
     base.group = textField(f, groupField_);
     bool ok = true;
     const std::optional<double> heading = numberField(f, headingField_, ok);
-    if (!ok) return problem(base.where, "heading '" + textField(f, headingField_) + "' is not a number (degrees)");
+    if (!ok) return problem(base, "heading '" + textField(f, headingField_) + "' is not a number (degrees)");
     const std::optional<double> scale = numberField(f, scaleField_, ok);
     if (!ok || (scale && !(*scale > 0)))
-      return problem(base.where, "scale '" + textField(f, scaleField_) + "' is not a number > 0");
+      return problem(base, "scale '" + textField(f, scaleField_) + "' is not a number > 0");
     base.scale = scale;
 
     OGRGeometryH g = OGR_F_GetGeometryRef(f);
-    if (!g || OGR_G_IsEmpty(g)) return problem(base.where, "has no geometry");
+    if (!g || OGR_G_IsEmpty(g)) return problem(base, "has no geometry");
     std::vector<std::pair<OGRGeometryH, FeatureShape>> parts;
     const OGRwkbGeometryType t = wkbFlatten(OGR_G_GetGeometryType(g));
     auto addPolygon = [&](OGRGeometryH polygon) {
@@ -273,7 +273,7 @@ class LayerReader {
         }
         break;
       default:
-        return problem(base.where, std::string("has an unsupported geometry (") + OGRGeometryTypeToName(t) +
+        return problem(base, std::string("has an unsupported geometry (") + OGRGeometryTypeToName(t) +
                                        "): give points, lines or polygons");
     }
     for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -288,7 +288,7 @@ class LayerReader {
       for (int i = 0; i < n; ++i) {
         Eigen::Vector2d p;
         if (!transform_->point(OGR_G_GetX(part, i), OGR_G_GetY(part, i), p)) {
-          problem(m.where, "cannot be transformed to the terrain's CRS (from " + crs_ + ")");
+          problem(m, "cannot be transformed to the terrain's CRS (from " + crs_ + ")");
           m.points.clear();
           break;
         }
@@ -297,14 +297,14 @@ class LayerReader {
       if (m.points.empty()) continue;
       if (m.shape == FeatureShape::Ring && m.points.size() > 1 && m.points.front() == m.points.back()) m.points.pop_back();
       if (m.shape != FeatureShape::Point && m.points.size() < 2) {
-        problem(m.where, "a line with fewer than two distinct points");
+        problem(m, "a line with fewer than two distinct points");
         continue;
       }
       if (m.shape == FeatureShape::Point) {
         const std::optional<double> h =
             transform_->heading(OGR_G_GetX(part, 0), OGR_G_GetY(part, 0), heading.value_or(0.0));
         if (!h) {
-          problem(m.where, "its heading cannot be transformed to the terrain's CRS");
+          problem(m, "its heading cannot be transformed to the terrain's CRS");
           continue;
         }
         m.headingDeg = *h;

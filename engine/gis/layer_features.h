@@ -67,6 +67,8 @@ struct MapFeature {
 
 struct FeatureProblem {
   std::string where, problem;
+  std::string source, layer;  // for ordering: by source, layer and feature id
+  std::int64_t fid = 0;
 };
 
 struct LayerRead {

@@ -14,7 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <tuple>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -142,8 +144,9 @@ class Builder {
         groundUnderFootprint(hf_, Eigen::Vector3d::Zero(), placed * t.transform, t.hull);
     const std::string who = b.fence ? "piece " + p.name + " " : "";
     if (!ground.complete())
-      b.problems.push_back(who + "lies " + (ground.points == 0 ? "outside the terrain" : "partly outside the terrain or over nodata") +
-                           " at (" + metres(p.position.x()) + ", " + metres(p.position.y()) + ")");
+      b.problems.push_back(who + (ground.points == 0 ? "has no ground under it" : "has no ground under part of it") +
+                           " (outside the terrain, or over nodata) at (" + metres(p.position.x()) + ", " +
+                           metres(p.position.y()) + ")");
     b.rises.push_back(ground.rise());
   }
 
@@ -210,7 +213,11 @@ BuildSceneSummary buildScene(const BuildSceneOptions& o) {
     }
   std::vector<FeatureProblem> bad = features.problems;
   for (const Built& b : built)
-    for (const std::string& p : b.problems) bad.push_back({b.feature->where, p});
+    for (const std::string& p : b.problems)
+      bad.push_back({b.feature->where, p, b.feature->source, b.feature->layer, b.feature->fid});
+  std::stable_sort(bad.begin(), bad.end(), [](const FeatureProblem& a, const FeatureProblem& b) {
+    return std::tie(a.source, a.layer, a.fid) < std::tie(b.source, b.layer, b.fid);
+  });
   if (!bad.empty() && !o.skipBad) {
     std::string list;
     for (const FeatureProblem& p : bad) list += (list.empty() ? "" : "; ") + p.where + ": " + p.problem;

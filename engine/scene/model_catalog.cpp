@@ -27,6 +27,16 @@ constexpr NamedUnit kUnits[] = {{"mm", 0.001}, {"cm", 0.01}, {"m", 1.0}, {"in", 
 constexpr double kDefaultGapFraction = 0.1;
 constexpr double kDefaultOverlapFraction = 0.5;
 
+const char* upName(ModelUp u) {
+  switch (u) {
+    case ModelUp::Z: return "z";
+    case ModelUp::Y: return "y";
+    case ModelUp::MinusY: return "-y";
+    case ModelUp::MinusZ: return "-z";
+  }
+  return "z";
+}
+
 const char* forwardName(ModelForward f) {
   switch (f) {
     case ModelForward::PlusY: return "+y";
@@ -74,9 +84,13 @@ ModelType readType(const JsonFieldReader& r, const std::string& name, const Json
   }
   if (t.contains("up")) {
     const std::string up = r.string(t["up"], joinField(field, "up"));
-    if (up == "z") type.up = ModelUp::Z;
-    else if (up == "y") type.up = ModelUp::Y;
-    else r.fail(joinField(field, "up"), "expected z or y, got '" + up + "'");
+    bool known = false;
+    for (ModelUp u : {ModelUp::Z, ModelUp::Y, ModelUp::MinusY, ModelUp::MinusZ})
+      if (up == upName(u)) {
+        type.up = u;
+        known = true;
+      }
+    if (!known) r.fail(joinField(field, "up"), "expected z, y, -y or -z, got '" + up + "'");
   }
   if (t.contains("forward")) {
     const std::string fw = r.string(t["forward"], joinField(field, "forward"));
@@ -148,7 +162,7 @@ Json modelTypeJson(const ModelType& type, const std::string& modelPath) {
     if (type.unitsText == k.name) named = true;
   if (named) j["units"] = type.unitsText;
   else j["units"] = type.metresPerUnit;
-  j["up"] = type.up == ModelUp::Z ? "z" : "y";
+  j["up"] = upName(type.up);
   j["forward"] = forwardName(type.forward);
   j["origin"] = originName(type.origin);
   if (!type.kind.empty()) j["kind"] = type.kind;
@@ -162,7 +176,12 @@ Json modelTypeJson(const ModelType& type, const std::string& modelPath) {
 
 Mat3<double> modelTypeRotation(const ModelType& type) {
   Mat3<double> up = Mat3<double>::Identity();
-  if (type.up == ModelUp::Y) up << 1, 0, 0, 0, 0, -1, 0, 1, 0;  // Rx(+90): (x, y, z) -> (x, -z, y)
+  switch (type.up) {
+    case ModelUp::Z: break;
+    case ModelUp::Y: up << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;        // Rx(+90): (x, y, z) -> (x, -z, y)
+    case ModelUp::MinusY: up << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;   // Rx(-90): (x, y, z) -> (x, z, -y)
+    case ModelUp::MinusZ: up << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;  // Rx(180): (x, y, z) -> (x, -y, -z)
+  }
   Mat3<double> forward = Mat3<double>::Identity();               // turns the forward axis onto +y
   switch (type.forward) {
     case ModelForward::PlusY: break;

@@ -12,8 +12,9 @@
 // Relative model paths are relative to the catalog's (or scene's) folder. Fields:
 //   model        the model file, any format OpenSceneGraph reads (required)
 //   units        "mm", "cm", "m", "in", "ft", or a positive number of metres per file unit ("m")
-//   up           the file's up axis, "z" or "y" ("z"); a y-up file is turned +90 degrees about x
-//                (its -z becomes forward, +y)
+//   up           the file's up axis: "z", "y", "-y" or "-z" ("z"); a y-up file is turned +90 degrees
+//                about x (its -z becomes forward, +y), a -y-up file -90 degrees (its +z becomes
+//                forward), a -z-up file 180 degrees (upside down: its -y becomes forward)
 //   forward      the model's forward axis once z is up: "+y", "-y", "+x" or "-x" ("+y"); headings
 //                turn the forward axis (heading 0 points it north)
 //   origin       where the model's reference point is: "base" (the bottom centre of its bounding
@@ -44,7 +45,7 @@
 
 namespace nestwalk {
 
-enum class ModelUp : std::uint8_t { Z, Y };
+enum class ModelUp : std::uint8_t { Z, Y, MinusY, MinusZ };
 enum class ModelForward : std::uint8_t { PlusY, MinusY, PlusX, MinusX };
 enum class ModelOrigin : std::uint8_t { Base, Centre, File };
 

@@ -93,7 +93,7 @@ TEST_F(ModelCatalogTest, BadFieldsAreNamed) {
   };
   EXPECT_EQ(error(typeWith("units", "furlong")), f + "types.gauge.units: expected mm, cm, m, in, ft or a number > 0, got 'furlong'");
   EXPECT_EQ(error(typeWith("units", -1)), f + "types.gauge.units: must be > 0");
-  EXPECT_EQ(error(typeWith("up", "x")), f + "types.gauge.up: expected z or y, got 'x'");
+  EXPECT_EQ(error(typeWith("up", "x")), f + "types.gauge.up: expected z, y, -y or -z, got 'x'");
   EXPECT_EQ(error(typeWith("forward", "north")), f + "types.gauge.forward: expected +y, -y, +x or -x, got 'north'");
   EXPECT_EQ(error(typeWith("origin", "top")), f + "types.gauge.origin: expected base, centre or file, got 'top'");
   EXPECT_EQ(error(typeWith("scale", 0)), f + "types.gauge.scale: must be > 0");
