@@ -4,7 +4,8 @@
 
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/geometry/sat.h"
-
+#include "nestwalk/geometry/slab_clip.h"
+#include "nestwalk/geometry/triangle_sweep.h"
 
 #include <algorithm>
 #include <cmath>
@@ -71,6 +72,14 @@ struct VolumeRules<Obb<double>> {
     return b.axes.col(longest);
   }
   static bool overlaps(const Obb<double>& node, const Query& box) { return satObbObb(node, box).overlap; }
+
+  // The swept query: the box and its motion; a node's interval of contact in t.
+  struct SweepQuery {
+    Obb<double> box;
+    V3 d;
+  };
+  static SweepQuery prepareSweep(const Obb<double>& box, const V3& d) { return {box, d}; }
+  static SweepResult sweepInterval(const Obb<double>& node, const SweepQuery& q) { return sweepObbObb(q.box, q.d, node); }
 
   // The largest gap over the 15 separating axes of two boxes (sat.h's formulas, A = node, B = box),
   // each divided by its axis' length: the distance between the boxes is at least that.
@@ -147,6 +156,33 @@ struct VolumeRules<Kdop18> {
     variance.maxCoeff(&axis);
     return V3::Unit(axis);
   }
+  // The swept query: the box's 18-DOP at t = 0 and its motion along each direction.
+  struct SweepQuery {
+    Kdop18 box;
+    std::array<double, Kdop18::kDirections> motion;
+  };
+  static SweepQuery prepareSweep(const Obb<double>& box, const V3& d) {
+    SweepQuery q{prepare(box), {}};
+    for (int k = 0; k < Kdop18::kDirections; ++k) q.motion[k] = kKdopDirections[k].dot(d);
+    return q;
+  }
+  // Per direction, the box's slab moving across the node's: |p0 - t v| <= r. The motion's
+  // rounding is covered by the slack prepare() already put on the box's slabs, widened by |v|.
+  static SweepResult sweepInterval(const Kdop18& node, const SweepQuery& q) {
+    SlabClip clip;
+    bool alive = true;
+    for (int k = 0; k < Kdop18::kDirections && alive; ++k) {
+      const double p0 = 0.5 * (node.min[k] + node.max[k]) - 0.5 * (q.box.min[k] + q.box.max[k]);
+      const double r = 0.5 * (node.max[k] - node.min[k]) + 0.5 * (q.box.max[k] - q.box.min[k]) +
+                       kRoundingSlack<double> * std::abs(q.motion[k]);
+      alive = clip.clip(p0, q.motion[k], r, std::int8_t(k), k);
+    }
+    SweepResult out;
+    out.enter = clip.enter;
+    out.exit = clip.exit;
+    return out;
+  }
+
   static bool overlaps(const Kdop18& node, const Query& box) {
     for (int k = 0; k < Kdop18::kDirections; ++k)
       if (node.min[k] > box.max[k] || box.min[k] > node.max[k]) return false;
@@ -273,6 +309,18 @@ double bruteForceDistance(const TriangleMesh& mesh, const Obb<double>& box) {
   return best;
 }
 
+MeshSweepHit bruteForceSweep(const TriangleMesh& mesh, const Obb<double>& box, const Vec3<double>& d,
+                             double tStart) {
+  MeshSweepHit hit;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const SweepResult r = sweepBoxTriangle(box, d, mesh.triangle(i), tStart, 1.0);
+    if (!(r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart)) continue;
+    const double t = std::max(r.enter, tStart);
+    if (!hit.contact || t < hit.t) hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
+  }
+  return hit;
+}
+
 template <class Volume>
 MeshTree<Volume>::MeshTree(const TriangleMesh& mesh, int leafSize) {
   validate(mesh, leafSize);
@@ -281,6 +329,8 @@ MeshTree<Volume>::MeshTree(const TriangleMesh& mesh, int leafSize) {
   depth_ = builder.build(0, std::uint32_t(mesh.triangles.size()), 0);
   triangles_.reserve(mesh.triangles.size());
   for (std::uint32_t t : builder.order()) triangles_.push_back(mesh.triangle(t));
+  for (const Triangle& t : triangles_)
+    for (const V3& p : t) reach_ = std::max(reach_, p.cwiseAbs().maxCoeff());
 }
 
 template <class Volume>
@@ -315,7 +365,7 @@ bool MeshTree<Volume>::overlaps(const Obb<double>& box, MeshQueryCounters* count
 }
 
 template <class Volume>
-double MeshTree<Volume>::distance(const Obb<double>& box, MeshQueryCounters* counters) const {
+double MeshTree<Volume>::distance(const Obb<double>& box, MeshQueryCounters* counters, Triangle* nearest) const {
   if (nodes_.empty()) return kInfinity;
   const auto query = VolumeRules<Volume>::prepare(box);
   std::uint64_t nodeTests = 1, triangleTests = 0;
@@ -330,7 +380,11 @@ double MeshTree<Volume>::distance(const Obb<double>& box, MeshQueryCounters* cou
     if (node.isLeaf()) {
       for (std::uint32_t i = node.firstTriangle; i < node.firstTriangle + node.triangleCount && best > 0; ++i) {
         ++triangleTests;
-        best = std::min(best, triangleBoxDistance(triangles_[i], box));
+        const double d = triangleBoxDistance(triangles_[i], box);
+        if (d < best) {
+          best = d;
+          if (nearest) *nearest = triangles_[i];
+        }
       }
       continue;
     }
@@ -347,6 +401,57 @@ double MeshTree<Volume>::distance(const Obb<double>& box, MeshQueryCounters* cou
     counters->triangleTests += triangleTests;
   }
   return best;
+}
+
+template <class Volume>
+MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>& d, double tStart,
+                                     MeshQueryCounters* counters) const {
+  MeshSweepHit hit;
+  if (nodes_.empty()) return hit;
+  Obb<double> grown = box;
+  grown.halfExtents.array() += sweepBoxTriangleSlack(box, d, reach_);
+  const auto query = VolumeRules<Volume>::prepareSweep(grown, d);
+  std::uint64_t nodeTests = 1, triangleTests = 0;
+  // A node's entry: the time its volume is first touched (no triangle inside is touched earlier).
+  auto entry = [&](std::uint32_t index) {
+    const SweepResult r = VolumeRules<Volume>::sweepInterval(nodes_[index].volume, query);
+    const bool meets = r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart;
+    return StackEntry{index, meets ? std::max(r.enter, tStart) : kInfinity};
+  };
+  double best = kInfinity;  // the earliest contact found so far
+  StackEntry stack[kStackCapacity];
+  int top = 0;
+  stack[top++] = entry(0);
+  while (top > 0) {
+    const StackEntry e = stack[--top];
+    if (e.lowerBound == kInfinity || e.lowerBound >= best) continue;
+    const MeshTreeNode<Volume>& node = nodes_[e.node];
+    if (node.isLeaf()) {
+      for (std::uint32_t i = node.firstTriangle; i < node.firstTriangle + node.triangleCount; ++i) {
+        ++triangleTests;
+        const SweepResult r = sweepBoxTriangle(box, d, triangles_[i], tStart, std::min(best, 1.0));
+        if (!(r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart)) continue;
+        const double t = std::max(r.enter, tStart);
+        if (t < best) {
+          best = t;
+          hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
+        }
+      }
+      if (best == tStart) break;  // nothing can come earlier
+      continue;
+    }
+    StackEntry first = entry(e.node + 1), second = entry(node.secondChild);
+    nodeTests += 2;
+    if (second.lowerBound < first.lowerBound) std::swap(first, second);
+    // The child entered first is pushed last, so it is visited first.
+    if (second.lowerBound < best) stack[top++] = second;
+    if (first.lowerBound < best) stack[top++] = first;
+  }
+  if (counters) {
+    counters->nodeTests += nodeTests;
+    counters->triangleTests += triangleTests;
+  }
+  return hit;
 }
 
 template class MeshTree<Obb<double>>;

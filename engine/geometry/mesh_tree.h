@@ -35,6 +35,13 @@
 //    axes of sat.h less the edge axes within 1e-3 rad of parallel, k-DOP nodes the 9 directions),
 //    each lowered by a rounding slack so that pruning never drops the minimum. The result is the
 //    brute-force minimum (same triangles, same function, so the same double).
+//  - sweep(box, d, tStart): the first t in [tStart, 1] at which the box moved by t d touches a
+//    triangle (sweepBoxTriangle, triangle_sweep.h: exact intervals in t, never late); depth-first,
+//    the child entered earlier first, a node pruned when its own swept interval (sweepObbObb of
+//    swept.h, or the box's 18-DOP moving across the node's slabs) starts after the best contact
+//    found. Nodes are tested with the box grown by the triangle test's slack
+//    (sweepBoxTriangleSlack), so a node is never entered later than a triangle it holds: the same
+//    triangles, the same function as bruteForceSweep, so the same double t.
 //  - counters (the cost model T = Nv Cv + Np Cp of seeds 000/003): nodeTests = bounding-volume
 //    tests (Nv), triangleTests = triangle tests (Np). A k-DOP node test projects the box on the 9
 //    directions (its own 18-DOP, once per query) and compares slabs: conservative, as a BV test may
@@ -54,9 +61,19 @@
 
 namespace nestwalk {
 
+/// The first contact of a box translating by d (t in [tStart, 1]) with the triangles.
+struct MeshSweepHit {
+  bool contact = false;
+  double t = 1.0;                              // the earliest t in [tStart, 1] the box touches a triangle
+  Vec3<double> normal = Vec3<double>::Zero();  // at t, from the triangle toward the box (zero when
+                                               // already touching at tStart)
+};
+
 /// The reference loops the trees must agree with: every triangle tested.
 bool bruteForceOverlaps(const TriangleMesh& mesh, const Obb<double>& box);
 double bruteForceDistance(const TriangleMesh& mesh, const Obb<double>& box);
+MeshSweepHit bruteForceSweep(const TriangleMesh& mesh, const Obb<double>& box, const Vec3<double>& d,
+                             double tStart = 0.0);
 
 /// Work done by one query (Nv and Np of the cost model); queries add to them.
 struct MeshQueryCounters {
@@ -94,7 +111,11 @@ class MeshTree {
   explicit MeshTree(const TriangleMesh& mesh, int leafSize = kDefaultLeafSize);
 
   bool overlaps(const Obb<double>& box, MeshQueryCounters* counters = nullptr) const;
-  double distance(const Obb<double>& box, MeshQueryCounters* counters = nullptr) const;
+  /// `nearest`, when given, receives the triangle at that distance (unchanged when there is none).
+  double distance(const Obb<double>& box, MeshQueryCounters* counters = nullptr, Triangle* nearest = nullptr) const;
+  /// The box translating by d, from tStart to 1: its first contact (triangle_sweep.h per triangle).
+  MeshSweepHit sweep(const Obb<double>& box, const Vec3<double>& d, double tStart = 0.0,
+                     MeshQueryCounters* counters = nullptr) const;
 
   const std::vector<MeshTreeNode<Volume>>& nodes() const { return nodes_; }
   /// The triangles in leaf order (a leaf's triangles are contiguous).
@@ -104,6 +125,7 @@ class MeshTree {
  private:
   std::vector<MeshTreeNode<Volume>> nodes_;
   std::vector<Triangle> triangles_;
+  double reach_ = 0;  // the largest |coordinate| of the triangles' corners (sweep's slack)
   int depth_ = 0;
 };
 

@@ -1,5 +1,7 @@
 #include "nestwalk/geometry/swept.h"
 
+#include "nestwalk/geometry/slab_clip.h"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -8,49 +10,6 @@ namespace nestwalk {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// Running intersection of slab intervals. Each slab: |p0 - t v| <= r (p0, v, r already in the
-/// same units along one axis L; r includes the slack). `worldAxis` is L in the local frame (not
-/// necessarily unit), used for the normal when this slab enters last.
-struct SlabClip {
-  double enter = -kInf, exit = kInf;
-  std::int8_t enterAxis = kNoAxis, decidingAxis = kNoAxis;
-  double enterSign = 0;  // -sign(v) of the entering slab: normal = enterSign * L / |L|
-  int enterSlot = -1;
-
-  /// Returns false once the running interval misses [0, 1] (then decidingAxis says which slab).
-  bool clip(double p0, double v, double r, std::int8_t axis, int slot) {
-    double lo, hi;
-    if (v > 0) {
-      lo = (p0 - r) / v;
-      hi = (p0 + r) / v;
-    } else if (v < 0) {
-      lo = (p0 + r) / v;
-      hi = (p0 - r) / v;
-    } else {
-      // No motion along L: the slab holds for all t or for none. NaN compares false: "holds".
-      if (std::abs(p0) > r) {
-        enter = kInf;
-        exit = -kInf;
-        decidingAxis = axis;
-        return false;
-      }
-      return true;
-    }
-    if (lo > enter) {
-      enter = lo;
-      enterAxis = axis;
-      enterSign = v > 0 ? -1.0 : 1.0;
-      enterSlot = slot;
-    }
-    if (hi < exit) exit = hi;
-    if (!(enter <= exit && enter <= 1.0 && exit >= 0.0)) {
-      decidingAxis = axis;
-      return false;
-    }
-    return true;
-  }
-};
 
 /// The 15 slabs of the moving box A (frame: columns of Aax, half extents a) against B, given
 /// t0 = A^T (cB - cA), dv = A^T d, R = A^T B. Mirrors satInFrameOfA (sat.h), with t replaced by
