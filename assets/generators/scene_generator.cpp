@@ -1,5 +1,8 @@
 #include "assets/generators/scene_generator.h"
 
+#include "assets/generators/equipment_tours.h"
+#include "assets/generators/footprint_rect.h"
+
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
@@ -55,23 +58,6 @@ double uniform(std::mt19937_64& rng, double lo, double hi) { return lo + (hi - l
 /// JSON shows it exactly.
 double roundMilli(double x) { return std::round(x * 1000.0) / 1000.0; }
 
-/// A placed footprint: centre, unit axes (model x, model y in map axes), half sizes.
-struct Rect {
-  Eigen::Vector2d c, ax, ay;
-  double hx = 0, hy = 0;
-  std::string group;
-};
-
-bool rectsOverlap(const Rect& a, const Rect& b, double inflate) {
-  const Eigen::Vector2d d = b.c - a.c;
-  for (const Eigen::Vector2d& n : {a.ax, a.ay, b.ax, b.ay}) {
-    const double ra = (a.hx + inflate) * std::abs(a.ax.dot(n)) + (a.hy + inflate) * std::abs(a.ay.dot(n));
-    const double rb = (b.hx + inflate) * std::abs(b.ax.dot(n)) + (b.hy + inflate) * std::abs(b.ay.dot(n));
-    if (std::abs(d.dot(n)) > ra + rb) return false;
-  }
-  return true;
-}
-
 class Placer {
  public:
   Placer(const terrain::Heightfield& hf, const DumpGeometry& g) : hf_(hf), g_(g) {
@@ -93,18 +79,7 @@ class Placer {
     return p;
   }
 
-  Rect footprint(const Placement& p) const {
-    const Aabb<double>& b = bounds_[std::size_t(p.model)];
-    Rect r;
-    r.ay = Eigen::Vector2d(std::sin(radians(p.headingDeg)), std::cos(radians(p.headingDeg)));  // model +y
-    r.ax = Eigen::Vector2d(r.ay.y(), -r.ay.x());                                           // model +x
-    const Eigen::Vector3d c = b.center(), h = b.halfExtents();
-    r.c = p.position + c.x() * r.ax + c.y() * r.ay;
-    r.hx = h.x();
-    r.hy = h.y();
-    r.group = p.group;
-    return r;
-  }
+  Rect footprint(const Placement& p) const { return footprintRect(p, bounds_[std::size_t(p.model)]); }
 
   /// Places the pieces (one group) when every one stands on flat berm, off the ramp, clear of
   /// other groups; all or nothing.
@@ -375,6 +350,13 @@ GeneratedScene generateScene(std::uint64_t seed) {
           fmt(kFlightClearance) + "\ngoto " + xy(P.flightOverYard) + "\nexpect clearance at least " +
           fmt(kFlightClearance) + "\ngoto " + xy(P.flightEnd) + "\nexpect clearance at least " +
           fmt(kFlightClearance) + "\nexpect free\n");
+
+  for (const Tour& tour : equipmentTours(hf, out.equipment, g.layout.topHeight, header)) {
+    out.scripts.emplace_back(tour.file, tour.text);
+    std::vector<std::pair<std::string, std::string>> events;
+    for (const TourEvent& e : tour.events) events.emplace_back(e.group, e.kind);
+    out.tourEvents.emplace_back(tour.file, std::move(events));
+  }
 
   // 5. scene.json.
   nlohmann::ordered_json j;

@@ -1,7 +1,8 @@
 // The bundled mining-dump scene behind `nestwalk make-scene`: the terrain (terrain/mining_dump.h,
 // 1 km at 1 m), the equipment models (equipment_models.h), scene.json (schema:
-// engine/scene/scene_file.h) and three flythrough scripts (format: engine/walker/script.h) that
-// use the scene's own coordinates. Everything follows from the seed (same seed, byte-identical
+// engine/scene/scene_file.h) and five flythrough scripts (format: engine/walker/script.h) that
+// use the scene's own coordinates: a patrol blocked by a mast, the ramp's descent, a low flight,
+// and the two equipment tours (equipment_tours.h). Everything follows from the seed (same seed, byte-identical
 // scene.json, models and scripts); random numbers come from std::mt19937_64's raw output, not from
 // library distributions.
 //
@@ -72,6 +73,8 @@ struct GeneratedScene {
   ScriptPoints points;
   std::string sceneJson;                                      // scene.json's text
   std::vector<std::pair<std::string, std::string>> scripts;  // file name (in scripts/), text
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> tourEvents;
+      // per equipment tour (equipment_tours.h): its file and the (group, kind) of each blocking event
 };
 
 /// Generates the scene in memory (terrain grid, placements, JSON, scripts). Takes about a second.

@@ -26,6 +26,7 @@ Rgb methodColour(VolumeMethod m) {
     case VolumeMethod::Obb: return {44, 160, 44};          // green
     case VolumeMethod::NestedMesh: return {214, 39, 40};   // red
     case VolumeMethod::Kdop18: return {148, 103, 189};     // purple
+    case VolumeMethod::Auto: return {23, 190, 207};        // cyan
   }
   return {0, 0, 0};
 }
@@ -41,14 +42,16 @@ std::string gap(const Aggregate& a) {
 
 Table methodTable(const ReportData& d) {
   Table t{{"method", "us/frame p50", "p99", "mean", "x nested", "missed", "blocked sweeps", "early stops (%)",
-           "false blocks (%)", "stop gap mean / max mm", "BV tests/frame", "triangle tests/frame"}};
+           "longest early stop mm", "false blocks (%)", "stop gap mean / max mm", "BV tests/frame",
+           "triangle tests/frame"}};
   const MethodResult* nested = d.find(VolumeMethod::Nested);
   const double base = nested ? nested->overall().p50 : std::nan("");
   for (const MethodResult& m : d.methods) {
     const Aggregate a = m.overall();
     t.push_back({std::string(volumeMethodName(m.method)) + (m.complete() ? "" : " (incomplete)"), fixedText(a.p50, 2),
                  fixedText(a.p99, 2), fixedText(a.mean, 2), fixedText(a.p50 / base, 2), count(a.missed), count(a.blockedSweeps),
-                 ofBlocked(a.earlyStops, a.earlyStopPercent), ofBlocked(a.falseBlocks, a.falseBlockPercent), gap(a),
+                 ofBlocked(a.earlyStops, a.earlyStopPercent), a.earlyStops ? fixedText(a.earlyStopMaxMm, 2) : "-",
+                 ofBlocked(a.falseBlocks, a.falseBlockPercent), gap(a),
                  fixedText(a.bvPerFrame, 1), fixedText(a.trianglesPerFrame, 1)});
   }
   return t;
@@ -90,6 +93,21 @@ Table nestedTable(const ReportData& d) {
                  blocked ? fixedText(a.falseBlockPercent + a.earlyStopPercent, 1) + " %" : "-", count(a.equipmentBlocks),
                  fixedText(a.gapMeanMm, 3), fixedText(a.gapMaxMm, 3)});
   }
+  return t;
+}
+
+Table autoTable(const ReportData& d) {
+  Table t{{"kind", "units", "nested only", "exact stage", "nested only: largest gap found mm",
+           "exact stage: smallest gap found mm"}};
+  for (const AutoChoiceRow& r : d.autoChoices)
+    t.push_back({r.kind, count(r.units), count(r.units - r.exact), count(r.exact),
+                 r.units > r.exact ? fixedText(r.tightGapMaxMm, 3) : "-", r.exact ? fixedText(r.exactGapMinMm, 1) : "-"});
+  return t;
+}
+
+Table blockingTable(const ReportData& d) {
+  Table t{{"kind", "blocking events", "units that blocked"}};
+  for (const BlockingKindRow& r : d.blockingKinds) t.push_back({r.kind, count(r.events), count(r.units)});
   return t;
 }
 
@@ -197,6 +215,17 @@ std::string reportMarkdown(const ReportData& d) {
        "and p99 show the frames near equipment.\n\n";
   s << markdown(methodTable(d)) << "\n";
   s << "### Targets\n\n" << targetLines(d.targets) << "\n";
+  s << "### What the figures rest on\n\n"
+    << "The blocking events of the exact reference's plays (a run of steps blocked by one unit is one event), by "
+       "the kind of the unit:\n\n"
+    << markdown(blockingTable(d)) << "\n";
+  s << "### Auto: the test chosen per unit\n\n"
+    << "`auto` keeps the nested test alone for a unit whose inner OBB is tight around its triangles (the largest "
+       "distance from the box's surface to them at most "
+    << shortText(1000.0 * kTightObbGap)
+    << " mm: walker/contact_choice.h) and adds the exact mesh stage for the others. Per kind: how many units got "
+       "which, the largest distance found on a tight box, and the smallest gap that ruled a box out.\n\n"
+    << markdown(autoTable(d)) << "\n";
   s << "### Nested: false-block rate and stop gap per flythrough\n\n" << markdown(nestedTable(d)) << "\n";
   s << "### Every method per flythrough\n\n" << markdown(flythroughTable(d), 2) << "\n";
   s << "### Time against stop gap\n\n"
@@ -231,6 +260,8 @@ Json aggregateJson(const Aggregate& a) {
   j["reference_contacts"] = a.referenceContacts;
   j["missed"] = a.missed;
   j["early_stops"] = a.earlyStops;
+  j["early_stop_mm"] = {{"max", jsonNumber(a.earlyStopMaxMm)}, {"mean", jsonNumber(a.earlyStopMeanMm)}};
+  j["blocking_events"] = a.blockingEvents;
   j["early_stop_percent"] = a.earlyStopPercent;
   j["false_blocks"] = a.falseBlocks;
   j["false_block_percent"] = a.falseBlockPercent;
@@ -284,6 +315,15 @@ Json reportJson(const ReportData& d) {
                        {"fit_us", {{"covariance", r.covarianceMicros}, {"hull_search", r.hullSearchMicros},
                                    {"cgal_optimal", r.optimalMicros}}}});
   j["fitters"] = {{"repetitions", d.fitterRepetitions}, {"models", fitters}};
+  Json choices = Json::array();
+  for (const AutoChoiceRow& r : d.autoChoices)
+    choices.push_back({{"kind", r.kind}, {"units", r.units}, {"exact_stage", r.exact},
+                       {"tight_gap_max_mm", r.tightGapMaxMm}, {"exact_gap_min_mm", jsonNumber(r.exactGapMinMm)}});
+  j["auto"] = {{"tight_obb_gap_mm", 1000.0 * kTightObbGap}, {"kinds", choices}};
+  Json kinds = Json::array();
+  for (const BlockingKindRow& r : d.blockingKinds)
+    kinds.push_back({{"kind", r.kind}, {"events", r.events}, {"units", r.units}});
+  j["blocking_events"] = kinds;
   j["targets"] = targetsJson(d.targets);
   return j;
 }

@@ -22,11 +22,24 @@ void ReferenceComparison::onSweep(const NestedVolume<double>& viewer, const Vec3
   tally_.contacts += hit.contact;
   tally_.referenceContacts += exact.contact;
   if (exact.contact && (!hit.contact || hit.t > exact.t + slack)) ++tally_.missed;
-  if (hit.contact && !exact.contact) {
-    // Would the real geometry stop the body further along the same direction?
-    const SweepHit further =
-        length > 0.0 ? reference_.sweep(viewer, d * (std::max(length, kEarlyStopHorizon) / length), ignored) : exact;
-    ++(further.contact ? tally_.earlyStops : tally_.falseBlocks);
+  if (!hit.contact) return;
+  // Where along the motion (metres from the step's start) the real geometry stops the body: in this
+  // step, or further along the same direction within the horizon; nowhere: a false block.
+  double real = exact.t * length;
+  if (!exact.contact) {
+    const double reach = std::max(length, kEarlyStopHorizon);
+    const SweepHit further = length > 0.0 ? reference_.sweep(viewer, d * (reach / length), ignored) : exact;
+    if (!further.contact) {
+      ++tally_.falseBlocks;
+      return;
+    }
+    real = further.t * reach;
+  }
+  const double shortBy = real - hit.t * length;
+  if (shortBy > 2.0 * kMeshContactTolerance) {
+    ++tally_.earlyStops;
+    tally_.earlyStopMaxMm = std::max(tally_.earlyStopMaxMm, 1000.0 * shortBy);
+    tally_.earlyStopSumMm += 1000.0 * shortBy;
   }
 }
 

@@ -1,8 +1,8 @@
 // A contact method's sweeps compared with an exact reference on the very same steps: the accuracy
 // half of the methods report (method_report.h). The comparison watches a method's CollisionWorld
 // (a SweepObserver, collision_world.h); for every sweep it answers, the reference world (an exact
-// method, nested+mesh, over the same units) sweeps the same body along the same step, and the two
-// answers are tallied.
+// method, nested+mesh by conservative advancement (mesh_world.h), over the same units) sweeps the
+// same body along the same step, and the two answers are tallied.
 //
 // Lifetimes: the comparison holds the reference world by reference and must not outlive it; the
 // method's world holds the comparison by pointer while it observes (ObservedSweeps), so the
@@ -28,9 +28,12 @@ struct ReferenceTally {
   std::uint64_t missed = 0;             // the reference's contact came before the method's (by more
                                         // than both exact methods' contact tolerance), or the method
                                         // found none: the viewer would go into real geometry
-  std::uint64_t earlyStops = 0;         // the method stopped the step, the real geometry did not,
-                                        // but would further along the same direction (within
-                                        // kEarlyStopHorizon): the volumes stop the body short
+  std::uint64_t earlyStops = 0;         // the method stopped the body short of the real geometry along
+                                        // the same direction by more than both exact methods' contact
+                                        // tolerance: within the step, or further on within
+                                        // kEarlyStopHorizon (the volumes stop the body short)
+  double earlyStopMaxMm = 0, earlyStopSumMm = 0;  // how far short: the distance the body could still
+                                                  // have moved along the step to the real contact
   std::uint64_t falseBlocks = 0;        // the method stopped the step, and the real geometry is not
                                         // met along that direction within kEarlyStopHorizon either
 };

@@ -9,13 +9,14 @@ const char* volumeMethodName(VolumeMethod m) {
     case VolumeMethod::Obb: return "obb";
     case VolumeMethod::NestedMesh: return "nested+mesh";
     case VolumeMethod::Kdop18: return "kdop18";
+    case VolumeMethod::Auto: return "auto";
   }
   return "?";
 }
 
 bool parseVolumeMethod(const std::string& name, VolumeMethod& out) {
   for (VolumeMethod m : {VolumeMethod::Nested, VolumeMethod::Aabb, VolumeMethod::Obb, VolumeMethod::NestedMesh,
-                         VolumeMethod::Kdop18})
+                         VolumeMethod::Kdop18, VolumeMethod::Auto})
     if (name == volumeMethodName(m)) {
       out = m;
       return true;

@@ -18,9 +18,14 @@ namespace nestwalk {
 //              OBB tree: blocks only on real contact (exact reference)
 //   Kdop18     the body box against the real triangles through a k-DOP-18 tree, right after the
 //              broad phase (exact, no nested stage)
+//   Auto       chosen per collision unit at load time from its own geometry (walker/contact_choice.h):
+//              Nested where the inner OBB is tight around the unit's triangles, NestedMesh where it
+//              is not (the mining-dump paper's future work: the test chosen by the kind of object)
 // The mesh methods test a unit without any triangle (points or lines only) by its nested volumes.
-enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18 };
-inline bool usesMeshes(VolumeMethod m) { return m == VolumeMethod::NestedMesh || m == VolumeMethod::Kdop18; }
+enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18, Auto };
+inline bool usesMeshes(VolumeMethod m) {
+  return m == VolumeMethod::NestedMesh || m == VolumeMethod::Kdop18 || m == VolumeMethod::Auto;
+}
 
 struct MethodSpec {
   VolumeMethod volumes = VolumeMethod::Nested;
@@ -29,7 +34,7 @@ struct MethodSpec {
   ObbFitter fitter = ObbFitter::HullSearch;
 };
 
-const char* volumeMethodName(VolumeMethod m);  // "nested", "aabb", "obb", "nested+mesh", "kdop18"
+const char* volumeMethodName(VolumeMethod m);  // "nested", "aabb", "obb", "nested+mesh", "kdop18", "auto"
 // The method named so (the names above); false for an unknown name.
 bool parseVolumeMethod(const std::string& name, VolumeMethod& out);
 std::string describe(const MethodSpec& m);     // e.g. "nested, auto delta=4 longest/median, hull-search"

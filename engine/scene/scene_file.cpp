@@ -108,7 +108,7 @@ MethodSpec readMethod(const JsonFieldReader& r, const Json& m) {
   if (m.contains("volumes")) {
     const std::string v = r.string(m["volumes"], "method.volumes");
     if (!parseVolumeMethod(v, s.volumes))
-      r.fail("method.volumes", "expected nested, aabb, obb, nested+mesh or kdop18, got '" + v + "'");
+      r.fail("method.volumes", "expected nested, aabb, obb, nested+mesh, kdop18 or auto, got '" + v + "'");
   }
   if (m.contains("hierarchy")) {
     const std::string h = r.string(m["hierarchy"], "method.hierarchy");

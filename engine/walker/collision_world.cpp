@@ -16,6 +16,13 @@ Aabb<double> broadPhaseBox(const NestedVolume<double>& v, VolumeMethod m) {
   return m == VolumeMethod::Obb ? aabbOf(v.inner) : v.outer;
 }
 
+/// Whether two sweeps are the same to the last bit (the same body volumes and motion).
+bool sameSweep(const NestedVolume<double>& a, const Vec3<double>& da, const NestedVolume<double>& b,
+               const Vec3<double>& db) {
+  return da == db && a.outer.min == b.outer.min && a.outer.max == b.outer.max && a.inner.center == b.inner.center &&
+         a.inner.axes == b.inner.axes && a.inner.halfExtents == b.inner.halfExtents;
+}
+
 }  // namespace
 
 CollisionWorld::CollisionWorld(std::vector<NestedVolume<double>> units, std::vector<std::string> names,
@@ -48,13 +55,25 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
   if (meshes && meshes->units() != units_.size())
     throw std::invalid_argument("CollisionWorld: the meshes' units differ from the world's");
   meshes_ = std::move(meshes);
+  choices_.clear();
+  if (method_.volumes != VolumeMethod::Auto || !meshes_) return;
+  choices_.reserve(units_.size());
+  for (std::uint32_t u = 0; u < units_.size(); ++u) {
+    if (meshes_->triangles(u) == 0) {  // points or lines: the nested volumes stand for the unit
+      choices_.push_back({true, 0.0, 0});
+      continue;
+    }
+    choices_.push_back(obbSurfaceGap(units_[u].inner, [&](const Vec3<double>& p, std::optional<Triangle>& t) {
+      return meshes_->nearestTriangle(u, p, t);
+    }));
+  }
 }
 
 SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
                                             double t0, const Vec3<double>& normal, MeshTreeKind kind,
                                             CollisionCounters& counters) const {
   MeshQueryCounters mc;
-  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, kind, mc);
+  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, kind, mc, search_);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   SweptNestedResult r;
@@ -65,6 +84,7 @@ SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, 
   // motion presses into the triangles, and must not when it leads away.
   const Vec3<double> along = d.normalized();
   if (c->t <= 0.0) r.normal = c->pressing ? Vec3<double>(-along) : along;
+  else if (!c->normal.isZero()) r.normal = c->normal;  // the triangles' own (sliding)
   else r.normal = normal.isZero() ? Vec3<double>(-along) : normal;
   return r;
 }
@@ -76,6 +96,14 @@ const MeshWorld& CollisionWorld::meshWorld() const {
 
 bool CollisionWorld::hasTriangles(std::uint32_t u) const {
   return meshWorld().triangles(u) > 0;
+}
+
+bool CollisionWorld::exactAfterNested(std::uint32_t u) const {
+  switch (method_.volumes) {
+    case VolumeMethod::NestedMesh: return hasTriangles(u);
+    case VolumeMethod::Auto: return exactStage(u);
+    default: return false;
+  }
 }
 
 bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
@@ -101,6 +129,7 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
       break;  // no triangles (points, lines): the unit's nested volumes stand for it
     case VolumeMethod::Nested:
     case VolumeMethod::NestedMesh:
+    case VolumeMethod::Auto:
       break;
   }
   // Stage 1 ran in the broad phase as a static test of the swept box (counted there); its
@@ -109,13 +138,29 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
   if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
   if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
   // The triangles lie inside both volumes: no real contact before the nested one.
-  if (method_.volumes == VolumeMethod::NestedMesh && r.contact && hasTriangles(u))
-    return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
+  if (r.contact && exactAfterNested(u)) return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
   return r;
 }
 
 SweepHit CollisionWorld::sweep(const NestedVolume<double>& viewer, const Vec3<double>& d,
                                CollisionCounters& counters) const {
+  // Frame coherence: a body pressed still against a unit asks the very same sweep frame after
+  // frame; the answer is the same, so it is reused (no test is run, none counted).
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point t0;
+  if (timing_) t0 = Clock::now();
+  if (last_.valid && sameSweep(last_.viewer, last_.d, viewer, d)) {
+    if (timing_) counters.narrowMicros += microsBetween(t0, Clock::now());
+    if (observer_) observer_->onSweep(viewer, d, last_.hit);
+    return last_.hit;
+  }
+  const SweepHit hit = sweepUncached(viewer, d, counters);
+  last_ = {true, viewer, d, hit};
+  return hit;
+}
+
+SweepHit CollisionWorld::sweepUncached(const NestedVolume<double>& viewer, const Vec3<double>& d,
+                                       CollisionCounters& counters) const {
   Aabb<double> swept = viewer.outer;
   swept.extend(Aabb<double>{viewer.outer.min + d, viewer.outer.max + d});
   if (method_.volumes == VolumeMethod::Obb) {
@@ -175,13 +220,13 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
         overlap = satObbObb(viewer.inner, units_[u].inner).overlap;
         break;
       case VolumeMethod::Nested:
-      case VolumeMethod::NestedMesh: {
+      case VolumeMethod::NestedMesh:
+      case VolumeMethod::Auto: {
         const NestedResult r = testNested(viewer, units_[u]);
         if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
         if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
         overlap = r.overlap;
-        if (overlap && method_.volumes == VolumeMethod::NestedMesh && hasTriangles(u))
-          overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);
+        if (overlap && exactAfterNested(u)) overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);
         break;
       }
       case VolumeMethod::Kdop18:

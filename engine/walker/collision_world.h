@@ -6,6 +6,7 @@
 #include "nestwalk/geometry/swept.h"
 #include "nestwalk/hierarchy/box_tree.h"
 #include "nestwalk/scene/scene_file.h"
+#include "nestwalk/walker/contact_choice.h"
 #include "nestwalk/walker/mesh_world.h"
 
 #include <array>
@@ -58,6 +59,13 @@ class CollisionWorld {
   // when their count differs from the units'.
   void setMeshes(std::shared_ptr<const MeshWorld> meshes);
   const std::shared_ptr<const MeshWorld>& meshes() const { return meshes_; }
+  // How the mesh stage finds a step's first contact (mesh_world.h): swept (default) or by
+  // conservative advancement, the independent reference the report compares methods with.
+  void setMeshContactSearch(MeshContactSearch search) { search_ = search; }
+  // Auto: whether unit i gets the exact mesh stage after the nested test, and the verdict on its
+  // inner OBB's gap that decided it (contact_choice.h); false and empty for the other methods.
+  bool exactStage(std::size_t i) const { return !choices_.empty() && !choices_[i].tight; }
+  const std::vector<GapVerdict>& contactChoices() const { return choices_; }
 
   std::size_t size() const { return units_.size(); }
   const NestedVolume<double>& unit(std::size_t i) const { return units_[i]; }
@@ -74,12 +82,16 @@ class CollisionWorld {
 
   // First contact of the viewer's volumes moving by d (local frame) with any unit. A unit the
   // viewer already touches at t = 0 counts only if d presses into it (against the normal of the
-  // slab it entered last), so that a viewer stopped in contact can always move away.
+  // slab it entered last), so that a viewer stopped in contact can always move away. A sweep
+  // identical to the previous one (a body pressed still against a unit, frame after frame) reuses
+  // its answer without testing anything again (frame coherence; its counters stay 0). A world
+  // answers one thread at a time (its scratch and its last sweep are its own).
   SweepHit sweep(const NestedVolume<double>& viewer, const Vec3<double>& d, CollisionCounters& counters) const;
   // Whether the viewer's volumes overlap any unit (the method's static test); index or -1.
   std::int32_t overlapping(const NestedVolume<double>& viewer, CollisionCounters& counters) const;
 
  private:
+  SweepHit sweepUncached(const NestedVolume<double>& viewer, const Vec3<double>& d, CollisionCounters& counters) const;
   SweptNestedResult sweepUnit(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
                               CollisionCounters& counters) const;
   // The mesh stage of a sweep: first contact of the body box with unit u's triangles from t0;
@@ -91,6 +103,9 @@ class CollisionWorld {
   // Whether unit u has triangles; the mesh methods test a unit without any (a point cloud, a
   // wireframe) by its nested volumes instead.
   bool hasTriangles(std::uint32_t u) const;
+  // Whether the mesh stage follows a nested contact with unit u (NestedMesh: every unit with
+  // triangles; Auto: the units whose inner OBB is not tight).
+  bool exactAfterNested(std::uint32_t u) const;
   // The meshes, for the mesh methods; throws std::logic_error when they were never set.
   const MeshWorld& meshWorld() const;
 
@@ -99,8 +114,17 @@ class CollisionWorld {
   MethodSpec method_;
   BoxTree tree_;
   std::shared_ptr<const MeshWorld> meshes_;
+  std::vector<GapVerdict> choices_;  // Auto: per unit (setMeshes)
   SweepObserver* observer_ = nullptr;  // not owned (setObserver)
   mutable std::vector<std::uint32_t> scratch_;
+  struct LastSweep {
+    bool valid = false;
+    NestedVolume<double> viewer;
+    Vec3<double> d = Vec3<double>::Zero();
+    SweepHit hit;
+  };
+  mutable LastSweep last_;  // frame coherence (sweep)
+  MeshContactSearch search_ = MeshContactSearch::Swept;
   bool timing_ = false;
 };
 

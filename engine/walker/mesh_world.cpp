@@ -71,9 +71,62 @@ double MeshWorld::distance(std::uint32_t unit, const Obb<double>& box, MeshTreeK
   return best;
 }
 
+double MeshWorld::nearestTriangle(std::uint32_t unit, const Vec3<double>& point, std::optional<Triangle>& nearest) const {
+  double best = std::numeric_limits<double>::infinity();
+  nearest.reset();
+  const Obb<double> probe{point, Mat3<double>::Identity(), Vec3<double>::Zero()};
+  MeshQueryCounters c;
+  for (const Part& p : unitParts_[unit]) {
+    Triangle t;
+    const double d = models_[p.model].obb.distance(toModel(p, probe), &c, &t) * p.scale;
+    if (d < best) {
+      best = d;
+      for (Vec3<double>& v : t) v = p.scale * (p.rotation * v) + p.translation;  // model -> local
+      nearest = t;
+    }
+  }
+  return best;
+}
+
 std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, const Obb<double>& box,
                                                            const Vec3<double>& d, double t0, MeshTreeKind kind,
+                                                           MeshQueryCounters& c, MeshContactSearch search) const {
+  return search == MeshContactSearch::Swept ? sweptContact(unit, box, d, t0, kind, c)
+                                            : advancementContact(unit, box, d, t0, kind, c);
+}
+
+bool MeshWorld::pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshTreeKind kind,
+                          MeshQueryCounters& c) const {
+  const double length = d.norm();
+  if (length == 0.0) return true;
+  Obb<double> probe = box;
+  probe.center += std::min(1.0, kPressProbeDistance / length) * d;
+  return distance(unit, probe, kind, c) < distance(unit, box, kind, c);
+}
+
+std::optional<MeshWorld::Contact> MeshWorld::sweptContact(std::uint32_t unit, const Obb<double>& box,
+                                                           const Vec3<double>& d, double t0, MeshTreeKind kind,
                                                            MeshQueryCounters& c) const {
+  Obb<double> grown = box;
+  grown.halfExtents.array() += kMeshContactGrowth;
+  const double start = std::max(0.0, t0);
+  std::optional<Contact> first;
+  for (const Part& p : unitParts_[unit]) {
+    const Model& m = models_[p.model];
+    const Obb<double> b = toModel(p, grown);
+    const Vec3<double> dm = p.rotation.transpose() * d / p.scale;
+    const MeshSweepHit hit = kind == MeshTreeKind::Obb ? m.obb.sweep(b, dm, start, &c) : m.kdop.sweep(b, dm, start, &c);
+    if (hit.contact && (!first || hit.t < first->t)) first = Contact{hit.t, true, p.rotation * hit.normal};
+  }
+  // Touching where the search starts, at the very start of the step: a contact only if the motion
+  // presses in (the walker must be able to move away from a contact).
+  if (first && first->t == 0.0) first->pressing = pressesIn(unit, box, d, kind, c);
+  return first;
+}
+
+std::optional<MeshWorld::Contact> MeshWorld::advancementContact(std::uint32_t unit, const Obb<double>& box,
+                                                                 const Vec3<double>& d, double t0, MeshTreeKind kind,
+                                                                 MeshQueryCounters& c) const {
   const double length = d.norm();
   Obb<double> moved = box;
   auto distanceAt = [&](double t) {
@@ -83,13 +136,9 @@ std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, co
   double t = std::max(0.0, t0);
   double dist = distanceAt(t);
   if (dist <= kMeshContactTolerance) {
-    // Already in contact where the search starts: at the very start of the step it is a contact
-    // only if the motion presses in (the walker must be able to move away from a contact).
+    // Already in contact where the search starts (see sweptContact).
     Contact contact{t, true};
-    if (t == 0.0 && length > 0.0) {
-      const double probe = std::min(1.0, kPressProbeDistance / length);
-      contact.pressing = distanceAt(probe) < dist;
-    }
+    if (t == 0.0) contact.pressing = pressesIn(unit, box, d, kind, c);
     return contact;
   }
   if (length == 0.0) return std::nullopt;

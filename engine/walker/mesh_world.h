@@ -4,13 +4,22 @@
 // local frame: does it touch a unit's triangles, how far is it from them, and where along a step
 // does it first come within a contact tolerance of them.
 //
-// First contact along a step (box + t d, t in [t0, 1]) is found by conservative advancement:
-// at t the distance D to the triangles is computed exactly; no point of the box moves more than
-// |d| dt, so nothing can be touched before t + D / |d|, and t advances by that much until D falls
-// to kMeshContactTolerance (or the step ends). It never steps over an obstacle, however thin or
-// fast (a 5 cm pole at 50 m/s is met like any other), and stops within the tolerance of the
-// surface; a motion grazing a face at a small distance takes more iterations (capped: at the cap
-// the current t is returned, a conservative early contact).
+// First contact along a step (box + t d, t in [t0, 1]), two ways to the same answer:
+//  - MeshContactSearch::Swept (the walker's): the box grown by kMeshContactGrowth on every side is
+//    swept through the tree once (MeshTree::sweep: exact intervals in t per triangle, never
+//    late). The grown box touches a triangle exactly when the real box's distance to it, measured
+//    in the box's own axes (the largest of the three per-axis gaps), is at most the growth: so at
+//    the contact the Euclidean distance is between kMeshContactGrowth and
+//    sqrt(3) kMeshContactGrowth = kMeshContactTolerance, and no earlier time has it at or below
+//    kMeshContactGrowth. One traversal per step, whatever the approach angle.
+//  - MeshContactSearch::Advancement (the reference the report compares every method with):
+//    conservative advancement on exact distances. At t the distance D is computed; no point of the
+//    box moves more than |d| dt, so nothing can be touched before t + D / |d|, and t advances by
+//    that much until D falls to kMeshContactTolerance (or the step ends). Independent of the swept
+//    tests (it uses only triangleBoxDistance), slower on grazing motions (more iterations, capped:
+//    at the cap the current t is returned, a conservative early contact).
+// Neither steps over an obstacle, however thin or fast (a 5 cm pole at 50 m/s is met like any
+// other); both stop within kMeshContactTolerance of the surface.
 //
 // Frames: instances' transforms are similarities (rotation, uniform scale, translation; scene.h);
 // the box is taken into each model's frame by the inverse, the distance scaled back.
@@ -32,6 +41,11 @@ enum class MeshTreeKind : std::uint8_t { Obb, Kdop18 };
 // Contact: within this distance of the triangles (metres). The walker then stops kStopDistance
 // (0.5 mm) short along its step, so the stop gap stays within about 0.6 mm.
 inline constexpr double kMeshContactTolerance = 1e-4;
+// The swept search grows the box by this on every side (metres): its corners then reach
+// sqrt(3) times as far, the contact tolerance.
+inline constexpr double kMeshContactGrowth = kMeshContactTolerance / 1.7320508075688772;
+
+enum class MeshContactSearch : std::uint8_t { Swept, Advancement };
 // Advancement steps per sweep at most: a motion grazing a face keeps the distance small and the
 // steps short; at the cap the current t is returned (a conservative early contact). 4096 steps
 // of at least kMeshContactTolerance / 2 cover 0.2 m, more than any step at walking speeds.
@@ -46,15 +60,21 @@ class MeshWorld {
   std::size_t triangles(std::size_t unit) const;
   bool overlaps(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
   double distance(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
+  /// The distance from a point (local frame) to the unit's triangles and the triangle at that
+  /// distance (local frame); +infinity and no triangle for a unit without triangles.
+  double nearestTriangle(std::uint32_t unit, const Vec3<double>& point, std::optional<Triangle>& nearest) const;
 
   struct Contact {
     double t = 1.0;
     bool pressing = true;  // at t0 already within the tolerance: whether d moves closer
+    Vec3<double> normal = Vec3<double>::Zero();  // local frame, from the triangles toward the box;
+                                                 // zero when unknown (at t0, or by advancement)
   };
-  // The first t in [t0, 1] at which box + t d comes within kMeshContactTolerance of the unit's
-  // triangles; nullopt when it never does within the step.
+  // The first t in [t0, 1] at which box + t d comes within the contact tolerance of the unit's
+  // triangles (see the header comment); nullopt when it never does within the step.
   std::optional<Contact> firstContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
-                                      MeshTreeKind kind, MeshQueryCounters& c) const;
+                                      MeshTreeKind kind, MeshQueryCounters& c,
+                                      MeshContactSearch search = MeshContactSearch::Swept) const;
 
  private:
   struct Model {
@@ -69,6 +89,13 @@ class MeshWorld {
     Vec3<double> translation;
   };
   Obb<double> toModel(const Part& p, const Obb<double>& box) const;
+  std::optional<Contact> sweptContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
+                                      MeshTreeKind kind, MeshQueryCounters& c) const;
+  std::optional<Contact> advancementContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d,
+                                            double t0, MeshTreeKind kind, MeshQueryCounters& c) const;
+  // At the very start of a step, within the tolerance already: whether the motion presses in.
+  bool pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshTreeKind kind,
+                 MeshQueryCounters& c) const;
   std::vector<Model> models_;
   std::vector<std::vector<Part>> unitParts_;
 };

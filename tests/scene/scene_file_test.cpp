@@ -211,7 +211,7 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
       {[](Json& j) { j["viewer"] = {{"speed", 0}}; }, "viewer.speed: must be > 0"},
       {[](Json& j) { j["viewer"] = {{"fly_clearance", -1}}; }, "viewer.fly_clearance: must be >= 0"},
       {[](Json& j) { j["viewer"] = 1.7; }, "viewer: expected an object, got number"},
-      {[](Json& j) { j["method"] = {{"volumes", "mesh"}}; }, "method.volumes: expected nested, aabb, obb, nested+mesh or kdop18, got 'mesh'"},
+      {[](Json& j) { j["method"] = {{"volumes", "mesh"}}; }, "method.volumes: expected nested, aabb, obb, nested+mesh, kdop18 or auto, got 'mesh'"},
       {[](Json& j) { j["method"] = {{"hierarchy", "tree"}}; },
        "method.hierarchy: expected auto or template, got 'tree'"},
       {[](Json& j) { j["method"] = {{"degree", 3}}; }, "method.degree: expected 2, 4 or 8, got 3"},

@@ -18,7 +18,8 @@ TEST(MakeScene, WritesTheSceneAndKeepsAnExistingFolder) {
   const auto r = runNestwalk("make-scene " + quoted(out) + " --seed 3");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   for (const char* f : {"terrain.tif", "scene.json", "scripts/bench_patrol.txt", "scripts/ramp_descent.txt",
-                        "scripts/low_flight.txt", "models/sensor_pole.osgt", "models/weather_station.osgt"})
+                        "scripts/low_flight.txt", "scripts/equipment_walk.txt", "scripts/equipment_fly.txt",
+                        "models/sensor_pole.osgt", "models/weather_station.osgt"})
     EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
   const auto scene = nlohmann::json::parse(readText(out / "scene.json"));
   EXPECT_EQ(scene["terrain"], "terrain.tif");

@@ -15,7 +15,8 @@ namespace fs = std::filesystem;
 
 const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
 const fs::path kScripts = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts";
-const char* const kScriptNames[] = {"bench_patrol.txt", "ramp_descent.txt", "low_flight.txt"};
+const char* const kScriptNames[] = {"bench_patrol.txt", "ramp_descent.txt", "low_flight.txt", "equipment_walk.txt",
+                                    "equipment_fly.txt"};
 
 /// The CSV with the columns from `firstCut` on removed (the timing columns come last).
 std::string cutColumns(const std::string& csv, const std::string& firstCut) {

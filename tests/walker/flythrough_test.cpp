@@ -87,7 +87,8 @@ TEST_P(BundledFlythrough, WalkingEyeIsEyeHeightAboveTheTerrainQuery) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scripts, BundledFlythrough,
-                         ::testing::Values("bench_patrol.txt", "ramp_descent.txt", "low_flight.txt"),
+                         ::testing::Values("bench_patrol.txt", "ramp_descent.txt", "low_flight.txt",
+                                           "equipment_walk.txt", "equipment_fly.txt"),
                          [](const auto& info) { return fs::path(info.param).stem().string(); });
 
 }  // namespace

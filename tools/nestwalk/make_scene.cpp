@@ -1,6 +1,6 @@
 // nestwalk make-scene DIR [--seed N] [--overwrite]: generates the bundled mining-dump scene
 // (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/models/*.osgt, DIR/scene.json and
-// DIR/scripts/{bench_patrol,ramp_descent,low_flight}.txt, built in a temporary folder beside DIR
+// DIR/scripts/{bench_patrol,ramp_descent,low_flight,equipment_walk,equipment_fly}.txt, built in a temporary folder beside DIR
 // and renamed to DIR at the end. An existing DIR is replaced only with --overwrite.
 #include "assets/generators/scene_generator.h"
 #include "tools/nestwalk/commands.h"
@@ -38,6 +38,13 @@ void runMakeScene(const MakeSceneArgs& args) {
               P.rampToe.x(), P.rampToe.y());
   std::printf("  flight:     scripts/low_flight.txt: %.3f %.3f -> %.3f %.3f\n", P.flightStart.x(), P.flightStart.y(),
               P.flightEnd.x(), P.flightEnd.y());
+  for (const auto& [file, events] : scene.tourEvents) {
+    std::map<std::string, int> byKind;
+    for (const auto& [group, kind] : events) ++byKind[kind];
+    std::printf("  tour:       scripts/%s: %zu blocking events:", file.c_str(), events.size());
+    for (const auto& [kind, n] : byKind) std::printf(" %s %d", kind.c_str(), n);
+    std::printf("\n");
+  }
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ std::pair<int, int> parseSize(const std::string& text) {
 MethodSpec methodFrom(const RunArgs& a, MethodSpec m) {
   if (!a.volumes.empty()) {
     if (!parseVolumeMethod(a.volumes, m.volumes))
-      throw InputError("--method: expected nested, aabb, obb, nested+mesh or kdop18, got '" + a.volumes + "'");
+      throw InputError("--method: expected nested, aabb, obb, nested+mesh, kdop18 or auto, got '" + a.volumes + "'");
   }
   if (!a.hierarchy.empty()) {
     if (a.hierarchy == "template") m.templateHierarchy = true;
@@ -244,7 +244,7 @@ void registerRun(CLI::App& app) {
   cmd->add_flag("--slide", args->slide, "Slide along contact faces instead of stopping");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->add_option("--hz", args->hz, "Steps per second (fixed time step 1/hz; default 60)")->check(CLI::Range(1.0, 10000.0));
-  cmd->add_option("--method", args->volumes, "Contact test: nested (default), aabb, obb, nested+mesh, kdop18 (overrides the scene)");
+  cmd->add_option("--method", args->volumes, "Contact test: nested (default), aabb, obb, nested+mesh, kdop18, auto (overrides the scene)");
   cmd->add_option("--hierarchy", args->hierarchy, "Broad phase: auto or template (overrides the scene)");
   cmd->add_option("--degree", args->degree, "Auto hierarchy: children per node, 2, 4 or 8")->check(CLI::IsMember({2, 4, 8}));
   cmd->add_option("--split-axis", args->splitAxis, "Auto hierarchy: longest or splatter");

@@ -1,0 +1,63 @@
+// The contact test chosen per collision unit (VolumeMethod::Auto, scene/method_spec.h): the
+// mining-dump paper's own future work, "choose the test by the kind of object", decided at load
+// time from each unit's own geometry instead of a label.
+//
+// Criterion: the nested test (AABB, then OBB) stops the body where it touches the unit's inner
+// OBB; the real surface lies somewhere inside. How far inside it can lie, at worst, is the largest
+// distance from a point of the OBB's surface to the unit's triangles, its gap. A body stopped on
+// the box is never further than that from the real surface, so where the gap is at most
+// kTightObbGap the nested test alone is kept (a container, a logger box: the box is the model);
+// where it is more, the exact mesh stage follows the nested one (a mast with its arm, a pole, a
+// tilted panel on its frame, an L-shaped piece).
+//
+// Threshold: kTightObbGap = 10 mm, the limit on an early stop. The measurement behind it
+// (`nestwalk report`, its "auto" table, on the bundled scene): the boxes the generator builds have
+// gaps of 0 (to rounding) and every other model's gap is centimetres at least (a 5 cm pole in its
+// square box: 2.1 cm; jersey barriers, panels, stations, the pickup: decimetres), so 10 mm
+// separates the two classes with margin on either side; and the report measures the early stops
+// auto leaves (none longer than 10 mm) against the exact reference.
+//
+// The gap is found by branch and bound over the six faces. A patch of a face (a rectangle) has
+// gap at most the largest distance from its four corners to T, the triangle nearest its centre
+// (the distance to one triangle is convex, so over the patch it is largest at a corner, and the
+// distance to the mesh is at most that to T); and at most d(c) + r (c its centre, r its half
+// diagonal: the distance is 1-Lipschitz). On a face the model's triangles cover (a box) the first
+// bound is 0 for every patch inside one triangle, so only the patches along the triangles' edges
+// are split, down to the threshold's size (a box of 0.6 x 0.4 x 0.5 m: about 1300 queries). Patches are split in four, the one with the largest bound
+// first, until a point's distance exceeds the threshold (not tight: the gap is at least that) or
+// no patch's bound does (tight). Patches smaller than kGapResolution whose bound still exceeds the
+// threshold count as not tight (conservative: the exact stage), as does running past
+// kMaxGapProbes distance queries.
+#pragma once
+
+#include "nestwalk/geometry/triangle_box.h"
+#include "nestwalk/geometry/volumes.h"
+
+#include <functional>
+#include <optional>
+
+namespace nestwalk {
+
+/// Metres: the largest gap between a unit's inner OBB and its triangles for which the nested test
+/// alone decides contact (see above).
+inline constexpr double kTightObbGap = 0.01;
+/// Metres: patches of the OBB's faces are not split below this (a tenth of the threshold).
+inline constexpr double kGapResolution = 0.001;
+/// Distance queries per unit at most (a few milliseconds of load time for a complex model).
+inline constexpr int kMaxGapProbes = 20000;
+
+struct GapVerdict {
+  bool tight = false;     // gap <= threshold: the nested test suffices
+  double lowerBound = 0;  // metres: the largest distance found (the gap is at least this)
+  int probes = 0;         // distance queries made
+};
+
+/// The distance from a point to the triangles and the nearest triangle (+infinity and none when
+/// there are no triangles).
+using NearestTriangleQuery = std::function<double(const Vec3<double>& point, std::optional<Triangle>& nearest)>;
+
+/// Decides whether the gap between `box`'s surface and the triangles `nearest` measures is at most
+/// `threshold`.
+GapVerdict obbSurfaceGap(const Obb<double>& box, const NearestTriangleQuery& nearest, double threshold = kTightObbGap);
+
+}  // namespace nestwalk
