@@ -2,10 +2,9 @@
 
 #include "assets/generators/equipment_tours.h"
 #include "assets/generators/footprint_rect.h"
+#include "assets/generators/generated_folder.h"
 
 #include "nestwalk/core/angles.h"
-#include "nestwalk/core/input_error.h"
-#include "nestwalk/core/output_file.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
 
@@ -16,10 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <random>
-#include <system_error>
 
 namespace nestwalk::assets {
 namespace {
@@ -166,10 +163,13 @@ std::string xy(const Eigen::Vector2d& p) { return fmt(p.x()) + " " + fmt(p.y());
 
 }  // namespace
 
-GeneratedScene generateScene(std::uint64_t seed) {
+GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
   GeneratedScene out;
   out.seed = seed;
+  out.site = site;
   out.params.seed = seed;
+  out.params.centreE = site.centreE;
+  out.params.centreN = site.centreN;
   out.dump = terrain::generateMiningDump(out.params);
   const DumpGeometry g = dumpGeometry(out.params, out.dump.layout);
   out.geometry = g;
@@ -383,34 +383,16 @@ GeneratedScene generateScene(std::uint64_t seed) {
 }
 
 void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite) {
-  fs::path out = fs::path(dir).lexically_normal();
-  if (out.filename().empty()) out = out.parent_path();
-  if (out.empty()) throw InputError("make-scene: empty output folder name");
-  std::error_code ec;
-  if (fs::exists(out, ec) && !overwrite)
-    throw InputError(out.string() + ": already exists (use --overwrite to replace it)");
-  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  fs::create_directories(parent, ec);
-  OutputFolder folder(out.string());
-  const fs::path tmp(folder.tempPath());
-  try {
+  writeGeneratedFolder(dir, overwrite, [&](const fs::path& tmp) {
     fs::create_directories(tmp / "models");
     fs::create_directories(tmp / "scripts");
     const terrain::MiningDump& d = scene.dump;
     terrain::writeTerrainCog((tmp / "terrain.tif").string(), d.cols, d.rows, d.heights, d.originX, d.originY, d.cell,
-                             d.cell, terrain::kMiningDumpCrs, false);
+                             d.cell, scene.site.crs, false);
     for (ModelKind m : kAllModels) writeModel(m, (tmp / "models" / modelFileName(m)).string());
-    auto writeText = [](const fs::path& p, const std::string& text) {
-      std::ofstream f(p, std::ios::binary);
-      f << text;
-      if (!f.flush()) throw InputError(p.string() + ": cannot write");
-    };
-    writeText(tmp / "scene.json", scene.sceneJson);
-    for (const auto& [name, text] : scene.scripts) writeText(tmp / "scripts" / name, text);
-  } catch (const fs::filesystem_error& e) {
-    throw InputError(out.string() + ": " + e.what());
-  }
-  folder.commit();
+    writeTextFile(tmp / "scene.json", scene.sceneJson);
+    for (const auto& [name, text] : scene.scripts) writeTextFile(tmp / "scripts" / name, text);
+  });
 }
 
 }  // namespace nestwalk::assets

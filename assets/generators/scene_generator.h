@@ -64,8 +64,16 @@ struct ScriptPoints {
   double flightHeading = 0;
 };
 
+/// Where the dump lies: its area's centre in a projected CRS (metres, x east, y north) and that CRS.
+/// The default is the bundled scene's (terrain/mining_dump.h: UTM 51N).
+struct SceneSite {
+  double centreE = 550000.0, centreN = 4650000.0;
+  const char* crs = terrain::kMiningDumpCrs;
+};
+
 struct GeneratedScene {
   std::uint64_t seed = 1;
+  SceneSite site;
   terrain::MiningDumpParams params;
   terrain::MiningDump dump;
   DumpGeometry geometry;
@@ -78,7 +86,7 @@ struct GeneratedScene {
 };
 
 /// Generates the scene in memory (terrain grid, placements, JSON, scripts). Takes about a second.
-GeneratedScene generateScene(std::uint64_t seed);
+GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site = {});
 
 /// Writes the scene into `dir`: terrain.tif, models/*.osgt, scene.json, scripts/*.txt. `dir` is
 /// built under a temporary name beside it and renamed to `dir` at the end; an existing `dir` is

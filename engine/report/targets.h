@@ -21,8 +21,8 @@ struct Target {
 /// The targets as a JSON array of {name, target, value, met} (NaN values as null).
 nlohmann::ordered_json targetsJson(const std::vector<Target>& targets);
 
-/// Prints "targets:" and one line a target (name and what in columns of the given widths), after
-/// an empty line; nothing when there are none.
+/// Prints "targets:" and one line a target (name and what in columns of the given widths, the
+/// name's widened to the longest name), after an empty line; nothing when there are none.
 void printTargets(std::ostream& out, const std::vector<Target>& targets, int nameWidth, int whatWidth);
 
 }  // namespace nestwalk

@@ -1,7 +1,11 @@
-// nestwalk make-scene DIR [--seed N] [--overwrite]: generates the bundled mining-dump scene
+// nestwalk make-scene DIR [--seed N] [--gis-inputs] [--overwrite]: generates the bundled mining-dump scene
 // (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/models/*.osgt, DIR/scene.json and
 // DIR/scripts/{bench_patrol,ramp_descent,low_flight,equipment_walk,equipment_fly}.txt, built in a temporary folder beside DIR
-// and renamed to DIR at the end. An existing DIR is replaced only with --overwrite.
+// and renamed to DIR at the end. An existing DIR is replaced only with --overwrite. With
+// --gis-inputs it writes instead what a user brings to `nestwalk build-scene` (gis_inputs.h): a
+// dump generated at a high-latitude UTM site, as a DEM, a GeoPackage, a catalog, models and the
+// flythroughs.
+#include "assets/generators/gis_inputs.h"
 #include "assets/generators/scene_generator.h"
 #include "tools/nestwalk/commands.h"
 
@@ -16,9 +20,22 @@ struct MakeSceneArgs {
   std::string dir;
   std::uint64_t seed = 1;
   bool overwrite = false;
+  bool gisInputs = false;
 };
 
 void runMakeScene(const MakeSceneArgs& args) {
+  if (args.gisInputs) {
+    const assets::GeneratedScene scene = assets::generateScene(args.seed, assets::kGisSampleSite);
+    assets::writeGisInputs(scene, args.dir, args.overwrite);
+    std::printf("wrote the GIS inputs of a generated dump (seed %llu, %s) to %s:\n"
+                "  dem.tif, equipment.gpkg (layers equipment and fences, EPSG:4326), catalog.json, models/, "
+                "scripts/\n"
+                "build the scene with: nestwalk build-scene --terrain %s/dem.tif --equipment %s/equipment.gpkg "
+                "--catalog %s/catalog.json --out SCENE_DIR\n",
+                static_cast<unsigned long long>(args.seed), scene.site.crs, args.dir.c_str(), args.dir.c_str(),
+                args.dir.c_str(), args.dir.c_str());
+    return;
+  }
   const assets::GeneratedScene scene = assets::generateScene(args.seed);
   assets::writeScene(scene, args.dir, args.overwrite);
   std::map<std::string, int> kinds;
@@ -56,6 +73,8 @@ void registerMakeScene(CLI::App& app) {
       "Generate the bundled mining-dump scene: terrain, equipment models (OSG native), scene.json and its scripts");
   cmd->add_option("DIR", args->dir, "Output folder; replaced only with --overwrite")->required();
   cmd->add_option("--seed", args->seed, "Random seed (same seed, same scene)")->default_val(1);
+  cmd->add_flag("--gis-inputs", args->gisInputs,
+                "Write GIS inputs for build-scene instead (DEM, GeoPackage, catalog, models, flythroughs)");
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing DIR");
   cmd->callback([args] { runMakeScene(*args); });
 }
