@@ -6,26 +6,32 @@
 // OBB; the real surface lies somewhere inside. How far inside it can lie, at worst, is the largest
 // distance from a point of the OBB's surface to the unit's triangles, its gap. A body stopped on
 // the box is never further than that from the real surface, so where the gap is at most
-// kTightObbGap the nested test alone is kept (a container, a logger box: the box is the model);
+// kTightObbGap the nested test alone is kept (a cabinet, a tank, any model that is its box);
 // where it is more, the exact mesh stage follows the nested one (a mast with its arm, a pole, a
 // tilted panel on its frame, an L-shaped piece).
 //
-// Threshold: kTightObbGap = 10 mm, the limit on an early stop. The measurement behind it
-// (`nestwalk report`, its "auto" table, on the bundled scene): the boxes the generator builds have
-// gaps of 0 (to rounding) and every other model's gap is centimetres at least (a 5 cm pole in its
-// square box: 2.1 cm; jersey barriers, panels, stations, the pickup: decimetres), so 10 mm
-// separates the two classes with margin on either side; and the report measures the early stops
-// auto leaves (none longer than 10 mm) against the exact reference.
+// Threshold: kTightObbGap = 10 mm, the limit on an early stop. What it bounds: a body
+// stopped on a tight box is at most 10 mm from the real surface (the stop gap); measured along the
+// motion, the distance it could still have gone is that over the cosine of the angle between the
+// motion and the face's normal (10 mm head on, 20 mm at 60 degrees; a grazing motion can always
+// be stopped short by more). The measurements behind it: a box's own OBB has gap 0 (to rounding),
+// a bare round pole's square box 0.41 of its radius (8.3 mm at 4 cm across, 12.4 mm at 6 cm:
+// contact_choice_test, shapes on both sides of the threshold checked against a dense brute
+// force); on the bundled scene (`nestwalk report`, its auto table)
+// every model's smallest gap is a decimetre or more (poles 95 mm, containers 100 mm: their bottom
+// rails leave the box's floor empty; barriers 106 mm; logger boxes 144 mm; piezometers, panels,
+// stations and pickups 225 to 450 mm), so there auto gives every unit the exact stage, and the
+// report measures the early stops it leaves against the exact reference (none).
 //
 // The gap is found by branch and bound over the six faces. A patch of a face (a rectangle) has
 // gap at most the largest distance from its four corners to T, the triangle nearest its centre
 // (the distance to one triangle is convex, so over the patch it is largest at a corner, and the
 // distance to the mesh is at most that to T); and at most d(c) + r (c its centre, r its half
-// diagonal: the distance is 1-Lipschitz). On a face the model's triangles cover (a box) the first
+// diagonal: the distance is 1-Lipschitz). Patches are split in four, the one with the largest
+// bound first, until a point's distance exceeds the threshold (not tight: the gap is at least
+// that) or no patch's bound does (tight). On a face the model's triangles cover (a box) the first
 // bound is 0 for every patch inside one triangle, so only the patches along the triangles' edges
-// are split, down to the threshold's size (a box of 0.6 x 0.4 x 0.5 m: about 1300 queries). Patches are split in four, the one with the largest bound
-// first, until a point's distance exceeds the threshold (not tight: the gap is at least that) or
-// no patch's bound does (tight). Patches smaller than kGapResolution whose bound still exceeds the
+// are split, down to the threshold's size (a box of 0.6 x 0.4 x 0.5 m: about 1300 queries). Patches smaller than kGapResolution whose bound still exceeds the
 // threshold count as not tight (conservative: the exact stage), as does running past
 // kMaxGapProbes distance queries.
 #pragma once
