@@ -5,9 +5,6 @@
 #include <osg/Geometry>
 #include <osg/NodeVisitor>
 #include <osg/TriangleIndexFunctor>
-#include <osgDB/FileUtils>
-#include <osgDB/ReadFile>
-#include <osgDB/Registry>
 
 #include <unordered_map>
 
@@ -103,30 +100,15 @@ TriangleMesh collectModelGeometry(const osg::Node& node, const std::string& name
   const_cast<osg::Node&>(node).accept(collector);
   if (geometry.vertices.empty())
     throw InputError(name + ": the model holds no vertices (no geometry that a primitive refers to)");
+  for (const Vec3<double>& v : geometry.vertices)
+    if (!v.allFinite())  // a corrupt file, or a transform that overflows
+      throw InputError(name + ": the model has a vertex with a coordinate that is not a finite number");
   return geometry;
-}
-
-ModelFile readModelFile(const std::string& path) {
-  ModelFile out;
-  if (!osgDB::fileExists(path)) {
-    out.problem = "no such file";
-  } else if (osgDB::fileType(path) == osgDB::DIRECTORY) {
-    out.problem = "is a folder, not a model file";
-  } else {
-    osgDB::Registry* registry = osgDB::Registry::instance();
-    osgDB::ReaderWriter::ReadResult rr = registry->readNode(path, registry->getOptions());
-    out.node = rr.getNode();
-    if (!out.node)
-      out.problem = rr.notHandled() ? "no OpenSceneGraph plugin reads it"
-                    : rr.message().empty() ? rr.statusMessage()
-                                           : rr.message();
-  }
-  return out;
 }
 
 TriangleMesh loadModelGeometry(const std::string& path) {
   const ModelFile file = readModelFile(path);
-  if (!file.node) throw InputError(path + ": " + file.problem);
+  if (!file.node) throw InputError(modelFileError(path, file.problem));
   return collectModelGeometry(*file.node, path);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "nestwalk/geometry/triangle_mesh.h"
+#include "nestwalk/scene/model_file.h"
 
 #include <osg/Node>
 #include <osg/ref_ptr>
@@ -11,20 +12,11 @@
 
 namespace nestwalk {
 
-/// A model file read with osgDB (any format a plugin reads): the node, or why there is none
-/// ("no such file", "is a folder", "no OpenSceneGraph plugin reads it", the plugin's message).
-/// Every model nestwalk loads is read here.
-struct ModelFile {
-  osg::ref_ptr<osg::Node> node;
-  std::string problem;  // "" when the node was read
-};
-ModelFile readModelFile(const std::string& path);
-
-/// Reads a model with osgDB (any format a plugin reads) and collects its geometry: every vertex a
+/// Reads a model (readModelFile, model_file.h: guarded) and collects its geometry: every vertex a
 /// primitive refers to, under the file's transforms, and OSG's triangulation of every primitive
 /// set (indices into the vertices).
-/// Throws InputError naming the file when it does not exist, no plugin reads it, or it holds no
-/// vertex at all. A model with vertices but no triangles (a point cloud, lines) is returned with
+/// Throws InputError (modelFileError's message) when it does not exist, no plugin reads it, the
+/// read fails, or it holds no vertex at all, or a vertex that is not finite (NaN, infinity). A model with vertices but no triangles (a point cloud, lines) is returned with
 /// an empty triangle list.
 TriangleMesh loadModelGeometry(const std::string& path);
 

@@ -81,6 +81,13 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
   declareScene(cmd, o.scene, o.scripts, "the flythroughs");
 }
 
+void declareOptions(CLI::App& cmd, ModelReadBenchOptions& o) {
+  declareCommon(cmd, o, "3 reads of each kind per model");
+  cmd.add_option("--repetitions", o.repetitions, "Reads of each kind per model (default 15)")->check(CLI::Range(1, 1000));
+  cmd.add_option("--models", o.models, "Model files (default: the bundled, GIS-sample and shared models)")
+      ->check(CLI::ExistingFile);
+}
+
 void completeOptions(WalkerBenchOptions& o) {
   if (!o.table2) return;
   try {

@@ -20,6 +20,7 @@ void registerExport(CLI::App& app);          // nestwalk export SCENE OUT.osgb
 void registerRun(CLI::App& app);             // nestwalk run SCENE --script FILE --headless --out DIR
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]
 void registerBenchRender(CLI::App& bench);  // nestwalk bench render [--json]
+void registerBenchModels(CLI::App& bench);  // nestwalk bench models [--json]
 void registerReport(CLI::App& app);          // nestwalk report [SCENE] --out DIR [--quick]
 
 }  // namespace nestwalk::tools

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerBenchTerrain(*bench);
   nestwalk::tools::registerBenchWalker(*bench);
   nestwalk::tools::registerBenchRender(*bench);
+  nestwalk::tools::registerBenchModels(*bench);
 
   try {
     app.parse(argc, argv);
