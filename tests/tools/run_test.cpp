@@ -154,5 +154,35 @@ TEST(Run, BadScriptsAndScenesNameTheFileAndLine) {
   EXPECT_NE(r.err.find("terrain"), std::string::npos) << r.err;
 }
 
+TEST(Run, ASceneNamingACutModelEndsWithItsReasonAndWritesNothing) {
+  // The bundled scene's terrain with one piece whose model is the bundled pickup cut in half as
+  // .osgb: run, report and export end with the model named and its reason, exit 1, no output.
+  if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  const fs::path bundled = kScene.parent_path();
+  ASSERT_EQ(runNestwalk("export " + quoted(kScene) + " " + quoted(dir / "whole.osgb") + " --no-terrain").exitCode, 0);
+  const std::string bytes = readText(dir / "whole.osgb");
+  writeText(dir / "cut.osgb", bytes.substr(0, bytes.size() / 2));
+  const auto terrain = nlohmann::json::parse(readText(kScene))["terrain"].get<std::string>();
+  const nlohmann::json scene = {{"terrain", (bundled / terrain).string()},
+                                {"equipment", {{{"model", "cut.osgb"}, {"position", {550000.0, 4650000.0}}}}}};
+  writeText(dir / "scene.json", scene.dump());
+  writeText(dir / "ok.txt", "start 550010 4650010\n");
+  for (const std::string& command :
+       {"run " + quoted(dir / "scene.json") + " --script " + quoted(dir / "ok.txt") + " --headless --out " +
+            quoted(dir / "out"),
+        "report " + quoted(dir / "scene.json") + " --scripts " + quoted(dir / "ok.txt") + " --quick --out " +
+            quoted(dir / "report"),
+        "export " + quoted(dir / "scene.json") + " " + quoted(dir / "scene.osgb")}) {
+    const auto r = runNestwalk(command);
+    EXPECT_EQ(r.exitCode, 1) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find((dir / "cut.osgb").string() + " ("), std::string::npos) << command << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  EXPECT_FALSE(fs::exists(dir / "report" / "report.md"));
+  EXPECT_FALSE(fs::exists(dir / "scene.osgb"));
+}
+
 }  // namespace
 }  // namespace nestwalk::test
