@@ -1,18 +1,29 @@
 // nestwalk: the command-line program. Subcommands are registered from their own files
-// (commands.h); bad input surfaces as nestwalk::InputError and ends the program with exit code 1
-// and a message that names the file and the problem.
+// (commands.h). Exit codes (README, "Exit codes"):
+//   0  done (also --help, --version)
+//   1  bad input: nestwalk::InputError, with a message that names the file and the problem (and a
+//      benchmark that failed)
+//   2  usage: the command line itself (unknown option, missing argument), with CLI11's message
+//   3  `run`: the flythrough played, but an expectation was not met
+//   4  internal error: a bug, with the exception's message
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/scene/osg_messages.h"
+#include "nestwalk/version.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>
 #include <exception>
+#include <string>
+
+namespace {
+constexpr int kExitInputError = 1, kExitUsage = 2, kExitInternalError = 4;
+}  // namespace
 
 int main(int argc, char** argv) {
   nestwalk::routeOsgMessagesToStderr();
   CLI::App app{"nestwalk: real-time walkthrough engine for terrain scenes with deployed equipment"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "nestwalk 0.1.0");
+  app.set_version_flag("--version", std::string("nestwalk ") + nestwalk::kVersion);
 
   nestwalk::tools::registerDemo(app);
   nestwalk::tools::registerImportTerrain(app);
@@ -37,14 +48,17 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a subcommand's own status (run: 3; bench: 1)
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);  // prints help, the version, or the usage error
+    return code == 0 ? 0 : kExitUsage;
   } catch (const nestwalk::InputError& e) {
     std::fprintf(stderr, "nestwalk: error: %s\n", e.what());
-    return 1;
+    return kExitInputError;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nestwalk: internal error: %s\n", e.what());
-    return 2;
+    return kExitInternalError;
   }
   return 0;
 }

@@ -1,0 +1,51 @@
+# The install test (ctest Install.ConsumerBuildsAgainstTheInstalledPackage): installs the build into
+# a fresh prefix with `cmake --install`, configures and builds tests/install/consumer against it
+# with find_package(nestwalk), and runs it on the bundled scene: the bench patrol's start, 100
+# steps at 30 m/s along the lane, which must end blocked by the station standing in it.
+# Variables: BUILD_DIR (nestwalk's build), SOURCE_DIR, WORK_DIR (scratch), SCENE_DIR (the bundled
+# scene; the start and the blocker are read from its scripts/bench_patrol.txt).
+file(STRINGS ${SCENE_DIR}/scripts/bench_patrol.txt start REGEX "^start ")
+file(STRINGS ${SCENE_DIR}/scripts/bench_patrol.txt blocker REGEX "^expect blocked by ")
+if(NOT start MATCHES "^start ([-0-9.]+) ([-0-9.]+) heading ([-0-9.]+)")
+  message(FATAL_ERROR "no start line in ${SCENE_DIR}/scripts/bench_patrol.txt")
+endif()
+set(X ${CMAKE_MATCH_1})
+set(Y ${CMAKE_MATCH_2})
+set(HEADING ${CMAKE_MATCH_3})
+string(REPLACE "expect blocked by " "" EXPECT "${blocker}")
+set(SCENE ${SCENE_DIR}/scene.json)
+file(REMOVE_RECURSE ${WORK_DIR})
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
+                RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cmake --install failed (${rc})")
+endif()
+foreach(f bin/nestwalk include/nestwalk/version.h include/nestwalk/walker/walker.h
+          lib/cmake/nestwalk/nestwalkConfig.cmake lib/libnestwalk_walker.a)
+  if(NOT EXISTS ${WORK_DIR}/prefix/${f})
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/consumer -B ${WORK_DIR}/build
+                        -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "configuring the consumer failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "building the consumer failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND ${WORK_DIR}/build/walk_box ${SCENE} ${X} ${Y} ${HEADING} 30
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "walk_box failed (${rc}): ${err}")
+endif()
+if(NOT out MATCHES "blocked by ${EXPECT}")
+  message(FATAL_ERROR "walk_box was not blocked by ${EXPECT}")
+endif()
+if(NOT out MATCHES "walked 100 steps")
+  message(FATAL_ERROR "walk_box did not walk its 100 steps")
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
