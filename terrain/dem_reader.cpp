@@ -136,6 +136,10 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
     throw InputError(path + ": " + std::to_string(cols) + " x " + std::to_string(rows) +
                      " samples; a ground surface needs at least 2 x 2");
 
+  if (std::uint64_t(cols) * std::uint64_t(rows) > options.maxSamples)
+    throw InputError(path + ": " + std::to_string(cols) + " x " + std::to_string(rows) + " samples, more than the " +
+                     std::to_string(options.maxSamples) +
+                     " this reader holds in memory (nestwalk import-terrain --window or --resolution takes a part)");
   std::vector<float> heights(std::size_t(cols) * std::size_t(rows));
   std::vector<double> strip;
   const int stripRows = std::max(1, int(std::min<long>(rows, (1 << 22) / std::max(cols, 1))));

@@ -23,6 +23,7 @@
 
 #include <memory>
 #include <optional>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -63,15 +64,21 @@ RasterFrame rasterFrame(void* dataset);
 std::string crsWkt(void* dataset);
 std::string crsName(const std::string& wkt);
 
+/// Samples readDem holds at most (4 bytes each: 1 GiB): a 16384 x 16384 DEM. Larger rasters are
+/// refused before anything is allocated (a corrupt header can claim billions), with a message
+/// naming import-terrain's --window and --resolution.
+inline constexpr std::uint64_t kMaxDemSamples = 1ull << 28;
+
 struct DemReadOptions {
   int band = 1;
+  std::uint64_t maxSamples = kMaxDemSamples;
 };
 
 /// Reads band `options.band` of the raster at `path` into a Heightfield (see above). Warnings (no
 /// georeferencing) are appended to `warnings` when given. InputError on any bad input, naming the
 /// file: the errors of openRaster, fewer than 2 x 2 samples, a band out of range, a rotated
-/// geotransform, unreadable data (a truncated or corrupt file), NaN or infinite samples, no valid
-/// sample. The whole band is held in memory (4 bytes a sample): the reader is for queries, the
+/// geotransform, more than options.maxSamples samples, unreadable data (a truncated or corrupt
+/// file), NaN or infinite samples, no valid sample. The whole band is held in memory (4 bytes a sample): the reader is for queries, the
 /// import pipeline streams.
 Heightfield readDem(const std::string& path, const DemReadOptions& options = {},
                     std::vector<std::string>* warnings = nullptr);

@@ -19,6 +19,7 @@ packages=(
   libqhull-dev                                   # convex hulls
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
   libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)
+  clang libclang-rt-14-dev                       # libFuzzer and its sanitizers (tools/fuzz.sh)
 )
 
 missing=()

@@ -135,8 +135,10 @@ std::map<std::string, ModelType> parseModelTypes(const Json& types, const std::s
   return out;
 }
 
-ModelCatalog readModelCatalog(const std::string& path) {
-  const Json root = parseJsonStrictly(readJsonFile(path, "catalog"), path);
+ModelCatalog readModelCatalog(const std::string& path) { return parseModelCatalog(readJsonFile(path, "catalog"), path); }
+
+ModelCatalog parseModelCatalog(const std::string& text, const std::string& path) {
+  const Json root = parseJsonStrictly(text, path);
   const JsonFieldReader r(path, fs::path(path).parent_path());
   r.checkObject(root, "");
   r.checkKeys(root, "", {"types"});

@@ -72,6 +72,8 @@ struct ModelCatalog {
 /// Reads a catalog file; throws InputError naming the file and field. Model files must exist (all
 /// missing ones are listed together).
 ModelCatalog readModelCatalog(const std::string& path);
+/// The same from the file's text (`path` names it in messages and anchors relative model paths).
+ModelCatalog parseModelCatalog(const std::string& text, const std::string& path);
 
 /// The types of an already parsed "types" object (`field` is its path for messages, e.g. "types");
 /// relative model paths resolve against `folder`. Does not check that the files exist.

@@ -2,7 +2,8 @@
 // Input: a CSV with columns x, y (map coordinates in TERRAIN's CRS; longitude, latitude in degrees
 // for a geographic CRS, see terrain/dem_reader.h). Output on stdout: x,y,z with z empty where there
 // is no ground (a hole, or outside the sample hull). TERRAIN is any raster GDAL reads.
-#include "nestwalk/core/csv_reader.h"
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/map_points_csv.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "tools/nestwalk/commands.h"
 
@@ -25,15 +26,11 @@ void runQueryGround(const QueryGroundArgs& args) {
 
   std::ifstream file(args.points);
   if (!file) throw InputError(args.points + ": cannot open the file");
-  CsvReader csv(file, args.points);
-  const int cx = csv.column("x"), cy = csv.column("y");
-  std::vector<std::string> fields;
   std::string out = "x,y,z\n";
   char buf[64];
-  while (csv.next(fields)) {
-    const double x = csv.number(fields, cx), y = csv.number(fields, cy);
-    out += fields[std::size_t(cx)] + "," + fields[std::size_t(cy)] + ",";
-    if (const auto z = hf.groundHeight(x, y)) {
+  for (const MapPoint& p : readMapPoints(file, args.points)) {
+    out += p.xText + "," + p.yText + ",";
+    if (const auto z = hf.groundHeight(p.x, p.y)) {
       std::snprintf(buf, sizeof buf, "%.17g", *z);
       out += buf;
     }
