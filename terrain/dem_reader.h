@@ -17,6 +17,13 @@
 // Nodata: the band's nodata value (and NaN where the nodata value is NaN) become NaN holes in the
 // heightfield; the heightfield's noData() reports the band's value. Any other NaN or infinite
 // sample is bad input (InputError), as is a raster with no valid sample at all.
+//
+// Thread safety: initGdal is safe from any thread (std::call_once) but sets GDAL's process-wide
+// state, for an embedding program's own GDAL use too: it installs CPLQuietErrorHandler as GDAL's
+// error handler, sets GDAL_PAM_ENABLED=NO and, unless GDAL_CACHEMAX is set, a 256 MiB block cache.
+// lastGdalError() is per thread (GDAL keeps the last error per thread). A GdalDataset, and every
+// function given one, is used by one thread at a time (GDAL datasets are not thread-safe); readDem
+// opens and closes its own, so calls on different threads share no dataset.
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"

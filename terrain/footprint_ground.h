@@ -8,6 +8,7 @@
 // Heightfield::groundHeight, so the lowest height is the exact minimum over the polygon (to the
 // rounding of the crossing points). Points without ground (holes, beyond the outermost samples)
 // are counted, not used.
+// Thread safety: a pure function; the heightfield is only read.
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"

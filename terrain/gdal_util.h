@@ -1,4 +1,7 @@
 // Small GDAL helpers shared by the DEM reader and the terrain import.
+// Thread safety: a band belongs to a dataset that must not be used by another thread meanwhile
+// (GDAL datasets are not thread-safe); the error text comes from lastGdalError(), which is per
+// thread.
 #pragma once
 
 #include <gdal.h>

@@ -18,6 +18,12 @@
 // samplePosition() computes it (originX + col * dx, originY - row * dy), to the last bit.
 // Outside the grid's sample hull (beyond the outermost sample centres) there is no ground.
 // A heightfield has at least 2 x 2 samples.
+//
+// Units: metres for a projected CRS; for a geographic CRS x, y, dx and dy are degrees and heights
+// metres (dem_reader.h).
+// Thread safety: a Heightfield is immutable once constructed (the ray pyramid is built by the
+// constructor and shared, read-only, by copies); its const queries keep no state and may run from
+// several threads at once.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // Heightfield::groundHeight, inline (the fast path of the O(1) lookup); included by heightfield.h.
+// Thread safety: as Heightfield's const queries (heightfield.h).
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"

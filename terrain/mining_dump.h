@@ -10,6 +10,7 @@
 // natural ground; small smooth roughness (centimetres) covers everything. Same seed, same heights:
 // every random choice comes from a std::mt19937_64 whose raw output is turned into numbers here (no
 // library distributions), so the result does not depend on the standard library.
+// Thread safety: a pure function (its generator is local to the call).
 #pragma once
 
 #include <cstdint>

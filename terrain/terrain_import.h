@@ -16,6 +16,10 @@
 //   4. The COG driver's CreateCopy writes the result to a temporary file in OUT's folder, which is
 //      renamed to OUT at the end. OUT is replaced only with `overwrite`; IN is never written to.
 // Every problem is an InputError naming the file; on any failure OUT is left as it was.
+// Thread safety: each call opens its own GDAL datasets (initGdal's process-wide settings apply,
+// dem_reader.h). Two calls at once in one process must not write the same OUT (the temporary names
+// depend only on OUT and the process id, core/output_file.h), and `progress` uses GDAL's
+// GDALTermProgress, which keeps static state: one import with progress at a time.
 #pragma once
 
 #include <array>

@@ -21,6 +21,11 @@
 // Cracks: neighbouring tiles at different levels do not meet along their common edge (T-junctions
 // and small gaps of at most the coarser level's error). Closing them is the renderer's business;
 // the meshes here carry no skirts.
+//
+// Ownership: a TerrainMesh keeps its own copy of the grid (no reference to the Heightfield);
+// makeGeometry and makeLod return new OSG nodes on every call, owned by the caller (ref_ptr).
+// Thread safety: immutable once constructed; its const members may run from several threads at
+// once.
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"

@@ -1,6 +1,7 @@
 // Angles in degrees, the unit of every heading, pitch and turn nestwalk reads or writes: headings
 // are clockwise from north (map +y), seen from above; pitch is positive up. One home for the
 // conversions and the wrapping, so that every module wraps the same way at the edges.
+// Thread safety: pure functions.
 #pragma once
 
 #include <numbers>

@@ -4,6 +4,9 @@
 // kept as written. Lines that are empty or hold only spaces are skipped; CR LF and LF both end a
 // row; a UTF-8 byte order mark before the header is dropped. Every problem is an InputError that
 // names the file and the line (the line where the row starts).
+// Ownership: the reader keeps a reference to the stream `in`, which must outlive it.
+// Thread safety: one thread at a time per reader (next() advances the stream and the line count);
+// different readers on different streams are independent.
 #pragma once
 
 #include "nestwalk/core/input_error.h"

@@ -1,5 +1,6 @@
 // A fixed array indexed by an enum's values (0 .. N-1), so that code names the part it means
 // (times[StepPart::Ground]) instead of a number.
+// Thread safety: a plain value type, as std::array.
 #pragma once
 
 #include <array>

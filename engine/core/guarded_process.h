@@ -21,6 +21,11 @@
 // Thread safety: call from one thread at a time per process, and not while other threads hold
 // locks the work needs (fork copies only the calling thread; the locks others held stay locked
 // in the child). nestwalk reads models while loading a scene, before any worker thread starts.
+// The child inherits the caller's open file descriptors (fork without exec, so O_CLOEXEC does not
+// help): two calls at once from different threads could each hand their child the other's pipe
+// ends, and one call would then wait for the other's child (or its own time limit) before it sees
+// the end of its output. modelReadLimitsFromEnvironment reads the environment (getenv): not while
+// another thread changes it.
 #pragma once
 
 #include <chrono>

@@ -4,6 +4,13 @@
 // half-written output, and a failed or interrupted write leaves the old one (if any) in place and
 // no temporary behind. The one home of this rule: reports, run outputs, rendered frames and
 // videos, imported terrain and generated scenes all use it.
+//
+// Thread safety: an object belongs to one thread. The temporary name depends only on the target,
+// the tag and the process id, so two writers of the same target in one process (two threads, or two
+// objects alive at once) share one temporary path and spoil each other's output; OutputFolder's
+// constructor even removes a same-named temporary folder that another writer is filling. Writers of
+// different targets are independent. The free functions are safe from any thread under the same
+// rule.
 #pragma once
 
 #include <string>

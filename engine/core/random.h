@@ -2,6 +2,7 @@
 // points, test fixtures): splitmix64 (Steele, Lea & Flood, "Fast splittable pseudorandom number
 // generators", OOPSLA 2014) with explicit transforms to doubles, so the same seed gives the same
 // numbers with every compiler and standard library (std::uniform_real_distribution does not).
+// Thread safety: a generator has mutable state (every call advances it): one generator per thread.
 #pragma once
 
 #include <cmath>

@@ -1,4 +1,5 @@
 // Order statistics of measured values (timings, errors), as every summary and report prints them.
+// Thread safety: pure functions.
 #pragma once
 
 #include <vector>

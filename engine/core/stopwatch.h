@@ -1,5 +1,7 @@
 // Wall-clock timing for the reports and benchmarks that time whole plays or loops themselves (the
 // Google Benchmark programs time their own loops).
+// Thread safety: pure functions over std::chrono::steady_clock; leastSeconds calls `run` on the
+// calling thread.
 #pragma once
 
 #include <algorithm>

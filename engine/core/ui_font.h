@@ -7,6 +7,8 @@
 // Debian's fonts-dejavu-core installs it (tools/setup-deps.sh). There is no fallback: a picture
 // drawn in some other font would silently differ from the tested one, so a missing file is an
 // error (InputError naming the path and the package), raised by the first text drawn.
+//
+// Thread safety: uiFontPath() only asks the file system; safe from any thread.
 #pragma once
 
 #include "nestwalk/core/input_error.h"

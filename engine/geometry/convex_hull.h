@@ -1,4 +1,6 @@
 // Convex hull of a point set (through qhull), with its dimension, for OBB fitting.
+// Thread safety: pure functions, safe from several threads at once (qhull's reentrant interface,
+// libqhull_r, with its own state per call).
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

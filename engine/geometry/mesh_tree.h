@@ -49,6 +49,14 @@
 // Bad input: a triangle index out of range or a non-finite coordinate throws std::invalid_argument
 // naming the triangle; leafSize < 1 throws too. An empty mesh is legal: nothing overlaps, the
 // distance is +infinity.
+//
+// Units: those of the mesh's coordinates (MeshWorld builds the trees in each model file's own frame
+// and units and scales at its boundary); distances come back in the same unit; t is a fraction
+// of d.
+// Ownership: a tree copies the triangles it needs; it keeps no reference to the TriangleMesh.
+// Thread safety: a built tree is immutable; its const queries keep no scratch (fixed stacks on the
+// call stack) and may run from several threads at once. The optional `counters` and `nearest` are
+// the caller's: one per thread.
 #pragma once
 
 #include "nestwalk/geometry/triangle_box.h"

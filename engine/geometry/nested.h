@@ -5,6 +5,8 @@
 //   2. AABB-OBB   (the viewer's outer AABB vs the object's inner OBB, 15-axis SAT),
 //   3. OBB-OBB    (inner vs inner, 15-axis SAT): its verdict is the answer.
 // Both volumes of an object must contain the object; they need not contain each other.
+// Thread safety: pure functions and plain value types; StageCounters is a plain accumulator (one
+// per thread).
 #pragma once
 
 #include "nestwalk/core/enum_array.h"

@@ -15,6 +15,12 @@
 //
 // The AVX2 + FMA kernels are chosen at run time where the processor has them; setting the
 // environment variable NESTWALK_SIMD=portable forces the SSE ones (the verdicts are the same).
+//
+// Thread safety: an ObbPairBatch or NestedBoxSet is immutable once built; test() and
+// queryOverlaps() may run from several threads at once (queryOverlaps keeps its scratch in a
+// thread_local buffer). `out`, `hits` and `counters` are the caller's: one per thread. The kernel
+// choice reads NESTWALK_SIMD with getenv on every call: do not change it (setenv) while other
+// threads test.
 #pragma once
 
 #include "nestwalk/geometry/nested.h"

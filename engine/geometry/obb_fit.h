@@ -16,6 +16,8 @@
 // 0 and 1 is positive and axis 2 = axis 0 x axis 1. Same input, same box, bit for bit.
 // Points far from the origin (map coordinates) are handled: fitting works relative to the
 // points' AABB centre.
+// Thread safety: a pure function, safe from several threads at once (hulls through qhull's
+// reentrant interface).
 #pragma once
 
 #include "nestwalk/geometry/obb_fitter.h"

@@ -1,5 +1,6 @@
 // Which OBB fitter a scene uses (obb_fit.h has the fitters). Its own small header so that a scene
 // file can name the choice without the fitting code.
+// Thread safety: pure functions.
 #pragma once
 
 #include <optional>

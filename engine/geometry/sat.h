@@ -22,6 +22,7 @@
 //    on a rotated face, boxes moved to a local frame) are never separated by the rounding of t, R
 //    and the sums. A verdict of "separated" is therefore exact for the boxes as given; "overlap"
 //    may be a separation smaller than the bands above (1e-12 relative in double).
+// Thread safety: pure inline functions.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

@@ -3,6 +3,7 @@
 // axis L while |p0 - t v| <= r (p0: the projection of the centres' offset on L, v = L . d, r: the
 // two radii along L plus the test's slack); each slab is an interval of t, and the bodies overlap
 // at t when every slab holds. Clipping stops once the running interval misses [0, 1].
+// Thread safety: SlabClip is a plain value that clip() updates: one per sweep, owned by the caller.
 #pragma once
 
 #include "nestwalk/geometry/sat.h"

@@ -16,6 +16,7 @@
 // magnitudes in play on every slab, so that at any fixed t in the interval the static test of
 // sat.h says "overlap" as well: contact is never missed; a contact may be reported up to the bands
 // of sat.h early (1e-12 relative).
+// Thread safety: pure functions.
 #pragma once
 
 #include "nestwalk/geometry/nested.h"

@@ -38,6 +38,7 @@
 // against box edges (segment-segment, Ericson 5.1.9). The pairs left out (edge-face, face-edge, face-face) can hold a closest
 // pair only when parallel, and then a pair listed above holds one too. Computed in double in the
 // box's frame: relative error ~1e-15 of the distance plus ~1e-16 of |p - center|.
+// Thread safety: pure functions.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

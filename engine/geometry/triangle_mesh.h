@@ -1,6 +1,7 @@
 // A triangle mesh in its model frame: the one triangle-mesh type of the engine. Scene loading
 // fills it from a model file (scene/model_geometry.h); the mesh trees (mesh_tree.h) are built over
 // it; the exact contact tests read it.
+// Thread safety: a plain value type; reading it from several threads at once is safe.
 #pragma once
 
 #include "nestwalk/geometry/triangle_box.h"

@@ -18,6 +18,7 @@
 // slab carries sat.h's kRoundingSlack times the magnitudes in play, so at any t inside the
 // interval the static test of triangle_box.h (up to its own bound) agrees: a contact is never
 // missed; one may be reported up to about 1e-12 of the magnitudes early.
+// Thread safety: pure functions.
 #pragma once
 
 #include "nestwalk/geometry/swept.h"

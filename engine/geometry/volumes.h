@@ -4,6 +4,7 @@
 // Frames: a volume lives in whatever frame its numbers are in. The engine keeps geometry in a
 // local frame near the origin (map coordinates minus a scene origin, see DESIGN.md); float
 // volumes are only meaningful there.
+// Thread safety: plain value types and pure functions.
 #pragma once
 
 #include <Eigen/Core>

@@ -13,6 +13,7 @@
 // turn, by their width times tan(turn / 2) / 2, which the line measure does not count.
 // A segment that cannot be covered within the limits (shorter than piece - maxOverlap, or whose
 // best count leaves joints beyond them) is reported as a problem and laid out with its best count.
+// Thread safety: a pure function.
 #pragma once
 
 #include <Eigen/Core>

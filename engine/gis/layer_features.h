@@ -23,6 +23,14 @@
 // transformation that fails) are collected with the source, layer and feature id; problems of a
 // whole source or layer (cannot be opened, no such layer, no CRS, a bad --where, a --where that
 // matches nothing, an empty layer, no type field) throw InputError.
+//
+// Thread safety: each call opens its own datasets, spatial references and transformations and frees
+// them before it returns, so calls share no GDAL object of their own; GDAL's last-error text is per
+// thread. The first call runs initGdal (terrain/dem_reader.h), which sets process-wide GDAL
+// options.
+// Locale: heading and scale fields given as text are parsed with std::strtod, which follows the
+// process's C locale (LC_NUMERIC); nestwalk never changes it, and under the default "C" locale the
+// decimal mark is '.'.
 #pragma once
 
 #include <Eigen/Core>

@@ -25,6 +25,11 @@
 // naming it. The folder is written under a temporary name beside OUT and renamed at the end; an
 // existing OUT is replaced only with overwrite. Before that the written scene is loaded once as
 // `nestwalk run` will load it.
+//
+// Thread safety: call from one thread while no other thread runs: it reads model files through
+// runGuarded (a fork, core/guarded_process.h), uses GDAL (initGdal's process-wide settings,
+// terrain/dem_reader.h), and its folder's temporary name depends only on OUT and the process id
+// (core/output_file.h).
 #pragma once
 
 #include "nestwalk/gis/layer_features.h"

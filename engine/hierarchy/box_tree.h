@@ -35,6 +35,8 @@
 // std::length_error beyond 2^31 - 1 units. A query box must not be NaN (a NaN box finds nothing);
 // an inverted box (min > max) is answered by the same closed formula as above.
 // A built tree is immutable and may be queried from several threads at once.
+// Copies of a BoxTree share its built data (a shared_ptr to const). `out` and `counters` of query()
+// are the caller's: one per querying thread.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

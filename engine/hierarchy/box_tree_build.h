@@ -19,6 +19,7 @@
 //
 // Internal to the hierarchy module: BoxTree::buildAuto and BoxTree::buildTemplate (box_tree.h)
 // call these; their bad-input rules are box_tree.h's.
+// Thread safety: each call reads its arguments and fills only the `tree` it is given.
 #pragma once
 
 #include "nestwalk/hierarchy/box_tree_layout.h"

@@ -5,6 +5,7 @@
 // (child >= 0: index of its first block, span[lane] its block count), a unit (child < 0: ~index
 // into `leaves`), or nothing (kEmptyLane, with an empty float box that no query overlaps).
 // Float boxes are relative to `origin` and rounded outward (see box_tree_query.cpp).
+// Thread safety: plain data, written only by the build; read-only once the BoxTree holds it.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

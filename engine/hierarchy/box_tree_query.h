@@ -24,6 +24,8 @@
 // Memory: a fixed stack of kStackEntries pending nodes on the call stack; when it is full (only in
 // very deep or very wide trees) the node is traversed by a recursive call instead, so nothing is
 // allocated and every node is still visited.
+// Thread safety: reads `tree` only; safe from several threads at once, each with its own `out` and
+// `counters`.
 #pragma once
 
 #include "nestwalk/hierarchy/box_tree_layout.h"

@@ -1,5 +1,6 @@
 // How an automatic broad-phase hierarchy is built (box_tree.h): the branching factor and the
 // splitting rule. Its own small header so that a scene file can name the choice without the tree.
+// Thread safety: plain values and pure functions.
 #pragma once
 
 #include <cstdint>

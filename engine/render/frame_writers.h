@@ -3,6 +3,13 @@
 // (installed by tools/setup-deps.sh). Both write under temporary names and put the result in
 // place only when finish() succeeds: a failed or interrupted run leaves earlier outputs as they
 // were.
+//
+// Thread safety: each writer is driven from one thread. PngSequenceWriter encodes on a background
+// thread of its own (started by the constructor, joined by finish() and the destructor); write()
+// hands it a deep copy, so the caller may reuse the image at once. That thread uses osgDB while it
+// runs: do not read models through runGuarded (a fork, core/guarded_process.h) meanwhile.
+// VideoWriter runs ffmpeg through popen; its constructor sets SIGPIPE to ignored for the whole
+// process, and it stays so.
 #pragma once
 
 #include "nestwalk/core/output_file.h"

@@ -9,6 +9,9 @@
 // "equipment"), so a renderer whose camera view matrix maps *map* coordinates to the eye passes
 //   Frustum::fromMatrices(osg::Matrixd::translate(origin) * viewMap, projection)
 // (OSG row-vector convention: local -> map -> eye).
+//
+// Ownership: NestedFrustumCuller copies the volumes it needs and keeps no reference to the Scene.
+// Frustum::fromMatrices and sphereCull are pure functions.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

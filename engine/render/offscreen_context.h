@@ -8,6 +8,12 @@
 //
 // The context is current on the creating thread only; the viewer that draws into it must run
 // SingleThreaded on that thread.
+//
+// Lifetime: on the EGL route every context of a process uses the same EGLDisplay
+// (eglGetPlatformDisplayEXT returns one handle per platform and display), and the destructor calls
+// eglTerminate on it. A context still alive when another one is destroyed can then no longer be
+// made current (eglMakeCurrent fails with EGL_BAD_DISPLAY; makeCurrent() does not report it): keep
+// one context at a time, or destroy them together.
 #pragma once
 
 #include <osg/GraphicsContext>

@@ -22,6 +22,11 @@
 // check what is where on screen.
 //
 // Threading: SingleThreaded, on the creating thread (the offscreen context is current there).
+//
+// Ownership: the renderer keeps a reference to `scene`, which must outlive it; its graph shares the
+// scene's model nodes (ref_ptr) and compiles GL objects into them for its own context. Several
+// renderers may live on one thread (render() makes its context current again), but see
+// offscreen_context.h on destroying one while another lives.
 #pragma once
 
 #include "nestwalk/render/nested_cull.h"

@@ -25,6 +25,10 @@
 //
 // Empty or all-NaN data: a linear axis runs 0 .. 1, a log one over the decade above the floor
 // (1 .. 10 without a floor).
+//
+// Thread safety: an Axis is an immutable value once fitted; the functions are pure.
+// Locale: tick labels are formatted with snprintf, which follows the process's C locale
+// (LC_NUMERIC); nestwalk never changes it, and the labels above assume the default "C" locale.
 #pragma once
 
 #include <span>

@@ -13,6 +13,8 @@
 // Drawing outside the image is clipped silently.
 //
 // Not copyable; not thread-safe (one surface per thread; the font is shared, cairo locks it).
+// The static text measures (textBox, textWidth, fontMetrics) may be called from any thread: the
+// font is loaded once, under a lock.
 #pragma once
 
 #include <Eigen/Core>

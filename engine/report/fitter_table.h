@@ -1,6 +1,8 @@
 // The OBB fitters' table of the methods report (method_report.h): per model of the scene, the
 // covariance and hull-search boxes (geometry/obb_fit.h) against CGAL's optimal oriented bounding
 // box, volumes and fitting times.
+// Thread safety: keeps no state; the scene (its model nodes included) is only read, and CGAL runs
+// with a fixed seed of its own.
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,7 @@
 // The per-frame CSV of a run (frames.csv): one row per walker step, written through a temporary
 // file renamed at the end (core/output_file.h).
+// Thread safety: pure apart from the file written (one writer per path at a time,
+// core/output_file.h).
 #pragma once
 
 #include "nestwalk/report/render_record.h"

@@ -14,6 +14,9 @@
 // total red (214,39,40), render pink (227,119,194); p50 of the step total dashed purple
 // (148,103,189), p99 dashed brown (140,86,75); white background, black axes and text, light grey
 // (224,224,224) grid lines at the ticks.
+//
+// Thread safety: keeps no state; each call draws on its own surface (one writer per path at a time,
+// core/output_file.h).
 #pragma once
 
 #include "nestwalk/report/render_record.h"

@@ -11,6 +11,8 @@
 // extrapolated linearly through the centre sample from the opposite neighbour (or taken as the
 // centre's height when that is missing too), so that a plane shades exactly to its edges; GDAL
 // leaves such samples without a value (or, with -compute_edges, takes the centre's height).
+//
+// Thread safety: pure functions; the heightfield is only read.
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"

@@ -21,6 +21,10 @@
 // Fitters (fitter_table.h, the one file compiled with CGAL): per model of the scene, the
 // volume of the covariance and hull-search boxes fitted to all of the model's vertices, against
 // the volume of CGAL's optimal oriented bounding box, and the fitting time (hull included).
+//
+// Thread safety: run it on one thread with nothing else running: it loads the scene (model reads
+// fork, core/guarded_process.h), and its timings assume an otherwise idle process. `log` is the
+// caller's stream.
 #pragma once
 
 #include <iosfwd>

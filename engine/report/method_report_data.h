@@ -1,5 +1,6 @@
 // What the methods report (method_report.h) measured, between the plays (method_report.cpp) and
 // the files written from it (method_report_files.h).
+// Thread safety: plain values; aggregate() and reportTargets() are pure.
 #pragma once
 
 #include "nestwalk/report/fitter_table.h"

@@ -2,6 +2,8 @@
 // (method_report_data.h): report.md (Markdown), report.json (the numbers), pareto.png (µs per
 // frame against stop gap), methods.png (µs per frame per method) and terrain_lod.png (height error
 // against ns per query per level); and the summary printed at the end.
+// Thread safety: pure apart from the files written (one writer per path at a time,
+// core/output_file.h).
 #pragma once
 
 #include "nestwalk/report/method_report.h"

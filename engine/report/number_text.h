@@ -1,5 +1,9 @@
 // Numbers as the reports and benchmarks print them: fixed-point text with "-" for a missing value
 // (NaN), and JSON numbers with null for it.
+// Thread safety: pure functions.
+// Locale: fixedText and shortText format through std::ostringstream, so they follow the global C++
+// locale (std::locale::global); nestwalk never changes it, and under the default classic locale the
+// decimal mark is '.'.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -5,6 +5,9 @@
 // legend.
 //
 // Coordinates are the drawing surface's (drawing_surface.h): pixels, y up.
+//
+// Thread safety: PlotArea and PlotHeader are immutable once made; drawing goes to the caller's
+// DrawingSurface (one thread per surface).
 #pragma once
 
 #include "nestwalk/report/axis.h"

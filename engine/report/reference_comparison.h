@@ -7,6 +7,8 @@
 // Lifetimes: the comparison holds the reference world by reference and must not outlive it; the
 // method's world holds the comparison by pointer while it observes (ObservedSweeps), so the
 // comparison must outlive that scope. Not thread-safe: one world, one thread.
+// Units: as CollisionWorld's (local frame, metres); the tally's fields ending in Mm are
+// millimetres.
 #pragma once
 
 #include "nestwalk/walker/collision_world.h"

@@ -2,6 +2,7 @@
 // columns, the summary's "render" section, the frame-time plot's render line). The renderer has
 // its own statistics (render/view_renderer.h); the run that renders copies them into these
 // records, one per walker frame, so the report side needs nothing from the renderer.
+// Thread safety: plain value types.
 #pragma once
 
 #include "nestwalk/core/enum_array.h"

@@ -7,6 +7,9 @@
 // left corner, the plot area, the x tick labels and the x axis's title under the right end. Axes
 // follow axis.h's rule; white background, black axes and text, light grey grid lines at the ticks.
 // Markers are discs of radius 4.5 pixels (kPlotMarkerRadius), series lines 2 pixels wide.
+//
+// Thread safety: keeps no state; each call draws on its own surface and writes its own file (one
+// writer per path at a time, core/output_file.h).
 #pragma once
 
 #include "nestwalk/report/drawing_surface.h"

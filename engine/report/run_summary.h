@@ -1,5 +1,7 @@
 // The summary of a run (summary.json): what ran, how long each part of a step took, how much work
 // the collision tests did, what blocked the viewer and whether the script's expectations held.
+// Thread safety: pure apart from the file written (one writer per path at a time,
+// core/output_file.h).
 #pragma once
 
 #include "nestwalk/report/render_record.h"

@@ -1,6 +1,7 @@
 // Targets: what an issue asked a measurement to reach, and whether a run reached it. The report
 // and every benchmark print them the same way (a "targets:" block, and a JSON array). Reported,
 // not enforced: a missed target is a finding, not a failure of the program.
+// Thread safety: pure functions; printTargets writes to the caller's stream.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,8 @@
 // The ground-following part of the methods report (method_report.h): the height of every level of
 // the terrain mesh (terrain/terrain_mesh.h, tiles of 128 cells as the renderer cuts them) against
 // the full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
+// Thread safety: keeps no state; the heightfield is only read (the meshes measured are built by the
+// call).
 #pragma once
 
 #include <cstddef>

@@ -54,6 +54,9 @@
 //    a character), then a scale bar at the bottom: the longest 1-2-5 length of metres that fits
 //    the column, in 4 or 5 black and white segments at the ticks of axis.h's rule, labelled "0" and
 //    "<length> m" (and at every tick when the labels fit).
+//
+// Thread safety: keeps no state; the scene and the records are only read (one writer per path at a
+// time, core/output_file.h).
 #pragma once
 
 #include "nestwalk/walker/frame_record.h"

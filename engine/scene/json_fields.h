@@ -2,6 +2,8 @@
 // InputError "FILE: FIELD: problem" naming the field path ("equipment[12].scale",
 // "types.gauge.units"), unknown keys are errors (a typo must not fall back to a default silently),
 // and so is a key given twice in one object (which nlohmann_json would resolve to its last value).
+// Thread safety: pure functions (readJsonFile reads the file); a JsonFieldReader is immutable and
+// its checks are const.
 #pragma once
 
 #include "nestwalk/core/input_error.h"

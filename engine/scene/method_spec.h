@@ -1,6 +1,7 @@
 // How a scene's walker tests contact: the contact method after the broad phase, the hierarchy and
 // the OBB fitter ("method" in the scene file, scene_file.h; `run --method` and the report override
 // it). Names as the scene file and the command line spell them.
+// Thread safety: plain values and pure functions.
 #pragma once
 
 #include "nestwalk/geometry/obb_fitter.h"

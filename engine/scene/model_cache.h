@@ -18,6 +18,10 @@
 // (a few MB for the bundled and shared ones).
 // Thread safety: entries are whole files renamed into place; concurrent processes may race to
 // write the same entry, and the last rename wins with identical content.
+// Within one process, two threads storing the same entry at once share its temporary name
+// (core/output_file.h), so the entry may come out damaged; the checksum catches that (the entry is
+// dropped and rebuilt). cachedModel() only reads. The folder is looked up in the environment
+// (getenv) on every call.
 #pragma once
 
 #include <optional>

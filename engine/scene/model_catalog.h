@@ -32,6 +32,8 @@
 //                (default: half the piece length)
 // Unknown keys are errors; every error names the file and the field ("catalog.json:
 // types.gauge.units: expected mm, cm, m, in, ft or a number > 0, got 'furlong'").
+// Thread safety: pure functions (readModelCatalog reads the file and checks that the models exist;
+// nothing is kept).
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

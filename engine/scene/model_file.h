@@ -14,6 +14,10 @@
 // cache (model_cache.h), and later reads of the same file version parse only that entry, OSG's
 // fastest format (3 ms for the dump truck).
 // Thread safety: as runGuarded: one thread at a time, not while other threads hold OSG's locks.
+// readModelFileUnguarded does not fork: it is as safe to call from several threads as the OSG
+// plugin that reads the file.
+// Ownership: the returned node is a new graph owned by the caller (ref_ptr); it is shared with
+// nothing else.
 #pragma once
 
 #include "nestwalk/core/guarded_process.h"

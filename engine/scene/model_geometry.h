@@ -1,5 +1,9 @@
 // The geometry of an equipment model as the collision side needs it: every vertex and triangle
 // of a file OpenSceneGraph reads, with the file's own transforms applied, in the file's units.
+// Units: the model file's own frame and units (the type's transform to metres is applied later,
+// scene.h).
+// Thread safety: collectModelGeometry only reads the node (nothing in it changes) and keeps
+// nothing; loadModelGeometry reads through readModelFile (model_file.h: one thread at a time).
 #pragma once
 
 #include "nestwalk/geometry/triangle_mesh.h"

@@ -1,6 +1,7 @@
 // Standing equipment on the ground: the footprint of a placed model and the ground under it. The
 // scene loader places every instance without a z with it (scene_loader.h), and build-scene checks
 // each feature of a user's layers with the same computation before it writes the scene.
+// Thread safety: pure functions; the heightfield is only read.
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"

@@ -6,6 +6,16 @@
 // instances of a group form one unit together (volumes fitted to all their points), named after
 // the group. The set of units does not depend on the hierarchy, so every hierarchy sees the same
 // contacts.
+//
+// Units: map and local coordinates in metres (projected CRS); SceneModel's model-frame data in the
+// model file's own frame and units (SceneInstance::toLocal includes the type's transform to
+// metres); angles in degrees.
+// Ownership: a Scene owns its data, except that the models' OSG nodes are reference-counted and
+// shared with every scene graph built from it (scene_graph.h, the renderer), and the terrain is a
+// shared_ptr to const.
+// Thread safety: nothing in the engine changes a loaded Scene, so its fields and const members may
+// be read from several threads at once. Its OSG nodes are another matter: drawing compiles GL
+// objects and computes bounds into them, so a graph over them is used by one thread at a time.
 #pragma once
 
 #include "nestwalk/geometry/nested.h"

@@ -41,6 +41,9 @@
 // viewer: eye_height, speed and the half extents > 0, max_step and fly_clearance >= 0,
 // 0 < max_slope_deg < 90; method.degree is 2, 4 or 8. The default name at the root is
 // "<model stem>#<index>" (index: the entry's position in "equipment", from 0).
+//
+// Thread safety: pure functions (readSceneFile reads the file and checks that the model files
+// exist); nothing is kept.
 #pragma once
 
 #include "nestwalk/scene/method_spec.h"

@@ -1,6 +1,12 @@
 // The OpenSceneGraph graph of a loaded scene, for drawing (the renderer, `nestwalk export`): the
 // terrain's LOD tiles and the equipment's instances over shared model nodes, optionally the
 // volumes as wireframes. The walker never touches it.
+//
+// Ownership: the graph holds the scene's model nodes by ref_ptr (shared, not copied) and copies
+// everything else it needs; it keeps no reference to the Scene, which may go after the call. The
+// caller owns the returned graph.
+// Thread safety: as any OSG graph: build and use it on one thread. Graphs built from one Scene
+// share its model nodes: do not draw them from different threads at once.
 #pragma once
 
 #include "nestwalk/scene/scene.h"

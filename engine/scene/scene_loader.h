@@ -1,6 +1,11 @@
 // Loading a scene: the scene file (scene_file.h) made into a Scene (scene.h): the terrain read,
 // every model loaded and fitted once, the instances placed and their volumes computed, the
 // collision units formed.
+//
+// Thread safety: loadScene reads every model through readModelFile (a fork,
+// core/guarded_process.h): call it from one thread while no other thread holds locks the child
+// needs (in practice: before starting other threads). It also uses GDAL (readDem: initGdal's
+// process-wide settings) and osgDB's registry.
 #pragma once
 
 #include "nestwalk/scene/scene.h"

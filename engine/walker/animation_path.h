@@ -1,6 +1,10 @@
 // OpenSceneGraph AnimationPath files, the camera paths osgviewer records and replays: read as a
 // flythrough script (a recorded camera path flies at its own speed), and written from a run's
 // camera (`nestwalk run` writes camera.path; `osgviewer scene.osgb -p camera.path` replays it).
+//
+// Units: times in seconds, positions map coordinates (metres), headings and pitch in degrees.
+// Thread safety: pure functions; writeAnimationPath writes through core/output_file.h (one writer
+// per path).
 #pragma once
 
 #include "nestwalk/walker/script.h"

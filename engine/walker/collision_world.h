@@ -1,6 +1,17 @@
 // The walker's view of the equipment: the collision units' nested volumes in one flat array and
 // the broad-phase hierarchy over them, with the swept and static queries a step needs. Built once
 // from a loaded scene; the per-step queries allocate nothing once their scratch has grown.
+//
+// Units: local frame (map - scene origin), metres; a sweep's d is the step's displacement, t the
+// fraction of it.
+// Ownership: the world owns copies of the units' volumes, names and groups; it shares the MeshWorld
+// (a shared_ptr to const) and does not own its observer (setObserver).
+// Thread safety: NOT safe to share between threads. sweep() and overlapping() are const but write
+// the world's mutable scratch (the broad phase's hit list), and sweep() also its last-sweep cache,
+// so a world answers one thread at a time, even through a const reference (Walker holds one). Give
+// each thread its own world: copies share the BoxTree's and the MeshWorld's immutable data (a copy
+// also takes the observer pointer: clear it first). The setters (setMeshes, setMeshContactSearch,
+// setTiming, setObserver) must not run while the world answers.
 #pragma once
 
 #include "nestwalk/geometry/swept.h"

@@ -34,6 +34,9 @@
 // are split, down to the threshold's size (a box of 0.6 x 0.4 x 0.5 m: about 1300 queries). Patches smaller than kGapResolution whose bound still exceeds the
 // threshold count as not tight (conservative: the exact stage), as does running past
 // kMaxGapProbes distance queries.
+//
+// Thread safety: obbSurfaceGap keeps no state and calls `nearest` on the calling thread; it is as
+// safe as that callback.
 #pragma once
 
 #include "nestwalk/geometry/triangle_box.h"

@@ -1,5 +1,9 @@
 // One flythrough: a script played on a scene's walker, with a record per step (what `nestwalk run`
 // writes, what the report and the benchmarks aggregate). No files here: the report side writes them (engine/report).
+// Ownership: runFlythrough's walker refers to the scene's terrain and to `world` for the call only;
+// nothing is kept after it returns. onRecord runs on the calling thread.
+// Thread safety: a play sweeps `world`, which keeps scratch and a last-sweep cache despite the
+// const reference (collision_world.h): plays on different threads need different worlds.
 #pragma once
 
 #include "nestwalk/walker/animation_path.h"

@@ -1,6 +1,7 @@
 // What a walker run records per step and per expectation: the walker writes these records (a
 // flythrough, flythrough.h), the report side reads them (the CSV, the summary, the plots and the
 // map in engine/report). No files are written here.
+// Thread safety: plain value types.
 #pragma once
 
 #include "nestwalk/core/enum_array.h"

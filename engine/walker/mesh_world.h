@@ -23,6 +23,13 @@
 //
 // Frames: instances' transforms are similarities (rotation, uniform scale, translation; scene.h);
 // the box is taken into each model's frame by the inverse, the distance scaled back.
+//
+// Units: boxes, d and distances in the local frame, metres; t is the fraction of d.
+// Ownership: the trees and the units' transforms are built and copied by fromScene; nothing refers
+// back to the Scene or its OSG nodes afterwards.
+// Thread safety: a built MeshWorld is immutable (fromScene hands it out as a shared_ptr to const);
+// its const queries keep no scratch and may run from several threads at once, each with its own
+// MeshQueryCounters.
 #pragma once
 
 #include "nestwalk/geometry/mesh_tree.h"

@@ -22,6 +22,8 @@
 // A motion command ends when its target is reached or when the viewer has not moved for
 // `kBlockedTimeout` seconds (it is blocked); the script then goes on with the next line.
 // Errors name the file and line ("patrol.txt:12: goto: expected 2 or 3 numbers, got 1").
+//
+// Thread safety: pure functions (readScript reads the file).
 #pragma once
 
 #include <Eigen/Core>

@@ -9,6 +9,9 @@
 // `heading` and `look` run at kTurnRate / kPitchRate in whole steps; the rest (less than one
 // step's turn) turns the view at once, the body following at the next step. `wait` stands for
 // ceil(T / dt) steps.
+//
+// Ownership: the player keeps references to `script` and `walker`; both must outlive it.
+// Thread safety: one thread (run() steps the walker); onStep runs on that thread.
 #pragma once
 
 #include "nestwalk/walker/frame_record.h"

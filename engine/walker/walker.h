@@ -13,6 +13,13 @@
 //      motion presses into the obstacle; with `slide`, the rest of the step is projected on the
 //      contact plane and walked again (at most kMaxSlides times).
 // Frames: the state is in map coordinates (double); volumes are built in the scene's local frame.
+// Units: metres (map frame for positions and moves), seconds (dt, time), degrees (heading, pitch,
+// body yaw, max_slope_deg). `origin` is the map point of the scene's local frame (Scene::origin).
+// Ownership: the walker keeps references to `terrain` and `world`; both must outlive it.
+// Thread safety: a walker is used by one thread (place(), setView() and step() change its state;
+// the const members only read). Walkers on different threads may share the Heightfield (immutable,
+// no scratch) but not the CollisionWorld: its sweeps write scratch and a cache (collision_world.h),
+// so each needs its own.
 #pragma once
 
 #include "nestwalk/scene/scene_file.h"
