@@ -11,6 +11,7 @@
 #include <ogr_srs_api.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -176,9 +177,12 @@ std::optional<double> numberField(OGRFeatureH f, int field, bool& ok) {
   ok = true;
   const std::string text = textField(f, field);
   if (text.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !std::isfinite(v)) {
+  // std::from_chars: a point as the decimal separator whatever locale the program set.
+  const char* begin = text.data() + (text[0] == '+' ? 1 : 0);
+  const char* end = text.data() + text.size();
+  double v = 0;
+  const auto r = std::from_chars(begin, end, v);
+  if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) {
     ok = false;
     return std::nullopt;
   }

@@ -4,6 +4,7 @@
 #include "nestwalk/report/axis.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -92,21 +93,22 @@ std::string tickLabel(double value, double resolution, const std::string& unit) 
   const int kRes = decadeOf(resolution);
   const int decimals = std::max(0, -kRes);
   const double a = std::abs(value);
-  char buffer[64];
+  // std::to_chars: a point as the decimal separator whatever locale the program set.
+  auto format = [](double v, std::chars_format f, int precision) {
+    char buffer[400];  // %f of the largest double is 309 digits
+    const auto r = std::to_chars(buffer, buffer + sizeof buffer, v, f, precision);
+    return std::string(buffer, r.ptr);
+  };
   if (a < resolution * kOnTick * 1e3) {  // zero, or rounding noise around it; never "-0"
     if (resolution < kPlainFrom) return "0" + suffix;
-    std::snprintf(buffer, sizeof buffer, "%.*f", decimals, 0.0);
-    return buffer + suffix;
+    return format(0.0, std::chars_format::fixed, decimals) + suffix;
   }
-  if (a >= kPlainFrom && a < kPlainBelow && resolution >= kPlainFrom) {
-    std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-    return buffer + suffix;
-  }
+  if (a >= kPlainFrom && a < kPlainBelow && resolution >= kPlainFrom)
+    return format(value, std::chars_format::fixed, decimals) + suffix;
   // Scientific: as many significant digits as the resolution needs, trailing zeros dropped.
   const int kValue = decadeOf(a);
   const int digits = std::clamp(kValue - kRes + 1, 1, 15);
-  std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, value);
-  std::string s(buffer);
+  std::string s = format(value, std::chars_format::scientific, digits - 1);
   const std::size_t e = s.find('e');
   std::string mantissa = s.substr(0, e);
   if (mantissa.find('.') != std::string::npos) {

@@ -9,7 +9,8 @@
 //    plays repeated and interleaved across methods, each frame's time the least over the repeats
 //    (the plays are deterministic, so frame i is the same step every time; the least is the one
 //    least disturbed by the rest of the machine);
-//  - accuracy: every sweep also run on an exact nested+mesh world (CollisionWorld::compareWith):
+//  - accuracy: every sweep also run on an exact nested+mesh world (reference_comparison.h, set on
+//    the method's world for the play by ObservedSweeps):
 //    missed contacts (the real geometry was touched before the method's contact, or the method
 //    found none) and false blocks (the method stopped a sweep whose path touches no triangle);
 //    the BV tests (hierarchy nodes, the three nested stages, the mesh trees' nodes) and triangle

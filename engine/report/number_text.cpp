@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <locale>
 #include <sstream>
 
 namespace nestwalk {
@@ -17,6 +18,7 @@ constexpr double kScientificBelow = 1e-4;
 std::string fixedText(double value, int decimals) {
   if (std::isnan(value)) return "-";
   std::ostringstream s;
+  s.imbue(std::locale::classic());  // a point, whatever locale the program set
   s << std::fixed << std::setprecision(decimals) << value;
   return s.str();
 }
@@ -27,6 +29,7 @@ std::string shortText(double value) {
   if (a == 0) return "0";
   if (a < kScientificBelow) {
     std::ostringstream s;
+    s.imbue(std::locale::classic());
     s << std::setprecision(2) << std::scientific << value;
     return s.str();
   }

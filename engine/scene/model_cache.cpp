@@ -41,11 +41,7 @@ void prune(const fs::path& folder) {
   for (std::size_t i = 0; i < entries.size() / 2; ++i) fs::remove(entries[i].second, ec);
 }
 
-/// The source's identity: what must not have changed for an entry to be used.
-struct Identity {
-  std::uint64_t size = 0, mtimeNs = 0, inode = 0, device = 0;
-  bool operator==(const Identity&) const = default;
-};
+using Identity = ModelFileIdentity;
 
 struct Header {
   char magic[8];
@@ -54,12 +50,16 @@ struct Header {
   std::uint64_t checksum;  // of those bytes
 };
 
-std::optional<Identity> identityOf(const std::string& path) {
+}  // namespace
+
+std::optional<ModelFileIdentity> modelFileIdentity(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
   return Identity{std::uint64_t(st.st_size), std::uint64_t(st.st_mtim.tv_sec) * 1'000'000'000ull + std::uint64_t(st.st_mtim.tv_nsec),
                   std::uint64_t(st.st_ino), std::uint64_t(st.st_dev)};
 }
+
+namespace {
 
 std::uint64_t checksumOf(std::string_view bytes) { return std::hash<std::string_view>{}(bytes); }
 
@@ -88,7 +88,7 @@ std::string modelCacheFolder() {
 
 std::optional<std::string> cachedModel(const std::string& path) {
   const std::optional<fs::path> entry = entryOf(path);
-  const std::optional<Identity> source = identityOf(path);
+  const std::optional<Identity> source = modelFileIdentity(path);
   if (!entry || !source) return std::nullopt;
   std::ifstream in(*entry, std::ios::binary);
   Header h{};
@@ -101,10 +101,10 @@ std::optional<std::string> cachedModel(const std::string& path) {
   return bytes;
 }
 
-void storeCachedModel(const std::string& path, const std::string& osgbBytes) {
+void storeCachedModel(const std::string& path, const ModelFileIdentity& before, const std::string& osgbBytes) {
   const std::optional<fs::path> entry = entryOf(path);
-  const std::optional<Identity> source = identityOf(path);
-  if (!entry || !source) return;
+  const std::optional<Identity> source = modelFileIdentity(path);
+  if (!entry || !source || !(*source == before)) return;  // changed while it was read
   std::error_code ec;
   fs::create_directories(entry->parent_path(), ec);
   if (ec) return;

@@ -24,10 +24,21 @@
 // (getenv) on every call.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
 namespace nestwalk {
+
+/// A model file's identity when it was about to be read (size, modification time in
+/// nanoseconds, inode, device): an entry is stored under it only if the file still has it once
+/// the read is done, so a file changed during the read never gets the old bytes filed as new.
+struct ModelFileIdentity {
+  std::uint64_t size = 0, mtimeNs = 0, inode = 0, device = 0;
+  bool operator==(const ModelFileIdentity&) const = default;
+};
+/// The identity of `path` now; nullopt when it cannot be stat'ed.
+std::optional<ModelFileIdentity> modelFileIdentity(const std::string& path);
 
 /// The cache's folder, or empty when it is off (see above).
 std::string modelCacheFolder();
@@ -35,8 +46,9 @@ std::string modelCacheFolder();
 /// The cached .osgb bytes of `path`, when an entry matches the file as it is now and is intact.
 std::optional<std::string> cachedModel(const std::string& path);
 
-/// Stores the .osgb bytes of `path` (read under the guard) for later loads; silently does nothing
-/// when the cache is off or cannot be written.
-void storeCachedModel(const std::string& path, const std::string& osgbBytes);
+/// Stores the .osgb bytes of `path` (read under the guard, which began when the file had
+/// `before`) for later loads; does nothing when the file has changed since, or the cache is off
+/// or cannot be written.
+void storeCachedModel(const std::string& path, const ModelFileIdentity& before, const std::string& osgbBytes);
 
 }  // namespace nestwalk

@@ -77,6 +77,7 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
   out.problem = fileProblem(path);
   if (!out.problem.empty()) return out;
   osgDB::ReaderWriter& binary = nativeBinary();  // loaded here, before the child copies this process
+  const std::optional<ModelFileIdentity> before = modelFileIdentity(path);
   if (const std::optional<std::string> cached = cachedModel(path)) {
     out.node = fromHandBack(binary, *cached, out.problem);
     if (out.node) return out;
@@ -97,7 +98,7 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
     return out;
   }
   out.node = fromHandBack(binary, child.bytes, out.problem);
-  if (out.node) storeCachedModel(path, child.bytes);
+  if (out.node && before) storeCachedModel(path, *before, child.bytes);
   return out;
 }
 

@@ -55,6 +55,7 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
   if (meshes && meshes->units() != units_.size())
     throw std::invalid_argument("CollisionWorld: the meshes' units differ from the world's");
   meshes_ = std::move(meshes);
+  last_.valid = false;  // the last answer was found with the old meshes
   choices_.clear();
   if (method_.volumes != VolumeMethod::Auto || !meshes_) return;
   choices_.reserve(units_.size());

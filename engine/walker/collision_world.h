@@ -72,7 +72,10 @@ class CollisionWorld {
   const std::shared_ptr<const MeshWorld>& meshes() const { return meshes_; }
   // How the mesh stage finds a step's first contact (mesh_world.h): swept (default) or by
   // conservative advancement, the independent reference the report compares methods with.
-  void setMeshContactSearch(MeshContactSearch search) { search_ = search; }
+  void setMeshContactSearch(MeshContactSearch search) {
+    search_ = search;
+    last_.valid = false;  // the last answer was found the other way
+  }
   // Auto: whether unit i gets the exact mesh stage after the nested test, and the verdict on its
   // inner OBB's gap that decided it (contact_choice.h); false and empty for the other methods.
   bool exactStage(std::size_t i) const { return !choices_.empty() && !choices_[i].tight; }

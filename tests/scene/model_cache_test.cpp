@@ -56,7 +56,7 @@ TEST(ModelCache, EntryServesOnlyTheFileAsItWas) {
   const fs::path model = folder / "m.osgt";
   test::writeText(model, "first version");
   EXPECT_FALSE(cachedModel(model.string()));
-  storeCachedModel(model.string(), "osgb bytes of the first version");
+  storeCachedModel(model.string(), *modelFileIdentity(model.string()), "osgb bytes of the first version");
   EXPECT_EQ(cachedModel(model.string()).value_or(""), "osgb bytes of the first version");
   // Another path, even to the same content, has no entry.
   fs::copy_file(model, folder / "copy.osgt");
@@ -66,9 +66,21 @@ TEST(ModelCache, EntryServesOnlyTheFileAsItWas) {
   test::writeText(model, "other version");
   EXPECT_FALSE(cachedModel(model.string()));
   // Storing again replaces the entry (one entry per path).
-  storeCachedModel(model.string(), "osgb bytes of the other version");
+  storeCachedModel(model.string(), *modelFileIdentity(model.string()), "osgb bytes of the other version");
   EXPECT_EQ(cachedModel(model.string()).value_or(""), "osgb bytes of the other version");
   onlyEntry(folder / "cache");
+}
+
+TEST(ModelCache, AFileChangedDuringItsReadIsNotFiled) {
+  const test::TempFolder folder;
+  const CacheFolder cache((folder / "cache").string());
+  const fs::path model = folder / "m.osgt";
+  test::writeText(model, "version read");
+  const ModelFileIdentity before = *modelFileIdentity(model.string());
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  test::writeText(model, "version written meanwhile");  // changed while the guard read it
+  storeCachedModel(model.string(), before, "osgb bytes of the version read");
+  EXPECT_FALSE(cachedModel(model.string()));
 }
 
 TEST(ModelCache, DamagedEntriesAreNeverUsed) {
@@ -77,7 +89,7 @@ TEST(ModelCache, DamagedEntriesAreNeverUsed) {
   const fs::path model = folder / "m.osgt";
   test::writeText(model, "model");
   const std::string bytes(100000, 'b');
-  storeCachedModel(model.string(), bytes);
+  storeCachedModel(model.string(), *modelFileIdentity(model.string()), bytes);
   const fs::path entry = onlyEntry(folder / "cache");
   std::ifstream in(entry, std::ios::binary);
   const std::string whole{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -105,13 +117,13 @@ TEST(ModelCache, OffOrUnwritableChangesNothingButSpeed) {
   {
     const CacheFolder off("off");
     EXPECT_EQ(modelCacheFolder(), "");
-    storeCachedModel(model.string(), "bytes");
+    storeCachedModel(model.string(), *modelFileIdentity(model.string()), "bytes");
     EXPECT_FALSE(cachedModel(model.string()));
   }
   // A cache "folder" that is a file: nothing can be stored, nothing fails.
   test::writeText(folder / "not_a_folder", "");
   const CacheFolder blocked((folder / "not_a_folder" / "cache").string());
-  storeCachedModel(model.string(), "bytes");
+  storeCachedModel(model.string(), *modelFileIdentity(model.string()), "bytes");
   EXPECT_FALSE(cachedModel(model.string()));
 }
 
@@ -146,7 +158,7 @@ TEST(ModelCache, EntriesStayBounded) {
   for (int i = 0; i < 1100; ++i) {
     const fs::path m = folder / "models" / ("m" + std::to_string(i) + ".osgt");
     test::writeText(m, "model " + std::to_string(i));
-    storeCachedModel(m.string(), "bytes " + std::to_string(i));
+    storeCachedModel(m.string(), *modelFileIdentity(m.string()), "bytes " + std::to_string(i));
     ASSERT_EQ(cachedModel(m.string()).value_or(""), "bytes " + std::to_string(i));
   }
   std::size_t entries = 0;
