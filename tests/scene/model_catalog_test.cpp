@@ -75,7 +75,8 @@ TEST_F(ModelCatalogTest, ReadsEveryFieldWithItsDefaults) {
   }
   // Written back as JSON, read again: the same type.
   const Json again = {{"types", {{"gauge", modelTypeJson(g, "box.osgt")}}}};
-  const ModelType& g2 = readModelCatalog(write(again)).types.at("gauge");
+  const ModelCatalog readAgain = readModelCatalog(write(again));
+  const ModelType& g2 = readAgain.types.at("gauge");
   EXPECT_EQ(g2.metresPerUnit, g.metresPerUnit);
   EXPECT_EQ(g2.up, g.up);
   EXPECT_EQ(g2.forward, g.forward);
