@@ -86,6 +86,13 @@ Json parseJsonStrictly(const std::string& text, const std::string& file) {
     const std::size_t at = what.find("parse error");
     if (at != std::string::npos) what = what.substr(at);
     throw InputError(file + ": not valid JSON: " + what);
+  } catch (const Json::exception& e) {
+    // The parser's other refusals, e.g. out_of_range.406 for a number beyond double's range
+    // ("number overflow parsing '164.04400E01752356'", found by the fuzzer).
+    std::string what = e.what();
+    const std::size_t at = what.find("] ");
+    if (at != std::string::npos) what = what.substr(at + 2);
+    throw InputError(file + ": not valid JSON: " + what);
   }
   if (!duplicates.firstDuplicate().empty()) throw InputError(file + ": " + duplicates.firstDuplicate() + ": duplicate key");
   return root;
