@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev                                  # linear algebra, symmetric eigensolver
   libopenscenegraph-dev openscenegraph           # scene graph, model loading (osgDB plugins)
   libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering (EGL)
-  xvfb xauth                                     # the X pbuffer fallback route, tested in CI
+  xvfb xauth xdotool                             # the X pbuffer fallback route; `nestwalk view` under Xvfb, driven by xdotool
   libgdal-dev gdal-bin                           # raster I/O, reprojection
   libgtest-dev libgmock-dev libbenchmark-dev     # tests and benchmarks
   libfcl-dev libccd-dev libbullet-dev            # peers for benchmarks and test oracles

@@ -94,6 +94,8 @@ class Walker {
   // (no ground there, inside a unit).
   std::string place(const Eigen::Vector3d& position, bool hasZ, double headingDeg, bool flying, double clearance);
   void setFlying(bool flying, double clearance);
+  // Sliding along contact faces (WalkerOptions::slide) from the next step on.
+  void setSlide(bool slide) { options_.slide = slide; }
   // Turns the view without a step (the body follows at the next step, if it can).
   void setView(double headingDeg, double pitchDeg) {
     state_.headingDeg = headingDeg;

@@ -18,6 +18,7 @@ void registerMakeScene(CLI::App& app);       // nestwalk make-scene DIR
 void registerBuildScene(CLI::App& app);      // nestwalk build-scene --terrain DEM --equipment SOURCE ...
 void registerExport(CLI::App& app);          // nestwalk export SCENE OUT.osgb
 void registerRun(CLI::App& app);             // nestwalk run SCENE --script FILE --headless --out DIR
+void registerView(CLI::App& app);            // nestwalk view SCENE [--script FILE] (a window)
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]
 void registerBenchRender(CLI::App& bench);  // nestwalk bench render [--json]
 void registerBenchModels(CLI::App& bench);  // nestwalk bench models [--json]

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerBuildScene(app);
   nestwalk::tools::registerExport(app);
   nestwalk::tools::registerRun(app);
+  nestwalk::tools::registerView(app);
   nestwalk::tools::registerReport(app);
   CLI::App* query = app.add_subcommand("query", "Answer one question about a model, terrain or boxes");
   query->require_subcommand(1);

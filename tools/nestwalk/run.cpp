@@ -17,6 +17,7 @@
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "tools/nestwalk/commands.h"
+#include "tools/nestwalk/walk_options.h"
 
 #include <nlohmann/json.hpp>
 
@@ -34,46 +35,12 @@ struct RunArgs {
   std::string scene, script, out;
   bool headless = false, overwrite = false, slide = false, quiet = false;
   double hz = 60.0;
-  std::string volumes, hierarchy, splitAxis, splitPoint;
-  int degree = 0;
+  MethodOverrides method;
   // Rendering.
   bool render = false, showVolumes = false, noVideo = false, noFrames = false, osgCulling = false;
   std::string size = "1280x720";
   int every = 1;
 };
-
-std::pair<int, int> parseSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 ||
-      h < 16 || w > 8192 || h > 8192)
-    throw InputError("--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 1280x720, got '" + text + "'");
-  return {w, h};
-}
-
-MethodSpec methodFrom(const RunArgs& a, MethodSpec m) {
-  if (!a.volumes.empty()) {
-    if (!parseVolumeMethod(a.volumes, m.volumes))
-      throw InputError("--method: expected nested, aabb, obb, nested+mesh, kdop18 or auto, got '" + a.volumes + "'");
-  }
-  if (!a.hierarchy.empty()) {
-    if (a.hierarchy == "template") m.templateHierarchy = true;
-    else if (a.hierarchy == "auto") m.templateHierarchy = false;
-    else throw InputError("--hierarchy: expected auto or template, got '" + a.hierarchy + "'");
-  }
-  if (a.degree != 0) m.autoTree.degree = a.degree;
-  if (!a.splitAxis.empty()) {
-    if (a.splitAxis == "longest") m.autoTree.axis = SplitAxis::LongestSide;
-    else if (a.splitAxis == "splatter") m.autoTree.axis = SplitAxis::Splatter;
-    else throw InputError("--split-axis: expected longest or splatter, got '" + a.splitAxis + "'");
-  }
-  if (!a.splitPoint.empty()) {
-    if (a.splitPoint == "mean") m.autoTree.point = SplitPoint::Mean;
-    else if (a.splitPoint == "median") m.autoTree.point = SplitPoint::Median;
-    else throw InputError("--split-point: expected mean or median, got '" + a.splitPoint + "'");
-  }
-  return m;
-}
 
 void runRun(const RunArgs& args) {
   namespace fs = std::filesystem;
@@ -87,7 +54,7 @@ void runRun(const RunArgs& args) {
     for (const std::string& f : outputs)
       if (fs::exists(out / f))
         throw InputError((out / f).string() + ": exists; pass --overwrite to replace the run's outputs");
-  const auto [width, height] = parseSize(args.size);
+  const auto [width, height] = parseFrameSize(args.size);
   if (args.render && !args.noVideo && !VideoWriter::ffmpegAvailable())
     throw InputError((out / "flythrough.mp4").string() +
                      ": cannot write the video: ffmpeg is not installed (tools/setup-deps.sh installs it; "
@@ -95,7 +62,7 @@ void runRun(const RunArgs& args) {
 
   const Script script = readScript(args.script);
   const Scene scene = loadScene(args.scene);
-  const MethodSpec method = methodFrom(args, scene.spec.method);
+  const MethodSpec method = applyMethodOverrides(args.method, scene.spec.method);
   CollisionWorld world = CollisionWorld::fromScene(scene, method);
   world.setTiming(true);
   WalkerOptions options;
@@ -244,11 +211,11 @@ void registerRun(CLI::App& app) {
   cmd->add_flag("--slide", args->slide, "Slide along contact faces instead of stopping");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->add_option("--hz", args->hz, "Steps per second (fixed time step 1/hz; default 60)")->check(CLI::Range(1.0, 10000.0));
-  cmd->add_option("--method", args->volumes, "Contact test: nested (default), aabb, obb, nested+mesh, kdop18, auto (overrides the scene)");
-  cmd->add_option("--hierarchy", args->hierarchy, "Broad phase: auto or template (overrides the scene)");
-  cmd->add_option("--degree", args->degree, "Auto hierarchy: children per node, 2, 4 or 8")->check(CLI::IsMember({2, 4, 8}));
-  cmd->add_option("--split-axis", args->splitAxis, "Auto hierarchy: longest or splatter");
-  cmd->add_option("--split-point", args->splitPoint, "Auto hierarchy: mean or median");
+  cmd->add_option("--method", args->method.volumes, "Contact test: nested (default), aabb, obb, nested+mesh, kdop18, auto (overrides the scene)");
+  cmd->add_option("--hierarchy", args->method.hierarchy, "Broad phase: auto or template (overrides the scene)");
+  cmd->add_option("--degree", args->method.degree, "Auto hierarchy: children per node, 2, 4 or 8")->check(CLI::IsMember({2, 4, 8}));
+  cmd->add_option("--split-axis", args->method.splitAxis, "Auto hierarchy: longest or splatter");
+  cmd->add_option("--split-point", args->method.splitPoint, "Auto hierarchy: mean or median");
   cmd->callback([args] { runRun(*args); });
 }
 

@@ -1,0 +1,129 @@
+// What the walker's view draws, whatever draws it: the offscreen renderer (view_renderer.h) and
+// the interactive window (engine/viewer) build the same graph, so that a screenshot of the window
+// and an offscreen frame of the same pose agree.
+//
+// The graph: the scene graph of a loaded scene (scene_graph.h: terrain tiles with screen-space-
+// error LOD, equipment instances over shared model nodes, optional volume wireframes), lit by a
+// sun from the north-west, a sky gradient behind whose horizon follows the pitch, aerial haze, and
+// the blocked overlay (a red frame and "BLOCKED by <unit>" in the UI font, nestwalk/core/ui_font.h).
+// Or, for the ID pass, every pixel coloured with what it shows: sky 0, terrain 1, instance i: i + 2
+// (24-bit RGB, R the low byte).
+//
+// Camera: the eye in map coordinates; heading clockwise from north, pitch up positive (the walker's
+// convention); vertical field of view fovYDegrees; near and far fixed (no OSG near/far computation,
+// which clips the ground in front of a low eye over a large terrain): near is half the body's
+// smaller horizontal half extent (equipment can never be nearer to the eye than the body lets it
+// come), far reaches past the terrain's farthest corner.
+//
+// Culling: equipment is culled with the nested volumes (nested_cull.h) unless
+// options.nestedCulling is off (then OSG's bounding spheres decide).
+//
+// Ownership: the graph keeps a reference to `scene`, which must outlive it, and shares the scene's
+// model nodes (ref_ptr). Thread safety: build, update and draw it on one thread.
+#pragma once
+
+#include "nestwalk/render/nested_cull.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_graph.h"
+
+#include <osg/Camera>
+#include <osg/Geometry>
+#include <osg/MatrixTransform>
+#include <osg/View>
+#include <osg/ref_ptr>
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+
+namespace osgText {
+class Text;
+}
+
+namespace nestwalk {
+
+struct RenderOptions {
+  int width = 1280, height = 720;
+  double fovYDegrees = 60.0;
+  double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
+  int terrainTileCells = 32;     // cells per terrain tile side (power of two; 32 was fastest here,
+                                 // against 16, 64 and 128: `nestwalk bench render`)
+  bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
+  bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
+  bool blockedOverlay = true;    // a red frame and the blocker's name while blocked
+  bool idPass = false;           // render IDs instead of colours (see above)
+};
+
+// Where the walker is and what it sees (map frame).
+struct ViewPose {
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+  double headingDeg = 0, pitchDeg = 0;
+  bool blocked = false;
+  std::string blockedBy;
+};
+
+// The camera's view matrix (map frame -> eye) for a pose: eye at pose.eye looking along the heading
+// and pitch, up tilted with the pitch.
+osg::Matrixd walkerViewMatrix(const ViewPose& pose);
+
+class ViewGraph {
+ public:
+  // Builds the graph. Throws std::invalid_argument for a size under 16 x 16 or a scene without
+  // terrain, InputError (naming the file) when the overlay's font cannot be loaded.
+  ViewGraph(const Scene& scene, const RenderOptions& options);
+  ~ViewGraph();
+  ViewGraph(const ViewGraph&) = delete;
+  ViewGraph& operator=(const ViewGraph&) = delete;
+
+  // The graph's root, to be the view's scene data.
+  osg::Group* root() const { return root_.get(); }
+  // Sets up a view to draw the graph: its lighting (the sun, or none for the ID pass) and its
+  // master camera (projection, clear colour, fixed near and far).
+  void attachTo(osg::View& view) const;
+  // Moves the camera to a pose for the next frame: view matrix, sky horizon, blocked overlay,
+  // nested culling. Returns the culling counts (all zero without nested culling).
+  CullCounts update(osg::Camera& camera, const ViewPose& pose);
+  // A screen-space layer over [0, width] x [0, height] pixels (y up), no lighting or depth test,
+  // drawn after the scene: for a HUD. Its children are drawn in the order they are added.
+  osg::MatrixTransform* overlayLayer() const { return overlay_.get(); }
+
+  // The camera's matrices: view (map frame -> eye) for a pose, the projection, near and far.
+  osg::Matrixd viewMatrix(const ViewPose& pose) const { return walkerViewMatrix(pose); }
+  const osg::Matrixd& projectionMatrix() const { return projection_; }
+  const osg::Matrixd& lastViewMatrix() const { return view_; }
+  double nearPlane() const { return near_; }
+  double farPlane() const { return far_; }
+  // The last pose's view frustum in the local frame (nested_cull.h).
+  Frustum frustumLocal() const;
+  const osg::Matrixd& localToMap() const { return localToMap_; }
+  const NestedFrustumCuller* culler() const { return culler_.get(); }
+  const SceneGraphParts& parts() const { return parts_; }
+  const RenderOptions& options() const { return options_; }
+  const Scene& scene() const { return scene_; }
+  // Pixels per radian of the vertical field of view (the terrain LOD rule's).
+  double pixelsPerRadian() const { return pixelsPerRadian_; }
+  // The file of the overlay text's font (empty without one: the ID pass, or blockedOverlay off).
+  std::string overlayFontFile() const;
+
+ private:
+  void setUpStates();
+  void setUpOverlay();
+  void updateOverlay(const ViewPose& pose);
+
+  const Scene& scene_;
+  RenderOptions options_;
+  osg::ref_ptr<osg::Group> root_;
+  SceneGraphParts parts_;
+  osg::ref_ptr<osg::MatrixTransform> overlay_;
+  osg::ref_ptr<osg::Geometry> sky_;
+  osg::ref_ptr<osg::Node> blockedFrame_;
+  osg::ref_ptr<osgText::Text> blockedText_;
+  std::unique_ptr<NestedFrustumCuller> culler_;
+  osg::Matrixd projection_, view_;
+  osg::Matrixd localToMap_;  // translation by the scene's origin
+  double pixelsPerRadian_ = 0;
+  double near_ = 0.1, far_ = 10000;
+};
+
+}  // namespace nestwalk

@@ -1,0 +1,113 @@
+// The interactive window's heads-up display (hud.h).
+#include "nestwalk/viewer/hud.h"
+
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/ui_font.h"
+
+#include <osg/Geode>
+#include <osgText/Font>
+#include <osgText/Text>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace nestwalk {
+namespace {
+
+const osg::Vec4 kHudText(1.0f, 1.0f, 1.0f, 1.0f);
+const osg::Vec4 kHudShadow(0.0f, 0.0f, 0.0f, 0.8f);
+const osg::Vec4 kStatusText(1.0f, 0.85f, 0.2f, 1.0f);
+
+std::string format(const char* f, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+osg::ref_ptr<osgText::Text> makeText(osgText::Font* font, float size, const osg::Vec4& colour) {
+  osg::ref_ptr<osgText::Text> t = new osgText::Text;
+  t->setFont(font);
+  t->setCharacterSize(size);
+  t->setColor(colour);
+  // A dark outline keeps the text readable over the bright sky and the dark equipment alike.
+  t->setBackdropType(osgText::Text::OUTLINE);
+  t->setBackdropColor(kHudShadow);
+  t->setDataVariance(osg::Object::DYNAMIC);
+  return t;
+}
+
+}  // namespace
+
+const char* viewerHelpText() {
+  return "W / S, Up / Down   forward, back\n"
+         "A / D              sideways\n"
+         "Shift              run\n"
+         "mouse drag         look around\n"
+         "M                  capture the mouse (look without dragging)\n"
+         "F                  walk / fly\n"
+         "Q / E, PgUp / PgDn up / down (flying)\n"
+         "G                  slide along contact faces on / off\n"
+         "V                  show the nested volumes\n"
+         "R                  start / stop recording (script + .path)\n"
+         "P                  screenshot (PNG)\n"
+         "K / L              pause / single step (a script)\n"
+         "H                  this help\n"
+         "Esc                quit";
+}
+
+Hud::Hud(osg::MatrixTransform* layer, int width, int height) {
+  const std::string fontPath = uiFontPath();
+  osg::ref_ptr<osgText::Font> font = osgText::readRefFontFile(fontPath);
+  if (!font) throw InputError(fontPath + ": osgText cannot load the HUD's font (is OpenSceneGraph's freetype plugin installed?)");
+  const float size = float(std::clamp(0.022 * height, 11.0, 28.0));
+  const float margin = 0.6f * size;
+  lines_ = makeText(font.get(), size, kHudText);
+  lines_->setAlignment(osgText::Text::LEFT_BOTTOM);
+  lines_->setPosition(osg::Vec3(margin, margin, 0));
+  status_ = makeText(font.get(), size, kStatusText);
+  status_->setAlignment(osgText::Text::RIGHT_TOP);
+  status_->setPosition(osg::Vec3(float(width) - margin, float(height) - margin, 0));
+  help_ = makeText(font.get(), size, kHudText);
+  help_->setAlignment(osgText::Text::CENTER_CENTER);
+  help_->setPosition(osg::Vec3(0.5f * float(width), 0.5f * float(height), 0));
+  help_->setText(viewerHelpText());
+  help_->setDrawMode(osgText::Text::TEXT | osgText::Text::FILLEDBOUNDINGBOX);
+  help_->setBoundingBoxColor(osg::Vec4(0, 0, 0, 0.6f));
+  help_->setBoundingBoxMargin(margin);
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(lines_);
+  geode->addDrawable(status_);
+  geode->addDrawable(help_);
+  geode->setCullingActive(false);
+  help_->setNodeMask(0);
+  root_ = geode;
+  layer->addChild(root_);
+}
+
+void Hud::setHelpVisible(bool visible) {
+  helpVisible_ = visible;
+  help_->setNodeMask(visible ? ~0u : 0u);
+}
+
+void Hud::setVisible(bool visible) { root_->setNodeMask(visible ? ~0u : 0u); }
+
+void Hud::update(const HudState& s) {
+  std::string t;
+  t += format("%.1f fps   %.1f ms per frame\n", s.fps, s.frameMs);
+  t += format("walker %.1f \u00b5s per step, %.0f steps this frame\n", s.stepMicros, s.stepsThisFrame);
+  t += format("Nv aabb-aabb %.0f  aabb-obb %.0f  obb-obb %.0f", double(s.stageTests[OverlapStage::AabbAabb]),
+              double(s.stageTests[OverlapStage::AabbObb]), double(s.stageTests[OverlapStage::ObbObb]));
+  t += format("   Np %.0f\n", double(s.primitiveTests));
+  t += format("E %.3f  N %.3f  H %.3f", s.eye.x(), s.eye.y(), s.eye.z()) + "  (" + s.crs + ")\n";
+  t += format("heading %.1f  pitch %.1f", s.headingDeg, s.pitchDeg);
+  t += s.hasGround ? format("   ground %.3f\n", s.ground) : std::string("   no ground\n");
+  t += std::string(s.flying ? "flying" : "walking") + (s.sliding ? ", sliding" : "") + "   method " + s.method;
+  lines_->setText(t, osgText::String::ENCODING_UTF8);
+  std::string status = s.status;
+  for (std::size_t i = 0; i < s.expectations.size(); ++i) status += (status.empty() ? "" : "\n") + s.expectations[i];
+  status_->setText(status, osgText::String::ENCODING_UTF8);
+}
+
+std::string Hud::text() const { return lines_->getText().createUTF8EncodedString() + "\n" + status_->getText().createUTF8EncodedString(); }
+
+}  // namespace nestwalk
