@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 namespace nestwalk {
 namespace {
@@ -39,20 +40,20 @@ osg::ref_ptr<osgText::Text> makeText(osgText::Font* font, float size, const osg:
 }  // namespace
 
 const char* viewerHelpText() {
-  return "W / S, Up / Down   forward, back\n"
-         "A / D              sideways\n"
-         "Shift              run\n"
-         "mouse drag         look around\n"
-         "M                  capture the mouse (look without dragging)\n"
-         "F                  walk / fly\n"
-         "Q / E, PgUp / PgDn up / down (flying)\n"
-         "G                  slide along contact faces on / off\n"
-         "V                  show the nested volumes\n"
-         "R                  start / stop recording (script + .path)\n"
-         "P                  screenshot (PNG)\n"
-         "K / L              pause / single step (a script)\n"
-         "H                  this help\n"
-         "Esc                quit";
+  return "W / S, Up / Down\tforward, back\n"
+         "A / D\tsideways\n"
+         "Shift\trun\n"
+         "mouse drag\tlook around\n"
+         "M\tcapture the mouse (look without dragging)\n"
+         "F\twalk / fly\n"
+         "Q / E, PgUp / PgDn\tup / down (flying)\n"
+         "G\tslide along contact faces on / off\n"
+         "V\tshow the nested volumes\n"
+         "R\tstart / stop recording (script + .path)\n"
+         "P\tscreenshot (PNG)\n"
+         "K / L\tpause / single step (a script)\n"
+         "H\tthis help\n"
+         "Esc\tquit";
 }
 
 Hud::Hud(osg::MatrixTransform* layer, int width, int height) {
@@ -67,26 +68,45 @@ Hud::Hud(osg::MatrixTransform* layer, int width, int height) {
   status_ = makeText(font.get(), size, kStatusText);
   status_->setAlignment(osgText::Text::RIGHT_TOP);
   status_->setPosition(osg::Vec3(float(width) - margin, float(height) - margin, 0));
+  // The help: two columns, the keys right-aligned against the middle, what they do left-aligned.
+  std::string keys, actions;
+  for (const char* p = viewerHelpText(); *p;) {
+    const char* tab = std::strchr(p, '\t');
+    const char* end = std::strchr(p, '\n');
+    if (!end) end = p + std::strlen(p);
+    keys += std::string(p, tab) + "\n";
+    actions += std::string(tab + 1, end) + "\n";
+    p = *end ? end + 1 : end;
+  }
+  const float middle = 0.42f * float(width);
+  osg::ref_ptr<osgText::Text> keyColumn = makeText(font.get(), size, kStatusText);
+  keyColumn->setAlignment(osgText::Text::RIGHT_CENTER);
+  keyColumn->setPosition(osg::Vec3(middle - margin, 0.5f * float(height), 0));
+  keyColumn->setText(keys);
   help_ = makeText(font.get(), size, kHudText);
-  help_->setAlignment(osgText::Text::CENTER_CENTER);
-  help_->setPosition(osg::Vec3(0.5f * float(width), 0.5f * float(height), 0));
-  help_->setText(viewerHelpText());
-  help_->setDrawMode(osgText::Text::TEXT | osgText::Text::FILLEDBOUNDINGBOX);
-  help_->setBoundingBoxColor(osg::Vec4(0, 0, 0, 0.6f));
-  help_->setBoundingBoxMargin(margin);
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(lines_);
-  geode->addDrawable(status_);
-  geode->addDrawable(help_);
-  geode->setCullingActive(false);
-  help_->setNodeMask(0);
-  root_ = geode;
+  help_->setAlignment(osgText::Text::LEFT_CENTER);
+  help_->setPosition(osg::Vec3(middle + margin, 0.5f * float(height), 0));
+  help_->setText(actions);
+  osg::ref_ptr<osg::Geode> text = new osg::Geode;
+  text->addDrawable(lines_);
+  text->addDrawable(status_);
+  text->setCullingActive(false);
+  osg::ref_ptr<osg::Geode> help = new osg::Geode;
+  help->addDrawable(keyColumn);
+  help->addDrawable(help_);
+  help->setCullingActive(false);
+  help->setNodeMask(0);
+  helpNode_ = help;
+  osg::ref_ptr<osg::Group> root = new osg::Group;
+  root->addChild(text);
+  root->addChild(help);
+  root_ = root;
   layer->addChild(root_);
 }
 
 void Hud::setHelpVisible(bool visible) {
   helpVisible_ = visible;
-  help_->setNodeMask(visible ? ~0u : 0u);
+  helpNode_->setNodeMask(visible ? ~0u : 0u);
 }
 
 void Hud::setVisible(bool visible) { root_->setNodeMask(visible ? ~0u : 0u); }

@@ -62,11 +62,13 @@ class Hud {
 
  private:
   osg::ref_ptr<osg::Group> root_;
+  osg::ref_ptr<osg::Node> helpNode_;
   osg::ref_ptr<osgText::Text> lines_, status_, help_;
   bool helpVisible_ = false;
 };
 
-// The help panel's text: every key of `nestwalk view`.
+// The help panel's text: every key of `nestwalk view`, one per line, the key and what it does
+// separated by a tab.
 const char* viewerHelpText();
 
 }  // namespace nestwalk
