@@ -124,6 +124,11 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
 
 ViewGraph::~ViewGraph() = default;
 
+void ViewGraph::setViewportSize(int width, int height) {
+  if (width <= 0 || height <= 0) return;
+  projection_ = osg::Matrixd::perspective(options_.fovYDegrees, double(width) / double(height), near_, far_);
+}
+
 void ViewGraph::attachTo(osg::View& view) const {
   osg::Camera* camera = view.getCamera();
   camera->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);

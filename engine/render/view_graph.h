@@ -81,6 +81,9 @@ class ViewGraph {
   // Sets up a view to draw the graph: its lighting (the sun, or none for the ID pass) and its
   // master camera (projection, clear colour, fixed near and far).
   void attachTo(osg::View& view) const;
+  // A window resized to width x height pixels: the projection keeps the vertical field of view
+  // and takes the new aspect (the overlay layer keeps its own coordinates, stretched).
+  void setViewportSize(int width, int height);
   // Moves the camera to a pose for the next frame: view matrix, sky horizon, blocked overlay,
   // nested culling. Returns the culling counts (all zero without nested culling).
   CullCounts update(osg::Camera& camera, const ViewPose& pose);

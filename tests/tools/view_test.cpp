@@ -128,8 +128,8 @@ TEST_F(ViewWindow, HeldKeysWalkIntoTheMastAndTheScreenshotAndRecordingAgree) {
   ASSERT_EQ(std::system(view.c_str()), 0);
   // Find the window, give it the keyboard, record, run at the mast (about 40 m: 10 s at 4.2 m/s),
   // stop recording, screenshot, quit.
-  const std::string xdo = env + "xdotool ";
-  ASSERT_EQ(std::system((xdo + "search --sync --name 'nestwalk view' windowfocus --sync %1").c_str()), 0);
+  const std::string xdo = env + "timeout 60 xdotool ";
+  ASSERT_EQ(std::system((xdo + "search --sync --name 'nestwalk view' windowfocus --sync %1").c_str()), 0) << test::readText(log);
   ASSERT_EQ(std::system((xdo + "key r keydown shift+w sleep 16 keyup shift+w sleep 0.5 key r sleep 0.5 key p sleep 1.5 "
                                "key Escape").c_str()),
             0);
@@ -212,6 +212,58 @@ TEST_F(ViewWindow, HeldKeysWalkIntoTheMastAndTheScreenshotAndRecordingAgree) {
   const double apart = (Eigen::Vector3d(f[2], f[3], f[4]) - end->eye).norm();
   std::printf("replayed recording ends %.3g m from the window's end\n", apart);
   EXPECT_LE(apart, 1e-3) << last;
+}
+
+TEST_F(ViewWindow, AScriptPlaysInRealTimeAndPausesAndSteps) {
+  const test::TempFolder folder;
+  XServer x;
+  ASSERT_FALSE(x.display().empty()) << "Xvfb did not start";
+  const fs::path script = test::bundledScript("bench_patrol.txt");
+  const fs::path log = folder / "view.log";
+  const std::string env = "DISPLAY=" + x.display() + " ";
+  const std::string view = env + quoted(std::string(NESTWALK_BINARY)) + " view " + quoted(test::bundledSceneFile()) +
+                           " --script " + quoted(script) + " --seconds 60 > " + quoted(log) + " 2>&1; echo $? >> " +
+                           quoted(log);
+  const std::string background = "( " + view + " ) &";
+  ASSERT_EQ(std::system(background.c_str()), 0);
+  const std::string xdo = env + "timeout 60 xdotool ";
+  ASSERT_EQ(std::system((xdo + "search --sync --name 'nestwalk view' windowfocus --sync %1").c_str()), 0) << test::readText(log);
+  // Two seconds of play, pause, three single steps, quit.
+  ASSERT_EQ(std::system((xdo + "sleep 2 key k sleep 0.5 key l sleep 0.3 key l sleep 0.3 key l sleep 0.5 key Escape").c_str()), 0);
+  std::string text;
+  for (int i = 0; i < 100; ++i) {
+    text = test::readText(log);
+    if (text.find("view: frames ") != std::string::npos && text.back() == '\n' && text.find("\n0\n") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(text.find("view: frames "), std::string::npos) << text;
+  EXPECT_NE(text.find("\n0\n"), std::string::npos) << "exit status: " << text;
+  const std::string stopped = lineWith(text, "view: stopped ");
+  static const std::regex frameRe(R"(at frame (\d+) of (\d+))");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(stopped, m, frameRe)) << text;
+  const int frame = std::stoi(m[1]), frames = std::stoi(m[2]);
+  // Paused after about 2 s of real time (120 steps at 60 Hz), then three steps: short of the end.
+  EXPECT_GT(frame, 3);
+  EXPECT_LT(frame, frames);
+  // The pose shown is the one `nestwalk run` computes for that frame.
+  const auto run = test::runNestwalk("run " + quoted(test::bundledSceneFile()) + " --script " + quoted(script) +
+                                     " --quiet --out " + quoted(folder / "run"));
+  ASSERT_EQ(run.exitCode, 0) << run.out << run.err;
+  std::ifstream csv(folder / "run" / "frames.csv");
+  std::string line;
+  std::getline(csv, line);  // header
+  std::optional<Eigen::Vector3d> eye;
+  while (std::getline(csv, line)) {
+    std::vector<double> f;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(std::strtod(cell.c_str(), nullptr));
+    if (f.size() >= 5 && int(f[0]) == frame) eye = Eigen::Vector3d(f[2], f[3], f[4]);
+  }
+  ASSERT_TRUE(eye.has_value()) << "frame " << frame;
+  const std::optional<Pose> shown = poseIn(stopped);
+  ASSERT_TRUE(shown.has_value());
+  EXPECT_LE((shown->eye - *eye).norm(), 1e-3);
 }
 
 TEST_F(ViewWindow, NoDisplaySaysToUseXvfbOrRunRender) {

@@ -13,6 +13,7 @@
 // final pose and the frame rate ("frames N in T s: F fps, frame ms p50 A p95 B").
 // Exit: 0; 1 for bad input and for no display (the message says to use xvfb-run or run --render);
 // 3 when a played script's expectation failed.
+#include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/core/statistics.h"
@@ -109,15 +110,23 @@ void runView(const ViewArgs& args) {
   if (!args.script.empty()) played = runFlythrough(scene, world, readScript(args.script), options);
 
   Walker walker(*scene.terrain, world, scene.origin, options);
-  {
+  if (args.script.empty()) {
+    // --start, or the terrain's centre; where that has no ground or stands in equipment, the
+    // nearest free ground on rings around it (every 5 m, 16 directions).
     const terrain::Heightfield& hf = *scene.terrain;
-    Eigen::Vector3d at(hf.origin().x() + 0.5 * hf.cols() * hf.dx(), hf.origin().y() + 0.5 * hf.rows() * hf.dy(), 0);
-    double heading = 0;
-    if (args.start.size() >= 2) at = Eigen::Vector3d(args.start[0], args.start[1], 0);
-    if (args.start.size() >= 3) heading = args.start[2];
-    const std::string why = walker.place(at, false, heading, args.fly, options.viewer.flyClearance);
-    if (!why.empty())
+    const Eigen::Vector3d centre(hf.origin().x() + 0.5 * hf.cols() * hf.dx(), hf.origin().y() + 0.5 * hf.rows() * hf.dy(), 0);
+    const Eigen::Vector3d at = args.start.size() >= 2 ? Eigen::Vector3d(args.start[0], args.start[1], 0) : centre;
+    const double heading = args.start.size() >= 3 ? args.start[2] : 0.0;
+    std::string why = walker.place(at, false, heading, args.fly, options.viewer.flyClearance);
+    if (!why.empty() && args.start.size() >= 2)
       throw InputError("--start " + std::to_string(at.x()) + " " + std::to_string(at.y()) + ": " + why);
+    const double reach = 0.5 * std::max(hf.cols() * hf.dx(), hf.rows() * hf.dy());
+    for (double r = 5.0; !why.empty() && r <= reach; r += 5.0)
+      for (int k = 0; k < 16 && !why.empty(); ++k) {
+        const auto [sn, cs] = sinCosDegrees(22.5 * k);
+        why = walker.place(at + r * Eigen::Vector3d(sn, cs, 0), false, heading, args.fly, options.viewer.flyClearance);
+      }
+    if (!why.empty()) throw InputError(args.scene + ": no free ground to start on near the terrain's centre; give --start X Y");
   }
 
   RenderOptions ro;
@@ -271,6 +280,7 @@ void runView(const ViewArgs& args) {
       say("blocked by " + pose.blockedBy + at);
     }
     wasBlocked = pose.blocked;
+    if (const osg::Viewport* vp = viewer->getCamera()->getViewport()) graph.setViewportSize(int(vp->width()), int(vp->height()));
     graph.update(*viewer->getCamera(), pose);
     viewer->updateTraversal();
     viewer->renderingTraversals();
@@ -296,7 +306,10 @@ void runView(const ViewArgs& args) {
                 frameMs.size(), seconds, steady.empty() ? 0.0 : 1000.0 * double(steady.size()) / steadyMs,
                 percentile(steady, 50), percentile(steady, 95), frameMs.empty() ? 0.0 : frameMs.front());
   const ViewPose end = manipulator->pose();
-  say("stopped " + poseText(end) + " after " + std::to_string(walker.state().frame) + " steps" +
+  const FrameRecord* shown = manipulator->currentRecord();
+  say("stopped " + poseText(end) +
+      (shown ? " at frame " + std::to_string(shown->frame) + " of " + std::to_string(played.records.size())
+             : " after " + std::to_string(walker.state().frame) + " steps") +
       (end.blocked ? ", blocked by " + end.blockedBy : ""));
   say(line);
   if (!args.script.empty() && !played.expectationsMet()) throw CLI::RuntimeError(3);
