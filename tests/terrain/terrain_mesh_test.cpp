@@ -275,3 +275,58 @@ TEST(TerrainMesh, OsgGeometryAndLod) {
 
 }  // namespace
 }  // namespace nestwalk::terrain
+
+namespace nestwalk::terrain {
+namespace {
+
+// Skirts close every gap between neighbouring tiles at any two levels: along each shared edge, at
+// 1000 points, the higher tile's skirt reaches below the lower tile's edge (heightAt, the coarse
+// surfaces themselves, is the independent measure), and the skirt's walls hang exactly
+// skirtDepth below the edge's samples.
+TEST(TerrainMeshSkirts, TheHigherTileReachesTheLowerAtEveryLevelPair) {
+  const int cols = 129, rows = 129;
+  const TerrainMesh m(TerrainGrid::fromHeights(cols, rows, roughHeights(cols, rows, 11), 0.8, 1.1),
+                      TerrainMeshOptions{64, 0});
+  const TerrainGrid& g = m.grid();
+  struct Pair {
+    const TerrainTile* a;
+    const TerrainTile* b;
+    bool vertical;  // the shared edge runs north-south (col 64) or east-west (row 64)
+  };
+  const Pair pairs[] = {{&m.tile(0, 0), &m.tile(1, 0), true}, {&m.tile(0, 0), &m.tile(0, 1), false}};
+  double worstSlack = 1e300, worstGap = 0;
+  for (const Pair& p : pairs)
+    for (int la = 0; la < p.a->levels; ++la)
+      for (int lb = 0; lb < p.b->levels; ++lb)
+        for (int i = 0; i <= 1000; ++i) {
+          const double f = 64.0 * i / 1000.0;
+          const double x = p.vertical ? 64 * g.dx : f * g.dx, y = p.vertical ? -f * g.dy : -64 * g.dy;
+          const std::optional<double> za = m.heightAt(*p.a, la, x, y), zb = m.heightAt(*p.b, lb, x, y);
+          ASSERT_TRUE(za && zb) << x << " " << y;
+          const double gap = std::abs(*za - *zb);
+          const double depth = *za > *zb ? m.skirtDepth(*p.a, la) : m.skirtDepth(*p.b, lb);
+          worstGap = std::max(worstGap, gap);
+          worstSlack = std::min(worstSlack, depth - gap);
+        }
+  EXPECT_GT(worstGap, 0.01);  // the levels do leave gaps to close
+  EXPECT_GE(worstSlack, kSkirtMargin - 1e-6);
+  // The walls: four vertices per edge piece, the lower two skirtDepth below the upper two.
+  const TerrainTile& t = m.tile(1, 1);
+  for (int k = 0; k < t.levels; ++k) {
+    osg::ref_ptr<osg::Geometry> skirt = m.makeSkirt(t, k);
+    ASSERT_TRUE(skirt.valid());
+    const auto* v = static_cast<const osg::Vec3Array*>(skirt->getVertexArray());
+    // Tile (1, 1) shares its north and west edges: 2 x 64 / 2^k pieces.
+    ASSERT_EQ(v->size(), std::size_t(4 * 2 * (64 >> k)));
+    for (std::size_t i = 0; i < v->size(); i += 4) {
+      EXPECT_NEAR((*v)[i].z() - (*v)[i + 3].z(), m.skirtDepth(t, k), 1e-4);
+      EXPECT_NEAR((*v)[i + 1].z() - (*v)[i + 2].z(), m.skirtDepth(t, k), 1e-4);
+    }
+  }
+  // A lone tile has no neighbour and so no skirt.
+  const TerrainMesh lone(TerrainGrid::fromHeights(65, 65, roughHeights(65, 65, 3), 1.0, 1.0), TerrainMeshOptions{64, 0});
+  EXPECT_FALSE(lone.makeSkirt(lone.tile(0, 0), 0).valid());
+}
+
+}  // namespace
+}  // namespace nestwalk::terrain

@@ -114,7 +114,9 @@ void runView(const ViewArgs& args) {
     // --start, or the terrain's centre; where that has no ground or stands in equipment, the
     // nearest free ground on rings around it (every 5 m, 16 directions).
     const terrain::Heightfield& hf = *scene.terrain;
-    const Eigen::Vector3d centre(hf.origin().x() + 0.5 * hf.cols() * hf.dx(), hf.origin().y() + 0.5 * hf.rows() * hf.dy(), 0);
+    // Sample (0, 0) is the north-west corner; rows run south.
+    const Eigen::Vector3d centre(hf.origin().x() + 0.5 * (hf.cols() - 1) * hf.dx(),
+                                 hf.origin().y() - 0.5 * (hf.rows() - 1) * hf.dy(), 0);
     const Eigen::Vector3d at = args.start.size() >= 2 ? Eigen::Vector3d(args.start[0], args.start[1], 0) : centre;
     const double heading = args.start.size() >= 3 ? args.start[2] : 0.0;
     std::string why = walker.place(at, false, heading, args.fly, options.viewer.flyClearance);
