@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <system_error>
@@ -125,6 +126,20 @@ Heightfield readDem(const std::string& path, const DemReadOptions& options, std:
   if (frame.rotated)
     throw InputError(path + ": rotated or sheared geotransform; the heightfield needs a north-up grid "
                             "(nestwalk import-terrain warps it north-up)");
+  {
+    // A header can claim any numbers: the grid must have finite corners and pixel sizes whose
+    // inverses are finite (a denormal size makes every position-to-sample division infinite).
+    const int c = GDALGetRasterXSize(ds), r = GDALGetRasterYSize(ds);
+    const bool usable = std::isfinite(frame.originX) && std::isfinite(frame.originY) && std::isfinite(1.0 / frame.dx) &&
+                        std::isfinite(1.0 / frame.dy) && std::isfinite(frame.originX + c * frame.dx) &&
+                        std::isfinite(frame.originY - r * frame.dy);
+    if (!usable) {
+      char what[160];
+      std::snprintf(what, sizeof what, "pixel size %g x %g at origin (%g, %g)", frame.dx, frame.dy, frame.originX,
+                    frame.originY);
+      throw InputError(path + ": unusable geotransform: " + what + " (non-finite, zero or too small to divide by)");
+    }
+  }
   if (!frame.georeferenced && warnings)
     warnings->push_back(path + ": no georeferencing; coordinates are pixel units (sample column c, row r is at x = c + "
                                "0.5, y = -(r + 0.5))");

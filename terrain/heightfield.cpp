@@ -111,10 +111,12 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
   if (cols < 2 || rows < 2) throw std::invalid_argument("Heightfield: need at least 2 x 2 samples");
   if (heights_.size() != std::size_t(cols) * std::size_t(rows))
     throw std::invalid_argument("Heightfield: heights.size() != cols * rows");
-  if (!(std::isfinite(dx) && std::isfinite(dy) && dx > 0.0 && dy > 0.0))
-    throw std::invalid_argument("Heightfield: dx and dy must be finite and > 0");
-  if (!(std::isfinite(originX) && std::isfinite(originY)))
-    throw std::invalid_argument("Heightfield: origin must be finite");
+  if (!(std::isfinite(dx) && std::isfinite(dy) && dx > 0.0 && dy > 0.0 && std::isfinite(1.0 / dx) &&
+        std::isfinite(1.0 / dy)))
+    throw std::invalid_argument("Heightfield: dx and dy must be finite and > 0, with finite inverses");
+  if (!(std::isfinite(originX) && std::isfinite(originY) && std::isfinite(originX + (cols - 1) * dx) &&
+        std::isfinite(originY - (rows - 1) * dy)))
+    throw std::invalid_argument("Heightfield: origin and extent must be finite");
   noDataCompare_ = noData_ ? *noData_ : std::numeric_limits<float>::quiet_NaN();
   xLast_ = originX_ + (cols_ - 1) * dx_;  // as samplePosition(cols - 1, .) computes it
   yLast_ = originY_ - (rows_ - 1) * dy_;

@@ -22,6 +22,7 @@ cmake --build build-fuzz -j "$jobs" --target "${targets[@]/#/fuzz_}"
 status=0
 for t in "${targets[@]}"; do
   work=build-fuzz/corpus/$t findings=build-fuzz/findings/$t
+  rm -rf "$findings"  # only this run's findings are new
   mkdir -p "$work" "$findings"
   cp -n tests/fuzz/corpus/"$t"/* "$work"/ 2>/dev/null || true
   echo "nestwalk: fuzz: $t for $seconds s"
