@@ -43,8 +43,7 @@ struct HudState {
   bool flying = false, sliding = false;
   std::string method;
   std::string status;                   // recording, paused, messages
-  std::vector<std::string> expectations;  // "line 12: expect blocked by ...: met"
-  std::vector<bool> expectationsMet;
+  std::vector<std::string> expectations;  // "line 12: expect blocked by ...: met" (or FAILED and why)
 };
 
 class Hud {
