@@ -70,6 +70,23 @@ void checkBand(void* dataset, int band, const std::string& path) {
   if (band < 1 || band > count)
     throw InputError(path + ": band " + std::to_string(band) + " does not exist (the raster has " +
                      std::to_string(count) + (count == 1 ? " band)" : " bands)"));
+  GDALRasterBandH b = GDALGetRasterBand(static_cast<GDALDatasetH>(dataset), band);
+  int blockX = 0, blockY = 0;
+  GDALGetBlockSize(b, &blockX, &blockY);
+  // A pixel-interleaved raster stores every band's samples in one block: reading one band reads
+  // (and GDAL allocates) all of them.
+  const char* interleave = GDALGetMetadataItem(static_cast<GDALDatasetH>(dataset), "INTERLEAVE", "IMAGE_STRUCTURE");
+  const std::uint64_t bandsPerBlock = interleave && std::string(interleave) == "PIXEL" ? std::uint64_t(count) : 1u;
+  const std::uint64_t blockBytes = std::uint64_t(std::max(blockX, 0)) * std::uint64_t(std::max(blockY, 0)) *
+                                   std::uint64_t(std::max(GDALGetDataTypeSizeBytes(GDALGetRasterDataType(b)), 1)) *
+                                   bandsPerBlock;
+  if (blockBytes > kMaxDemBlockBytes)
+    throw InputError(path + ": band " + std::to_string(band) + " is stored in blocks of " + std::to_string(blockX) +
+                     " x " + std::to_string(blockY) + " samples" +
+                     (bandsPerBlock > 1 ? " x " + std::to_string(bandsPerBlock) + " interleaved bands" : std::string()) +
+                     " (" + std::to_string(blockBytes >> 20) +
+                     " MiB each, more than the " + std::to_string(kMaxDemBlockBytes >> 20) +
+                     " MiB allowed): a corrupt header? (gdal_translate -co TILED=YES rewrites a real one)");
 }
 
 RasterFrame rasterFrame(void* dataset) {

@@ -76,6 +76,13 @@ std::string crsName(const std::string& wkt);
 /// naming import-terrain's --window and --resolution.
 inline constexpr std::uint64_t kMaxDemSamples = 1ull << 28;
 
+/// Bytes of one GDAL block (tile or strip; with pixel interleaving, every band's samples in it) at
+/// most: 256 MiB, far above any real DEM's (COG tiles of 256-1024 samples, strips of a few rows),
+/// far below what a corrupt header can claim (a 300-byte TIFF of some 58,000 interleaved bands
+/// asked GDAL for a 12 GB strip; found by the fuzzer). checkBand refuses larger blocks before
+/// GDAL allocates one.
+inline constexpr std::uint64_t kMaxDemBlockBytes = 256ull << 20;
+
 struct DemReadOptions {
   int band = 1;
   std::uint64_t maxSamples = kMaxDemSamples;
