@@ -267,79 +267,19 @@ osg::ref_ptr<osg::Geometry> TerrainMesh::makeGeometry(const TerrainTile& t, int 
   geom->setVertexArray(vertices.get());
   geom->setNormalArray(normals.get(), osg::Array::BIND_PER_VERTEX);
   if (colours) {
+    const float lo = heightLo_, hi = heightHi_;
+    const float range = hi > lo ? hi - lo : 1.0f;
     osg::ref_ptr<osg::Vec4Array> colourArray = new osg::Vec4Array;
     colourArray->reserve(vertices->size());
-    for (const osg::Vec3& p : *vertices) colourArray->push_back(colourAt(p.z()));
+    for (const osg::Vec3& p : *vertices) {
+      // Green valleys, brown slopes, white tops.
+      const float f = std::clamp((p.z() - lo) / range, 0.0f, 1.0f);
+      const osg::Vec4 green(0.25f, 0.45f, 0.2f, 1), brown(0.5f, 0.4f, 0.3f, 1), white(0.95f, 0.95f, 0.95f, 1);
+      colourArray->push_back(f < 0.6f ? green * (1 - f / 0.6f) + brown * (f / 0.6f)
+                                      : brown * (1 - (f - 0.6f) / 0.4f) + white * ((f - 0.6f) / 0.4f));
+    }
     geom->setColorArray(colourArray.get(), osg::Array::BIND_PER_VERTEX);
   }
-  geom->addPrimitiveSet(elements.get());
-  geom->setUseDisplayList(false);
-  geom->setUseVertexBufferObjects(true);
-  return geom;
-}
-
-osg::Vec4 TerrainMesh::colourAt(float height) const {
-  // Green valleys, brown slopes, white tops.
-  const float lo = heightLo_, hi = heightHi_;
-  const float range = hi > lo ? hi - lo : 1.0f;
-  const float f = std::clamp((height - lo) / range, 0.0f, 1.0f);
-  const osg::Vec4 green(0.25f, 0.45f, 0.2f, 1), brown(0.5f, 0.4f, 0.3f, 1), white(0.95f, 0.95f, 0.95f, 1);
-  return f < 0.6f ? green * (1 - f / 0.6f) + brown * (f / 0.6f) : brown * (1 - (f - 0.6f) / 0.4f) + white * ((f - 0.6f) / 0.4f);
-}
-
-double TerrainMesh::skirtDepth(const TerrainTile& t, int level) const {
-  const int tx = t.col0 / opts_.tileCells, ty = t.row0 / opts_.tileCells;
-  double neighbours = 0;
-  const int dirs[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-  for (const auto& d : dirs) {
-    const int nx = tx + d[0], ny = ty + d[1];
-    if (nx < 0 || ny < 0 || nx >= tilesX_ || ny >= tilesY_) continue;
-    for (double e : tile(nx, ny).maxError) neighbours = std::max(neighbours, e);
-  }
-  return t.maxError[std::size_t(level)] + neighbours + kSkirtMargin;
-}
-
-osg::ref_ptr<osg::Geometry> TerrainMesh::makeSkirt(const TerrainTile& t, int level, bool colours) const {
-  const int s = 1 << level;
-  const float depth = float(skirtDepth(t, level));
-  osg::ref_ptr<osg::Vec3Array> vertices = new osg::Vec3Array;
-  osg::ref_ptr<osg::Vec4Array> colourArray = new osg::Vec4Array;
-  osg::ref_ptr<osg::DrawElementsUInt> elements = new osg::DrawElementsUInt(GL_TRIANGLES);
-  auto top = [&](int c, int r) { return osg::Vec3(float(c * grid_.dx), float(-r * grid_.dy), grid_.height(c, r)); };
-  // One edge: samples (c0 + i * dc, r0 + i * dr) for i = 0 .. n, every s-th.
-  auto edge = [&](int c0, int r0, int dc, int dr, int n) {
-    for (int i = 0; i + s <= n; i += s) {
-      const int ca = c0 + i * dc, ra = r0 + i * dr, cb = c0 + (i + s) * dc, rb = r0 + (i + s) * dr;
-      if (!grid_.isValid(ca, ra) || !grid_.isValid(cb, rb)) continue;
-      const unsigned base = unsigned(vertices->size());
-      const osg::Vec3 a = top(ca, ra), b = top(cb, rb);
-      vertices->push_back(a);
-      vertices->push_back(b);
-      vertices->push_back(b - osg::Vec3(0, 0, depth));
-      vertices->push_back(a - osg::Vec3(0, 0, depth));
-      if (colours) {
-        colourArray->push_back(colourAt(a.z()));
-        colourArray->push_back(colourAt(b.z()));
-        colourArray->push_back(colourAt(b.z()));
-        colourArray->push_back(colourAt(a.z()));
-      }
-      // Both windings: the wall is seen from either side of the edge.
-      for (unsigned k : {0u, 1u, 2u, 0u, 2u, 3u, 0u, 2u, 1u, 0u, 3u, 2u}) elements->push_back(base + k);
-    }
-  };
-  const int tx = t.col0 / opts_.tileCells, ty = t.row0 / opts_.tileCells;
-  if (ty > 0) edge(t.col0, t.row0, 1, 0, t.cellsX);                           // north
-  if (ty + 1 < tilesY_) edge(t.col0, t.row0 + t.cellsY, 1, 0, t.cellsX);      // south
-  if (tx > 0) edge(t.col0, t.row0, 0, 1, t.cellsY);                           // west
-  if (tx + 1 < tilesX_) edge(t.col0 + t.cellsX, t.row0, 0, 1, t.cellsY);      // east
-  if (elements->empty()) return nullptr;
-  osg::ref_ptr<osg::Geometry> geom = new osg::Geometry;
-  geom->setName(kSkirtName);
-  geom->setVertexArray(vertices.get());
-  osg::ref_ptr<osg::Vec3Array> normals = new osg::Vec3Array(unsigned(vertices->size()));
-  std::fill(normals->begin(), normals->end(), osg::Vec3(0, 0, 1));
-  geom->setNormalArray(normals.get(), osg::Array::BIND_PER_VERTEX);
-  if (colours) geom->setColorArray(colourArray.get(), osg::Array::BIND_PER_VERTEX);
   geom->addPrimitiveSet(elements.get());
   geom->setUseDisplayList(false);
   geom->setUseVertexBufferObjects(true);
@@ -384,7 +324,6 @@ osg::ref_ptr<osg::LOD> TerrainMesh::makeLod(const TerrainTile& t, const LodRule&
   for (int k = 0; k < t.levels; ++k) {
     osg::ref_ptr<osg::Geode> geode = new osg::Geode;
     if (osg::ref_ptr<osg::Geometry> g = makeGeometry(t, k, colours)) geode->addDrawable(g.get());
-    if (osg::ref_ptr<osg::Geometry> skirt = makeSkirt(t, k, colours)) geode->addDrawable(skirt.get());
     const float lo = float(d[std::size_t(k)]);
     const float hi = k + 1 < t.levels ? float(d[std::size_t(k) + 1]) : std::numeric_limits<float>::max();
     lod->addChild(geode.get(), lo, hi);

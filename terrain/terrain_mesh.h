@@ -19,12 +19,8 @@
 // coverage, not of height, and is not part of the error.
 //
 // Cracks: neighbouring tiles at different levels do not meet along their common edge (T-junctions
-// and gaps). Along the edge, tile A at level a and tile B at level b both lie within their
-// level's error of the full-resolution edge profile, so they are at most E_A(a) + E_B(b) apart.
-// makeSkirt hangs a vertical wall below each edge a tile shares with a neighbour, skirtDepth deep:
-// the level's own error plus the largest error of any level of its neighbours (plus
-// kSkirtMargin), so whichever tile is higher closes the slot down to the lower one. The outer
-// edges of the grid get none (nothing lies beyond them), nor do edge pieces next to nodata.
+// and small gaps of at most the coarser level's error). Closing them is the renderer's business;
+// the meshes here carry no skirts.
 //
 // Ownership: a TerrainMesh keeps its own copy of the grid (no reference to the Heightfield);
 // makeGeometry and makeLod return new OSG nodes on every call, owned by the caller (ref_ptr).
@@ -44,12 +40,6 @@
 #include <vector>
 
 namespace nestwalk::terrain {
-
-/// Metres added to every skirt's depth: float rounding of the heights (a few 1e-5 m at a few
-/// thousand metres) and the rasteriser's edge rules, with ample room.
-inline constexpr double kSkirtMargin = 0.05;
-/// The name of a skirt's osg::Geometry (makeSkirt), to tell it from the surface's.
-inline constexpr const char* kSkirtName = "skirt";
 
 struct TerrainMeshOptions {
   int tileCells = 128;  // cells per tile side, a power of two >= 1
@@ -133,16 +123,7 @@ class TerrainMesh {
   /// (col * dx, -row * dy, h)), area-weighted vertex normals of the level's own triangles, colours
   /// by height (when `colours`), triangles as DrawElementsUInt. Null when the level has no triangle.
   osg::ref_ptr<osg::Geometry> makeGeometry(const TerrainTile& t, int level, bool colours = true) const;
-  /// The skirt of a tile level (a Geometry named kSkirtName): for each pair of neighbouring valid
-  /// samples of the level (step 2^level) along an edge the tile shares with another tile, a
-  /// vertical quad (vertices: top a, top b, bottom b, bottom a) from the edge down by skirtDepth, drawn from both sides (both windings; the terrain's back faces are culled),
-  /// normals straight up, colours as the surface's at the edge. Null when the tile has no shared
-  /// edge with a valid pair.
-  osg::ref_ptr<osg::Geometry> makeSkirt(const TerrainTile& t, int level, bool colours = true) const;
-  /// Metres: the level's error plus the largest error of any level of the tile's edge neighbours,
-  /// plus kSkirtMargin.
-  double skirtDepth(const TerrainTile& t, int level) const;
-  /// A tile's LOD node: child k holds level k's geometry and its skirt (in an osg::Geode), shown from distance
+  /// A tile's LOD node: child k holds level k's geometry (in an osg::Geode), shown from distance
   /// D_k to D_{k+1} (the last to infinity), D_0 = 0, D_k = rule.distanceFor(E_k) + tile radius,
   /// E_k = max of the errors of levels 1..k (so the ranges are ordered). Distances are measured
   /// from the eye to the tile's bounding-sphere centre; adding the radius keeps the nearest point
@@ -153,7 +134,6 @@ class TerrainMesh {
 
  private:
   void build();
-  osg::Vec4 colourAt(float height) const;
   TerrainGrid grid_;
   TerrainMeshOptions opts_;
   int tilesX_ = 0, tilesY_ = 0;

@@ -252,32 +252,24 @@ TEST_P(SceneLoad, SharedNodeAndTerrainCoincideInTheGraph) {
   GeometryFinder geometries;
   terrainNode->accept(geometries);
   EXPECT_GE(geometries.found.size(), 16u);
-  std::size_t checked = 0, skirts = 0;
+  std::size_t checked = 0;
   for (const auto& [g, m] : geometries.found) {
-    // A skirt (terrain_mesh.h): the tops of its walls on the surface, the bottoms straight below.
-    const bool skirt = g->getName() == terrain::kSkirtName;
-    skirts += skirt;
     // accept() started at the terrain node (its matrix is in m): then the path above it (OSG
     // multiplies row vectors, so the parent's matrix comes last).
     const osg::Matrixd world = m * osg::computeLocalToWorld(localToMap->getParentalNodePaths()[0]);
     const auto* v = dynamic_cast<const osg::Vec3Array*>(g->getVertexArray());
     ASSERT_NE(v, nullptr);
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      const osg::Vec3d w = osg::Vec3d((*v)[i]) * world;
+    for (const osg::Vec3& p : *v) {
+      const osg::Vec3d w = osg::Vec3d(p) * world;
       // On the sample grid to float rounding of the tile vertices (< 1e-5 m over 64 m).
       const double c = (w.x() - terrain_.sampleX(0)) / terrain_.cell, r = (terrain_.sampleY(0) - w.y()) / terrain_.cell;
       ASSERT_NEAR(c, std::round(c), 1e-5);
       ASSERT_NEAR(r, std::round(r), 1e-5);
-      if (skirt && i % 4 >= 2) {
-        ASSERT_LT(w.z(), terrain_.height(w.x(), w.y()) - 0.01);
-        continue;
-      }
       ASSERT_NEAR(w.z(), terrain_.height(w.x(), w.y()), 1e-4);
       ++checked;
     }
   }
   EXPECT_GE(checked, std::size_t(terrain_.cols * terrain_.rows));
-  EXPECT_GT(skirts, 0u);
 
   // Volumes: one outer and one inner wireframe, 12 edges per unit each.
   osg::Node* volumes = childNamed(*localToMap, "volumes");
