@@ -51,6 +51,20 @@ struct Pit {
 
 }  // namespace
 
+const char* dumpSurfaceName(DumpSurface surface) {
+  switch (surface) {
+    case DumpSurface::Ground: return "ground";
+    case DumpSurface::Ditch: return "ditch";
+    case DumpSurface::Pit: return "pit";
+    case DumpSurface::Face: return "face";
+    case DumpSurface::Berm: return "berm";
+    case DumpSurface::Top: return "top";
+    case DumpSurface::Ramp: return "ramp";
+    case DumpSurface::RampSide: return "ramp side";
+  }
+  return "unknown";
+}
+
 MiningDump generateMiningDump(const MiningDumpParams& p) {
   if (!(p.size > 0 && p.cell > 0 && std::isfinite(p.size) && std::isfinite(p.cell)))
     throw std::invalid_argument("make-terrain: size and cell must be positive");
@@ -123,7 +137,16 @@ MiningDump generateMiningDump(const MiningDumpParams& p) {
     if (clear) pits.push_back(pit);
   }
 
+  // The surface a point of the bench profile lies on, s metres inside the toe.
+  auto profileSurface = [&](double s) {
+    const int k = int(std::floor(s / period));
+    if (k >= benches) return DumpSurface::Top;
+    if (s - k * period < faceRun) return DumpSurface::Face;
+    return k + 1 < benches ? DumpSurface::Berm : DumpSurface::Top;  // beyond the last crest: the top
+  };
+
   out.heights.resize(std::size_t(n) * std::size_t(n));
+  out.surfaces.resize(std::size_t(n) * std::size_t(n));
   for (int r = 0; r < n; ++r) {
     const double nn = out.originY - r * p.cell;
     for (int c = 0; c < n; ++c) {
@@ -132,19 +155,34 @@ MiningDump generateMiningDump(const MiningDumpParams& p) {
       const double u = de * ae + dn * an, v = de * be + dn * bn;
       const double sd = roundedBoxDistance(u, v, L.halfLength, L.halfWidth, radius);
       double h = ground(e, nn);
-      if (sd < 0) h = std::max(h, L.baseHeight + profile(-sd));
+      DumpSurface surface = DumpSurface::Ground;
+      if (sd < 0 && L.baseHeight + profile(-sd) > h) {
+        h = L.baseHeight + profile(-sd);
+        surface = profileSurface(-sd);
+      }
       // Drainage ditch: 1.5 m deep V, 4 m wide, 8 m outside the toe.
-      h -= 1.5 * std::max(0.0, 1.0 - std::abs(sd - 8.0) / 2.0);
+      const double ditchDepth = 1.5 * std::max(0.0, 1.0 - std::abs(sd - 8.0) / 2.0);
+      if (ditchDepth > 0) {
+        h -= ditchDepth;
+        surface = DumpSurface::Ditch;
+      }
       // Haul ramp, cut or filled with side slopes.
       const double rampZ = L.baseHeight + rampGrade * std::clamp(u - rampStart, 0.0, rampEnd - rampStart);
       const double off = std::max({std::abs(v - rampV) - rampHalfWidth, rampStart - u, u - rampEnd, 0.0});
-      h = std::clamp(h, rampZ - off * sideTan, rampZ + off * sideTan);
+      const double onRamp = std::clamp(h, rampZ - off * sideTan, rampZ + off * sideTan);
+      if (off == 0) surface = DumpSurface::Ramp;
+      else if (onRamp != h) surface = DumpSurface::RampSide;
+      h = onRamp;
       for (const Pit& pit : pits) {
         const double d = std::hypot(e - pit.e, nn - pit.n);
-        if (d < pit.radius) h -= std::min(pit.depth, (pit.radius - d) * sideTan);
+        if (d < pit.radius) {
+          h -= std::min(pit.depth, (pit.radius - d) * sideTan);
+          surface = DumpSurface::Pit;
+        }
       }
       h += 0.05 * valueNoise(roughSeed, de, dn, 4.0);
       out.heights[std::size_t(r) * std::size_t(n) + std::size_t(c)] = float(h);
+      out.surfaces[std::size_t(r) * std::size_t(n) + std::size_t(c)] = surface;
     }
   }
   return out;

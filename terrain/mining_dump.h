@@ -10,6 +10,16 @@
 // natural ground; small smooth roughness (centimetres) covers everything. Same seed, same heights:
 // every random choice comes from a std::mt19937_64 whose raw output is turned into numbers here (no
 // library distributions), so the result does not depend on the standard library.
+//
+// Surfaces: the generator also records, per sample, which of its parts set the height there
+// (DumpSurface): the synthetic orthophoto (mining_dump_ortho.h) colours the dump by it. The rule,
+// in the order the heights are built (a later part overrides an earlier one where it changes the
+// height): natural Ground; inside the toe outline where the bench profile stands above the ground,
+// Face (on a face's run: the first faceRun metres of each bench period, inset from the toe), Berm
+// (the rest of the period) or Top (beyond the last face's crest); Ditch where the drainage ditch's V lowers
+// the ground (2 m either side of its axis, 8 m outside the toe); Ramp on the haul ramp's running
+// surface (within its half width and between its ends), RampSide where its cut or fill slopes
+// change the height; Pit inside a pit's rim. The centimetre roughness changes no surface.
 // Thread safety: a pure function (its generator is local to the call).
 #pragma once
 
@@ -40,11 +50,20 @@ struct MiningDumpLayout {
   double topHeight = 0;
 };
 
+/// What set the height at a sample (see "Surfaces" above).
+enum class DumpSurface : std::uint8_t { Ground, Ditch, Pit, Face, Berm, Top, Ramp, RampSide };
+inline constexpr int kDumpSurfaceCount = 8;
+
+/// The surface's name for messages and tests ("ground", "ditch", "pit", "face", "berm", "top",
+/// "ramp", "ramp side").
+const char* dumpSurfaceName(DumpSurface surface);
+
 struct MiningDump {
   int cols = 0, rows = 0;
   double originX = 0, originY = 0;  // centre of sample (0, 0), row 0 north
   double cell = 1.0;
   std::vector<float> heights;  // row-major, metres
+  std::vector<DumpSurface> surfaces;  // row-major like heights: what set each sample's height
   MiningDumpLayout layout;
 };
 

@@ -6,6 +6,7 @@
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/mining_dump_ortho.h"
 #include "nestwalk/terrain/terrain_import.h"
 
 #include <nlohmann/json.hpp>
@@ -361,6 +362,7 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
   // 5. scene.json.
   nlohmann::ordered_json j;
   j["terrain"] = "terrain.tif";
+  j["imagery"] = "ortho.tif";
   nlohmann::ordered_json eq = nlohmann::ordered_json::array();
   for (const Placement& p : out.equipment) {
     nlohmann::ordered_json e;
@@ -389,6 +391,7 @@ void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwr
     const terrain::MiningDump& d = scene.dump;
     terrain::writeTerrainCog((tmp / "terrain.tif").string(), d.cols, d.rows, d.heights, d.originX, d.originY, d.cell,
                              d.cell, scene.site.crs, false);
+    terrain::writeMiningDumpOrtho((tmp / "ortho.tif").string(), d, scene.seed, scene.site.crs, false);
     for (ModelKind m : kAllModels) writeModel(m, (tmp / "models" / modelFileName(m)).string());
     writeTextFile(tmp / "scene.json", scene.sceneJson);
     for (const auto& [name, text] : scene.scripts) writeTextFile(tmp / "scripts" / name, text);

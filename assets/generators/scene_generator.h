@@ -1,5 +1,5 @@
 // The bundled mining-dump scene behind `nestwalk make-scene`: the terrain (terrain/mining_dump.h,
-// 1 km at 1 m), the equipment models (equipment_models.h), scene.json (schema:
+// 1 km at 1 m), its synthetic orthophoto (terrain/mining_dump_ortho.h), the equipment models (equipment_models.h), scene.json (schema:
 // engine/scene/scene_file.h) and five flythrough scripts (format: engine/walker/script.h) that
 // use the scene's own coordinates: a patrol blocked by a mast, the ramp's descent, a low flight,
 // and the two equipment tours (equipment_tours.h). Everything follows from the seed (same seed, byte-identical
@@ -88,7 +88,9 @@ struct GeneratedScene {
 /// Generates the scene in memory (terrain grid, placements, JSON, scripts). Takes about a second.
 GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site = {});
 
-/// Writes the scene into `dir`: terrain.tif, models/*.osgt, scene.json, scripts/*.txt. `dir` is
+/// Writes the scene into `dir`: terrain.tif, ortho.tif (the synthetic orthophoto on the terrain's
+/// grid, terrain/mining_dump_ortho.h, its noise seeded with the scene's seed; scene.json names it as
+/// the "imagery"), models/*.osgt, scene.json, scripts/*.txt. `dir` is
 /// built under a temporary name beside it and renamed to `dir` at the end; an existing `dir` is
 /// replaced only when `overwrite` (else InputError, and it is left as it was).
 void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite);

@@ -4,6 +4,7 @@
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/ui_font.h"
+#include "nestwalk/terrain/terrain_imagery.h"
 
 #include <osg/Depth>
 #include <osg/Fog>
@@ -106,14 +107,44 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
   localToMap_ = osg::Matrixd::translate(scene_.origin.x(), scene_.origin.y(), scene_.origin.z());
 
   SceneGraphOptions graph;
+  graph.terrain = false;  // drawn by the paged terrain below
   graph.volumes = options_.volumes && !options_.idPass;
-  graph.terrainTileCells = options_.terrainTileCells;
   graph.terrainLod.fovYDegrees = options_.fovYDegrees;
   graph.terrainLod.screenHeightPx = options_.height;
   graph.terrainLod.maxPixels = options_.lodMaxPixels;
   pixelsPerRadian_ = graph.terrainLod.pixelsPerRadian();
   root_ = new osg::Group;
   root_->addChild(buildSceneGraph(scene_, graph, &parts_));
+
+  // The terrain: chunks in the mesh frame (metres from sample (0, 0)), placed in the map frame.
+  PagedTerrainOptions terrainOptions;
+  terrainOptions.chunkCells = options_.terrainTileCells;
+  terrainOptions.pixelsPerRadian = pixelsPerRadian_;
+  terrainOptions.maxPixels = options_.lodMaxPixels;
+  terrainOptions.budgetBytes = options_.terrainBudgetBytes;
+  terrainOptions.loading = options_.terrainLoading;
+  terrainOptions.shade = options_.terrainShading;
+  terrainOptions.mapOrigin = hf.origin();
+  if (scene_.spec.imagery && !options_.idPass) {
+    // Opened here, so a bad file is refused before the first frame; read only by the thread that
+    // builds the chunks (paged_terrain.h).
+    // A read that fails later (a file truncated on disk) leaves that chunk in its height colours.
+    auto imagery = std::make_shared<terrain::TerrainImagery>(*scene_.spec.imagery, hf.crsWkt());
+    terrainOptions.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {
+      try {
+        return imagery->read(x0, y0, sx, sy, w, h);
+      } catch (const std::exception&) {
+        return std::vector<std::uint8_t>();
+      }
+    };
+  }
+  terrain_ = new PagedTerrain(scene_.terrain, std::move(terrainOptions));
+  osg::ref_ptr<osg::MatrixTransform> terrain =
+      new osg::MatrixTransform(osg::Matrixd::translate(hf.origin().x(), hf.origin().y(), 0.0));
+  terrain->setName("terrain");
+  terrain->addChild(terrain_.get());
+  root_->addChild(terrain);
+  parts_.terrain = terrain;
   setUpStates();
   setUpOverlay();
   if (options_.nestedCulling && parts_.equipment) {
@@ -127,6 +158,11 @@ ViewGraph::~ViewGraph() = default;
 void ViewGraph::setViewportSize(int width, int height) {
   if (width <= 0 || height <= 0) return;
   projection_ = osg::Matrixd::perspective(options_.fovYDegrees, double(width) / double(height), near_, far_);
+  terrain::LodRule rule;
+  rule.fovYDegrees = options_.fovYDegrees;
+  rule.screenHeightPx = height;
+  pixelsPerRadian_ = rule.pixelsPerRadian();
+  terrain_->setPixelsPerRadian(pixelsPerRadian_);
 }
 
 void ViewGraph::attachTo(osg::View& view) const {
@@ -181,9 +217,14 @@ void ViewGraph::setUpStates() {
   fog->setStart(float(std::min(1500.0, 0.3 * far_)));
   fog->setEnd(float(far_));
   ss->setAttributeAndModes(fog.get(), osg::StateAttribute::ON);
-  // The terrain is only ever seen from above: its back faces (slopes turned away) are skipped
-  // before they are rasterised (measured: a quarter of the frame time on llvmpipe).
-  if (parts_.terrain) parts_.terrain->getOrCreateStateSet()->setMode(GL_CULL_FACE, osg::StateAttribute::ON);
+  // The terrain is only ever seen from above: its back faces (slopes turned away, and the skirts'
+  // inner sides) are skipped before they are rasterised (measured: a quarter of the frame time on
+  // llvmpipe). Its colours carry the hillshade of the same sun: no lighting.
+  if (parts_.terrain) {
+    osg::StateSet* terrainState = parts_.terrain->getOrCreateStateSet();
+    terrainState->setMode(GL_CULL_FACE, osg::StateAttribute::ON);
+    terrainState->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+  }
 }
 
 void ViewGraph::setUpOverlay() {

@@ -2,9 +2,11 @@
 // the interactive window (engine/viewer) build the same graph, so that a screenshot of the window
 // and an offscreen frame of the same pose agree.
 //
-// The graph: the scene graph of a loaded scene (scene_graph.h: terrain tiles with screen-space-
-// error LOD, equipment instances over shared model nodes, optional volume wireframes), lit by a
-// sun from the north-west, a sky gradient behind whose horizon follows the pitch, aerial haze, and
+// The graph: the view-bounded terrain (paged_terrain.h: chunks of the heightfield chosen by their
+// projected error, loaded in the background, colours with the hillshade and any draped imagery
+// baked in, unlit), the scene graph's equipment instances over shared model nodes and optional
+// volume wireframes (scene_graph.h), lit by a sun from the north-west (the hillshade's sun), a sky
+// gradient behind whose horizon follows the pitch, aerial haze, and
 // the blocked overlay (a red frame and "BLOCKED by <unit>" in the UI font, nestwalk/core/ui_font.h).
 // Or, for the ID pass, every pixel coloured with what it shows: sky 0, terrain 1, instance i: i + 2
 // (24-bit RGB, R the low byte).
@@ -23,6 +25,7 @@
 #pragma once
 
 #include "nestwalk/render/nested_cull.h"
+#include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_graph.h"
 
@@ -47,8 +50,10 @@ struct RenderOptions {
   int width = 1280, height = 720;
   double fovYDegrees = 60.0;
   double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
-  int terrainTileCells = 32;     // cells per terrain tile side (power of two; 32 was fastest here,
-                                 // against 16, 64 and 128: `nestwalk bench render`)
+  int terrainTileCells = 64;     // cells per terrain chunk side (power of two, paged_terrain.h)
+  std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
+  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h
+  bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
   bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
   bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
   bool blockedOverlay = true;    // a red frame and the blocker's name while blocked
@@ -70,7 +75,8 @@ osg::Matrixd walkerViewMatrix(const ViewPose& pose);
 class ViewGraph {
  public:
   // Builds the graph. Throws std::invalid_argument for a size under 16 x 16 or a scene without
-  // terrain, InputError (naming the file) when the overlay's font cannot be loaded.
+  // terrain, InputError (naming the file) when the overlay's font or the scene's imagery cannot be
+  // loaded (terrain/terrain_imagery.h).
   ViewGraph(const Scene& scene, const RenderOptions& options);
   ~ViewGraph();
   ViewGraph(const ViewGraph&) = delete;
@@ -101,7 +107,10 @@ class ViewGraph {
   Frustum frustumLocal() const;
   const osg::Matrixd& localToMap() const { return localToMap_; }
   const NestedFrustumCuller* culler() const { return culler_.get(); }
+  // parts().terrain is the paged terrain's transform (mesh frame -> map); the scene graph's own
+  // static terrain tiles are not built (terrainMesh and terrainTiles stay empty).
   const SceneGraphParts& parts() const { return parts_; }
+  PagedTerrain& pagedTerrain() const { return *terrain_; }
   const RenderOptions& options() const { return options_; }
   const Scene& scene() const { return scene_; }
   // Pixels per radian of the vertical field of view (the terrain LOD rule's).
@@ -123,6 +132,7 @@ class ViewGraph {
   osg::ref_ptr<osg::Node> blockedFrame_;
   osg::ref_ptr<osgText::Text> blockedText_;
   std::unique_ptr<NestedFrustumCuller> culler_;
+  osg::ref_ptr<PagedTerrain> terrain_;
   osg::Matrixd projection_, view_;
   osg::Matrixd localToMap_;  // translation by the scene's origin
   double pixelsPerRadian_ = 0;

@@ -62,7 +62,6 @@ ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), timing_(std::make_shared<Timing>()) {
   graph_ = std::make_unique<ViewGraph>(scene_, options_);  // checks the size and the terrain first
   context_ = OffscreenContext::create(options_.width, options_.height);
-  terrainOffset_ = scene_.terrain->origin();
 
   viewer_ = new osgViewer::Viewer;
   viewer_->setThreadingModel(osgViewer::Viewer::SingleThreaded);
@@ -93,9 +92,10 @@ ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
   viewer_->setSceneData(root.get());
   context_->makeCurrent();
   viewer_->realize();
-  // Upload every terrain level and model now, not when the LOD first picks it: otherwise a frame
-  // that switches levels pays for the upload (seen: 300 ms spikes at 1280 x 720). One frame first,
-  // so that OSG's GL state is set up, then every node, whatever its LOD range.
+  // Upload every model now, not when it first comes into view: otherwise that frame pays for the
+  // upload (seen: 300 ms spikes at 1280 x 720). One frame first, so that OSG's GL state is set up,
+  // then every node in the graph. (Terrain chunks are uploaded as they are first drawn: each is
+  // small, paged_terrain.h.)
   viewer_->frame();
   osg::GraphicsContext* gc = camera->getGraphicsContext();
   if (gc && gc->getState()) {
@@ -133,7 +133,12 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     stats_.drawMs = millis(t.drawStart, t.drawEnd);
     stats_.readbackMs = millis(t.drawEnd, t.readEnd);
   }
-  measureTerrain(pose.eye);
+  const PagedTerrainStats& terrain = graph_->pagedTerrain().lastStats();
+  stats_.terrain = terrain;
+  stats_.terrainTiles = terrain.chunksDrawn;
+  stats_.triangles += terrain.trianglesDrawn;
+  stats_.terrainErrorM = terrain.maxErrorM;
+  stats_.terrainErrorPx = terrain.maxErrorPx;
   // Triangles submitted: the terrain levels in view and the instances that survived culling.
   const SceneGraphParts& parts = graph_->parts();
   const NestedFrustumCuller* culler = graph_->culler();
@@ -150,42 +155,6 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     }
   }
   return stats_;
-}
-
-void ViewRenderer::measureTerrain(const Eigen::Vector3d& eyeMap) {
-  const SceneGraphParts& parts = graph_->parts();
-  if (!parts.terrainMesh) return;
-  const terrain::TerrainMesh& mesh = *parts.terrainMesh;
-  const double near = graph_->nearPlane(), pixelsPerRadian = graph_->pixelsPerRadian();
-  // The mesh frame is the map frame less (x, y) of sample (0, 0).
-  const osg::Matrixd meshToMap = osg::Matrixd::translate(terrainOffset_.x(), terrainOffset_.y(), 0);
-  osg::Polytope frustum;
-  frustum.setToUnitFrustum();
-  frustum.transformProvidingInverse(meshToMap * graph_->lastViewMatrix() * graph_->projectionMatrix());
-  const osg::Vec3d eye(eyeMap.x() - terrainOffset_.x(), eyeMap.y() - terrainOffset_.y(), eyeMap.z());
-  for (std::size_t i = 0; i < parts.terrainTiles.size(); ++i) {
-    const osg::LOD* lod = parts.terrainTiles[i].get();
-    if (!lod) continue;
-    const osg::BoundingSphere sphere(lod->getCenter(), lod->getRadius());
-    if (!frustum.contains(sphere)) continue;
-    // The child OSG's LOD picks: the range that holds the eye's distance to the centre.
-    const double d = (osg::Vec3d(lod->getCenter()) - eye).length();
-    const float df = float(d);
-    int level = -1;
-    for (unsigned k = 0; k < lod->getNumRanges(); ++k)
-      if (lod->getMinRange(k) <= df && df < lod->getMaxRange(k)) {
-        level = int(k);
-        break;
-      }
-    if (level < 0) continue;
-    const terrain::TerrainTile& tile = mesh.tiles()[i];
-    ++stats_.terrainTiles;
-    stats_.triangles += tile.triangles[std::size_t(level)];
-    const double error = tile.maxError[std::size_t(level)];
-    stats_.terrainErrorM = std::max(stats_.terrainErrorM, error);
-    const double nearest = std::max(d - lod->getRadius(), near);
-    stats_.terrainErrorPx = std::max(stats_.terrainErrorPx, error * pixelsPerRadian / nearest);
-  }
 }
 
 std::vector<osg::BoundingSphere> ViewRenderer::instanceSpheres() const {

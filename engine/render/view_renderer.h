@@ -35,9 +35,10 @@ struct RenderFrameStats {
   double readbackMs = 0;   // glReadPixels into the image
   double totalMs = 0;      // the whole frame
   std::uint64_t triangles = 0;    // triangles drawn (OSG's scene statistics)
-  std::uint64_t terrainTiles = 0; // terrain tiles in view
-  double terrainErrorM = 0;       // largest vertical error (m) of the terrain levels drawn
-  double terrainErrorPx = 0;      // largest projected vertical error of a drawn tile level, pixels
+  std::uint64_t terrainTiles = 0; // terrain chunks drawn
+  double terrainErrorM = 0;       // largest vertical error (m) of the terrain chunks drawn
+  double terrainErrorPx = 0;      // largest projected vertical error of a drawn chunk, pixels
+  PagedTerrainStats terrain;      // the paged terrain's own figures for this frame (paged_terrain.h)
   CullCounts cull;                // nested culling's counts (all zero when it is off)
 };
 
@@ -86,7 +87,6 @@ class ViewRenderer {
 
  private:
   struct Timing;
-  void measureTerrain(const Eigen::Vector3d& eyeMap);
 
   const Scene& scene_;
   RenderOptions options_;
@@ -95,7 +95,6 @@ class ViewRenderer {
   osg::ref_ptr<osgViewer::Viewer> viewer_;
   osg::ref_ptr<osg::Image> image_;
   std::shared_ptr<Timing> timing_;
-  Eigen::Vector2d terrainOffset_ = Eigen::Vector2d::Zero();  // map x, y of the mesh frame's origin
   RenderFrameStats stats_;
 };
 

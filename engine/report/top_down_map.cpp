@@ -9,7 +9,7 @@
 #include "nestwalk/geometry/convex_hull.h"
 #include "nestwalk/report/axis.h"
 #include "nestwalk/report/drawing_surface.h"
-#include "nestwalk/report/hillshade.h"
+#include "nestwalk/terrain/hillshade.h"
 
 #include <algorithm>
 #include <cmath>
@@ -106,10 +106,10 @@ class ShadeWindow {
   ShadeWindow(const terrain::Heightfield& hf, int firstCol, int lastCol, int firstRow, int lastRow)
       : firstCol_(firstCol), firstRow_(firstRow), cols_(lastCol - firstCol + 1),
         shade_(std::size_t(cols_) * std::size_t(lastRow - firstRow + 1), std::numeric_limits<float>::quiet_NaN()) {
-    const Eigen::Vector3d sun = sunDirection(kSunAzimuthDeg, kSunAltitudeDeg);
+    const Eigen::Vector3d sun = terrain::sunDirection(kSunAzimuthDeg, kSunAltitudeDeg);
     for (int r = firstRow; r <= lastRow; ++r)
       for (int c = firstCol; c <= lastCol; ++c)
-        if (hf.valid(c, r)) shade_[index(c, r)] = float(hornShade(hf, c, r, sun));
+        if (hf.valid(c, r)) shade_[index(c, r)] = float(terrain::hornShade(hf, c, r, sun));
   }
   float at(int col, int row) const { return shade_[index(col, row)]; }
 

@@ -177,12 +177,13 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   const JsonFieldReader r(path, fs::path(path).parent_path());
   const Json root = parseJsonStrictly(text, path);
   r.checkObject(root, "");
-  r.checkKeys(root, "", {"terrain", "origin", "types", "equipment", "viewer", "method", "source"});
+  r.checkKeys(root, "", {"terrain", "imagery", "origin", "types", "equipment", "viewer", "method", "source"});
 
   SceneSpec s;
   s.path = path;
   if (!root.contains("terrain")) r.fail("terrain", "missing (the terrain file is required)");
   s.terrain = r.resolve(r.nonEmptyString(root["terrain"], "terrain"));
+  if (root.contains("imagery")) s.imagery = r.resolve(r.nonEmptyString(root["imagery"], "imagery"));
   if (root.contains("origin")) {
     const std::vector<double> o = r.numbers(root["origin"], "origin", 3, 3);
     s.origin = Eigen::Vector3d(o[0], o[1], o[2]);
@@ -205,8 +206,9 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   if (root.contains("viewer")) s.viewer = readViewer(r, root["viewer"]);
   if (root.contains("method")) s.method = readMethod(r, root["method"]);
 
-  // Files: the terrain, then every model (all missing ones in one error).
+  // Files: the terrain, the imagery, then every model (all missing ones in one error).
   if (!fs::is_regular_file(s.terrain)) r.fail("terrain", "file not found: " + s.terrain);
+  if (s.imagery && !fs::is_regular_file(*s.imagery)) r.fail("imagery", "file not found: " + *s.imagery);
   std::set<std::string> checked;
   std::vector<std::string> missing;
   for (std::size_t i = 0; i < s.equipment.size(); ++i) {

@@ -4,6 +4,9 @@
 // {
 //   "terrain": "terrain.tif",              // DEM or imported terrain, any raster GDAL reads; relative
 //                                          // paths are relative to the scene file's folder
+//   "imagery": "ortho.tif",                // optional: imagery draped over the terrain (an
+//                                          // orthophoto, any raster GDAL reads, in any CRS:
+//                                          // terrain/terrain_imagery.h), relative as above
 //   "origin": [x, y, z],                   // optional: map point of the local frame's origin
 //                                          // (default: the terrain's centre, z 0)
 //   "types": { "gauge": {...} },           // optional: equipment types, as in a model catalog
@@ -34,7 +37,9 @@
 // Unknown keys are errors (a typo must not silently fall back to a default), and so is a key given
 // twice in one object. Every error names the file and the field (e.g. "scene.json:
 // equipment[12].scale: must be > 0", "scene.json: viewer.max_slope_deg: expected a number, got
-// string"); missing model files are all reported in one error. Further checks: "terrain", and each
+// string"); missing model files are all reported in one error. The imagery file must exist (a
+// missing one is an error naming the scene file, the field and the path) but is not opened here:
+// whoever draws the terrain opens it (terrain::TerrainImagery). Further checks: "terrain", and each
 // instance's "position" and either its "model" or its "type" (one of "types"), are required; group paths have no empty component (no
 // leading, trailing or doubled '/'); a use_only instance needs a group; names (given or default)
 // are unique, and no instance is named like a use_only group (that group's unit carries the name);
@@ -83,6 +88,7 @@ struct ViewerSpec {
 struct SceneSpec {
   std::string path;        // the scene file as given
   std::string terrain;     // resolved path
+  std::optional<std::string> imagery;  // resolved path of the draped imagery; unset: none
   std::optional<Eigen::Vector3d> origin;
   std::map<std::string, ModelType> types;  // "types", model paths resolved
   std::vector<EquipmentSpec> equipment;

@@ -121,7 +121,10 @@ void Hud::update(const HudState& s) {
   t += format("E %.3f  N %.3f  H %.3f", s.eye.x(), s.eye.y(), s.eye.z()) + "  (" + s.crs + ")\n";
   t += format("heading %.1f  pitch %.1f", s.headingDeg, s.pitchDeg);
   t += s.hasGround ? format("   ground %.3f\n", s.ground) : std::string("   no ground\n");
-  t += std::string(s.flying ? "flying" : "walking") + (s.sliding ? ", sliding" : "") + "   method " + s.method;
+  t += std::string(s.flying ? "flying" : "walking") + (s.sliding ? ", sliding" : "") + "   method " + s.method + "\n";
+  t += format("terrain %.0f chunks, %.2f px", double(s.terrainChunks), s.terrainErrorPx);
+  t += format("   %.0f of %.0f MiB", s.terrainMiB, s.terrainBudgetMiB);
+  if (s.terrainLoading > 0) t += format("   loading %.0f", double(s.terrainLoading));
   lines_->setText(t, osgText::String::ENCODING_UTF8);
   std::string status = s.status;
   for (std::size_t i = 0; i < s.expectations.size(); ++i) status += (status.empty() ? "" : "\n") + s.expectations[i];

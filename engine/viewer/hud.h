@@ -4,7 +4,8 @@
 // Bottom left, one line each: frame rate and frame ms; walker µs per step and steps this frame;
 // the tests per nested stage (Nv: AABB-AABB, AABB-OBB, OBB-OBB) and triangle tests (Np) of the
 // last step; the map position (easting, northing, height) with the terrain's CRS; heading and
-// pitch; the ground height under the body; walk or fly, sliding, the contact method. Top right:
+// pitch; the ground height under the body; walk or fly, sliding, the contact method; the terrain's
+// chunks drawn, their largest error on screen, the cache's memory and chunks still loading. Top right:
 // a status line (recording, paused, the last message). The blocked state itself is the graph's
 // red frame and "BLOCKED by <unit>" (top left). H shows a help panel with every key; expectations
 // of a script played in the window are listed under the status line as they are met or fail.
@@ -42,6 +43,8 @@ struct HudState {
   double ground = 0;
   bool flying = false, sliding = false;
   std::string method;
+  std::size_t terrainChunks = 0, terrainLoading = 0;  // drawn; asked for and not yet resident
+  double terrainErrorPx = 0, terrainMiB = 0, terrainBudgetMiB = 0;
   std::string status;                   // recording, paused, messages
   std::vector<std::string> expectations;  // "line 12: expect blocked by ...: met" (or FAILED and why)
 };

@@ -268,6 +268,7 @@ TEST(SceneGenerator, SameSeedSameBytesOtherSeedOtherScene) {
   const fs::path dir2 = w.dir.parent_path() / "again";
   writeScene(again, dir2.string(), false);
   EXPECT_EQ(readText(dir2 / "scene.json"), readText(w.dir / "scene.json"));
+  EXPECT_EQ(readText(dir2 / "ortho.tif"), readText(w.dir / "ortho.tif")) << "the orthophoto's noise is seeded";
   for (const auto& f : fs::directory_iterator(w.dir / "models"))
     EXPECT_EQ(readText(dir2 / "models" / f.path().filename()), readText(f.path())) << f.path();
   for (const auto& f : fs::directory_iterator(w.dir / "scripts"))

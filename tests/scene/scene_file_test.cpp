@@ -44,6 +44,7 @@ TEST_F(SceneFile, DefaultsAndResolvedPaths) {
   const SceneSpec s = parse(base());
   EXPECT_EQ(s.path, scenePath());
   EXPECT_EQ(s.terrain, (dir() / "terrain.tif").string());
+  EXPECT_FALSE(s.imagery.has_value());
   EXPECT_FALSE(s.origin.has_value());
   ASSERT_EQ(s.equipment.size(), 2u);
   const EquipmentSpec& a = s.equipment[0];
@@ -117,6 +118,30 @@ TEST_F(SceneFile, EveryFieldIsRead) {
   EXPECT_EQ(s.method.fitter, ObbFitter::Covariance);
 }
 
+// "imagery": optional, resolved like the terrain, and it must exist (it is not opened here).
+TEST_F(SceneFile, ImageryIsResolvedAndMustExist) {
+  fs::create_directories(dir() / "imagery");
+  writeText(dir() / "imagery" / "ortho.tif", "x");
+  Json j = base();
+  j["imagery"] = "imagery/../imagery/ortho.tif";
+  EXPECT_EQ(parse(j).imagery, std::optional<std::string>((dir() / "imagery" / "ortho.tif").string()));
+  j["imagery"] = (dir() / "imagery" / "ortho.tif").string();
+  EXPECT_EQ(parse(j).imagery, std::optional<std::string>((dir() / "imagery" / "ortho.tif").string()));
+  // From disk, relative to the scene file's folder wherever the program runs.
+  j["imagery"] = "imagery/ortho.tif";
+  writeText(dir() / "scene.json", j.dump());
+  EXPECT_EQ(readSceneFile(scenePath()).imagery, std::optional<std::string>((dir() / "imagery" / "ortho.tif").string()));
+  // Bad values and a missing file: the scene file, the field and the problem.
+  j["imagery"] = "gone.tif";
+  EXPECT_EQ(error(j), "imagery: file not found: " + (dir() / "gone.tif").string());
+  j["imagery"] = "imagery";
+  EXPECT_EQ(error(j), "imagery: file not found: " + (dir() / "imagery").string()) << "a folder is no imagery file";
+  j["imagery"] = 3;
+  EXPECT_EQ(error(j), "imagery: expected a string, got number");
+  j["imagery"] = "";
+  EXPECT_EQ(error(j), "imagery: must not be empty");
+}
+
 TEST_F(SceneFile, AbsolutePathsAreKeptAndEquipmentIsOptional) {
   Json j{{"terrain", (dir() / "terrain.tif").string()}};
   const SceneSpec s = parse(j);
@@ -142,7 +167,7 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
   };
   const std::vector<Case> cases = {
       {[](Json& j) { j["terain"] = "x"; },
-       "terain: unknown key (expected one of: terrain, origin, types, equipment, viewer, method, source)"},
+       "terain: unknown key (expected one of: terrain, imagery, origin, types, equipment, viewer, method, source)"},
       {[](Json& j) { j.erase("terrain"); }, "terrain: missing (the terrain file is required)"},
       {[](Json& j) { j["terrain"] = 3; }, "terrain: expected a string, got number"},
       {[](Json& j) { j["terrain"] = ""; }, "terrain: must not be empty"},

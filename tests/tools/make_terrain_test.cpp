@@ -1,7 +1,10 @@
 // `nestwalk make-terrain`: deterministic from the seed, written in EPSG:32651 as the terrain COG,
 // and the benches measured from the generated grid (through `query ground` along a profile across
-// the dump's long side): berms about 10 m apart, faces about 35 degrees.
+// the dump's long side): berms about 10 m apart, faces about 35 degrees. With --ortho, the synthetic
+// orthophoto lies on the DEM's grid and shows, where the profile found them, the top, the berms,
+// the faces, the ditch and the ground in their materials' colours.
 #include "tests/common/run_command.h"
+#include "tests/tools/ortho_material.h"
 
 #include <nlohmann/json.hpp>
 
@@ -76,9 +79,10 @@ TEST(MakeTerrain, DeterministicFromTheSeedInUtm51N) {
 TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
   const TempFolder folder;
   const fs::path dir = folder.path();
-  const fs::path out = dir / "dump.tif";
-  const auto r = runNestwalk("make-terrain " + quoted(out) + " --seed 3");
+  const fs::path out = dir / "dump.tif", ortho = dir / "ortho.tif";
+  const auto r = runNestwalk("make-terrain " + quoted(out) + " --seed 3 --ortho " + quoted(ortho));
   ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("ortho:"), std::string::npos) << r.out;
   double ce = 0, cn = 0, az = 0;
   const auto at = r.out.find("centre ");
   ASSERT_NE(at, std::string::npos) << r.out;
@@ -101,6 +105,8 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
   const int w = 8;
   auto slopeDeg = [&](int i) { return std::atan(std::abs(z[i + w] - z[i]) / (w * step)) * 180.0 / std::numbers::pi; };
   std::vector<double> flats, faces;  // flat levels (median z), face slopes (fitted)
+  std::vector<int> flatMiddles, faceMiddles;  // profile indices of their middles
+  int toe = 0;                                // profile index where the last face ends
   int i = 0;
   while (i + w < n) {
     const bool steep = slopeDeg(i) > 20.0, flat = slopeDeg(i) < 4.0;
@@ -110,11 +116,14 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
       // The face between its toe and crest, trimmed by 1.5 m at each end: rise over run.
       const int t = int(1.5 / step), s0 = i + t, s1 = j + w - t;
       faces.push_back(std::atan(std::abs(z[s1] - z[s0]) / ((s1 - s0) * step)) * 180.0 / std::numbers::pi);
+      faceMiddles.push_back((s0 + s1) / 2);
+      toe = j + w;
     }
     if (flat && (j - i) * step > 3.0) {
       std::vector<double> seg(z.begin() + i, z.begin() + j + w);
       std::nth_element(seg.begin(), seg.begin() + seg.size() / 2, seg.end());
       flats.push_back(seg[seg.size() / 2]);
+      flatMiddles.push_back((i + j + w) / 2);
     }
     i = std::max(j, i + 1);
   }
@@ -128,6 +137,41 @@ TEST(MakeTerrain, BenchesAreTenMetresAndFacesThirtyFiveDegrees) {
   ASSERT_GE(faces.size(), 4u);
   for (std::size_t k = 0; k + 1 < 4; ++k) EXPECT_NEAR(flats[k] - flats[k + 1], 10.0, 0.3) << k;
   for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(faces[k], 35.0, 1.5) << k;
+
+  // The orthophoto: on the DEM's grid, and the materials where the profile measured them. The
+  // profile starts on the top; the ditch's bottom is the lowest point within 12 m beyond the toe of
+  // the lowest face; 20 m beyond that toe lies natural ground (pits keep 25 m from the toe).
+  const OrthoProbe probe(ortho);
+  probe.expectOnTheGridOf(out);
+  auto materialAt = [&](int k) { return probe.materialAt(ce + k * step * std::sin(a), cn + k * step * std::cos(a)); };
+  EXPECT_EQ(materialAt(flatMiddles[0]), "top");
+  for (std::size_t k = 1; k < 4; ++k) EXPECT_EQ(materialAt(flatMiddles[k]), "berm") << "flat " << k;
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(materialAt(faceMiddles[k]), "face") << "face " << k;
+  const int ditchEnd = std::min(n - 1, toe + int(12.0 / step));
+  const int ditch = int(std::min_element(z.begin() + toe, z.begin() + ditchEnd) - z.begin());
+  EXPECT_GT(z[std::size_t(toe)] - z[std::size_t(ditch)], 1.0) << "the ditch is a trough";
+  EXPECT_EQ(materialAt(ditch), "ditch");
+  ASSERT_LT(toe + int(20.0 / step), n);
+  EXPECT_EQ(materialAt(toe + int(20.0 / step)), "ground");
+}
+
+TEST(MakeTerrain, OrthoIsKeptWithoutOverwriteAndIsNotTheTerrain) {
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  writeText(dir / "ortho.tif", "mine");
+  const auto kept = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --size 200 --ortho " + quoted(dir / "ortho.tif"));
+  EXPECT_EQ(kept.exitCode, 1);
+  EXPECT_NE(kept.err.find((dir / "ortho.tif").string() + ": already exists"), std::string::npos) << kept.err;
+  EXPECT_EQ(readText(dir / "ortho.tif"), "mine");
+  EXPECT_FALSE(fs::exists(dir / "a.tif")) << "nothing written when the ortho is refused";
+  const auto same = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --size 200 --ortho " + quoted(dir / "a.tif"));
+  EXPECT_EQ(same.exitCode, 1);
+  EXPECT_NE(same.err.find("--ortho names the terrain file"), std::string::npos) << same.err;
+  const auto over = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --size 200 --overwrite --ortho " +
+                                quoted(dir / "ortho.tif"));
+  ASSERT_EQ(over.exitCode, 0) << over.err;
+  const OrthoProbe probe(dir / "ortho.tif");
+  probe.expectOnTheGridOf(dir / "a.tif");
 }
 
 }  // namespace

@@ -124,7 +124,7 @@ TEST_F(ViewWindow, HeldKeysWalkIntoTheMastAndTheScreenshotAndRecordingAgree) {
   const std::string view = env + quoted(std::string(NESTWALK_BINARY)) + " view " + quoted(test::bundledSceneFile()) +
                            " --start " + std::to_string(start.x()) + " " + std::to_string(start.y()) + " " +
                            std::to_string(heading) + " --record " + quoted(folder / "rec") + " --screenshots " +
-                           quoted(folder.path()) + " --seconds 90 > " + quoted(log) + " 2>&1 &";
+                           quoted(folder.path()) + " --terrain-loading complete --seconds 90 > " + quoted(log) + " 2>&1 &";
   ASSERT_EQ(std::system(view.c_str()), 0);
   // Find the window, give it the keyboard, record, run at the mast (about 40 m: 10 s at 4.2 m/s),
   // stop recording, screenshot, quit.
@@ -175,6 +175,7 @@ TEST_F(ViewWindow, HeldKeysWalkIntoTheMastAndTheScreenshotAndRecordingAgree) {
   ASSERT_EQ(window->s(), 1280);
   ASSERT_EQ(window->t(), 720);
   RenderOptions ro;
+  ro.terrainLoading = TerrainLoading::Complete;  // as the window drew it
   ViewRenderer renderer(scene, ro);
   const std::size_t by = shotLine.find(" blocked by ");
   renderer.render({shot->eye, shot->heading, shot->pitch, by != std::string::npos,

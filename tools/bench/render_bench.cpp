@@ -25,6 +25,7 @@ struct Config {
   std::string name;
   double lodPixels;
   bool nestedCulling;
+  int chunkCells = RenderOptions{}.terrainTileCells;
 };
 
 /// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
@@ -74,6 +75,9 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   ro.height = height;
   ro.lodMaxPixels = c.lodPixels;
   ro.nestedCulling = c.nestedCulling;
+  ro.terrainTileCells = c.chunkCells;
+  // Every frame the error rule's full answer: the steady state, whatever the loader's timing.
+  ro.terrainLoading = TerrainLoading::Complete;
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   ViewRenderer renderer(scene, ro);
   const double setupMs = osg::Timer::instance()->delta_m(t0, osg::Timer::instance()->tick());
@@ -97,6 +101,8 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   return {{"config", c.name},
           {"lod_max_px", c.lodPixels},
           {"nested_culling", c.nestedCulling},
+          {"chunk_cells", c.chunkCells},
+          {"terrain_resident_mib", double(renderer.graph().pagedTerrain().lastStats().residentBytes) / (1 << 20)},
           {"frames", poses.size()},
           {"ms_p50", percentile(total, 50)},
           {"ms_p95", percentile(total, 95)},
@@ -132,6 +138,8 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
     configs.push_back({"LOD 0.5 px, nested", 0.5, true});
     configs.push_back({"LOD 2 px, nested", 2.0, true});
     configs.push_back({"LOD 4 px, nested", 4.0, true});
+    configs.push_back({"LOD 1 px, chunks of 32 cells", 1.0, true, 32});
+    configs.push_back({"LOD 1 px, chunks of 128 cells", 1.0, true, 128});
   }
   Table table;
   table.column({"configuration", "/config", 34, 0, true})
@@ -145,6 +153,7 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
       .column({"max tris", "/max_triangles", 11, 0})
       .column({"err px", "/max_terrain_error_px", 10, 3})
       .column({"err m", "/max_terrain_error_m", 10, 3})
+      .column({"MiB", "/terrain_resident_mib", 7, 0})
       .column({"first", "/first_frame_ms", 9, 0});
   CullComparison cull;
   for (const Config& c : configs)

@@ -1,5 +1,6 @@
 // nestwalk make-scene DIR [--seed N] [--gis-inputs] [--overwrite]: generates the bundled mining-dump scene
-// (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/models/*.osgt, DIR/scene.json and
+// (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/ortho.tif (its synthetic orthophoto,
+// the scene's draped imagery), DIR/models/*.osgt, DIR/scene.json and
 // DIR/scripts/{bench_patrol,ramp_descent,low_flight,equipment_walk,equipment_fly}.txt, built in a temporary folder beside DIR
 // and renamed to DIR at the end. An existing DIR is replaced only with --overwrite. With
 // --gis-inputs it writes instead what a user brings to `nestwalk build-scene` (gis_inputs.h): a
@@ -46,6 +47,8 @@ void runMakeScene(const MakeSceneArgs& args) {
   std::printf("  terrain:    terrain.tif, %d x %d samples at %.10g m, EPSG:32651; benches every %.3f m from %.3f to %.3f m\n",
               scene.dump.cols, scene.dump.rows, scene.dump.cell, scene.geometry.benchHeight, L.baseHeight,
               L.topHeight);
+  std::printf("  imagery:    ortho.tif, a synthetic orthophoto on the terrain's grid (RGB; materials of the top, "
+              "berms, faces, ramp, ditch and ground)\n");
   std::printf("  equipment:  %zu pieces:", scene.equipment.size());
   for (const auto& [kind, n] : kinds) std::printf(" %s %d", kind.c_str(), n);
   std::printf("\n  models:     models/*.osgt (%zu)\n", assets::kAllModels.size());

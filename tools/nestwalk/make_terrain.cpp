@@ -1,21 +1,27 @@
-// nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--overwrite]: generates the
-// bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the engine's terrain format (the
-// same Cloud-Optimized GeoTIFF as import-terrain), in UTM zone 51N (EPSG:32651).
+// nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--ortho FILE] [--overwrite]:
+// generates the bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the engine's
+// terrain format (the same Cloud-Optimized GeoTIFF as import-terrain), in UTM zone 51N
+// (EPSG:32651); with --ortho, also its synthetic orthophoto on the DEM's grid
+// (terrain/mining_dump_ortho.h).
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/mining_dump.h"
+#include "nestwalk/terrain/mining_dump_ortho.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <system_error>
 
 namespace nestwalk::tools {
 namespace {
 
 struct MakeTerrainArgs {
   std::string out;
+  std::string ortho;  // the orthophoto's file; empty: none
   terrain::MiningDumpParams params;
   bool overwrite = false;
 };
@@ -23,9 +29,21 @@ struct MakeTerrainArgs {
 void runMakeTerrain(const MakeTerrainArgs& args) {
   if (!(args.params.size >= 16 * args.params.cell && args.params.cell > 0))
     throw InputError("--size must be at least 16 cells and --cell positive");
+  if (!args.ortho.empty()) {
+    // Refused before anything is written, so that a refusal leaves OUT as it was too.
+    std::error_code ec, ecOrtho, ecOut;
+    const auto ortho = std::filesystem::weakly_canonical(args.ortho, ecOrtho);
+    const auto out = std::filesystem::weakly_canonical(args.out, ecOut);
+    if (!ecOrtho && !ecOut && ortho == out)
+      throw InputError(args.ortho + ": --ortho names the terrain file OUT; choose another file");
+    if (std::filesystem::exists(args.ortho, ec) && !args.overwrite)
+      throw InputError(args.ortho + ": already exists (use --overwrite to replace it)");
+  }
   const terrain::MiningDump dump = terrain::generateMiningDump(args.params);
   terrain::writeTerrainCog(args.out, dump.cols, dump.rows, dump.heights, dump.originX, dump.originY, dump.cell,
                            dump.cell, terrain::kMiningDumpCrs, args.overwrite);
+  if (!args.ortho.empty())
+    terrain::writeMiningDumpOrtho(args.ortho, dump, args.params.seed, terrain::kMiningDumpCrs, args.overwrite);
   float lo = dump.heights[0], hi = dump.heights[0];
   for (float h : dump.heights) lo = std::min(lo, h), hi = std::max(hi, h);
   const auto& L = dump.layout;
@@ -39,6 +57,10 @@ void runMakeTerrain(const MakeTerrainArgs& args) {
               L.centreE, L.centreN, L.azimuthDeg, std::fmod(L.azimuthDeg + 270.0, 360.0));
   std::printf("  benches:      toe at %.3f m, top at %.3f m, bench height %.3f m, face slope %.3f deg\n",
               L.baseHeight, L.topHeight, args.params.benchHeight, args.params.faceSlopeDeg);
+  if (!args.ortho.empty())
+    std::printf("  ortho:        %s, RGB on the DEM's grid (materials of the top, berms, faces, ramp, ditch and "
+                "ground)\n",
+                args.ortho.c_str());
 }
 
 }  // namespace
@@ -52,7 +74,9 @@ void registerMakeTerrain(CLI::App& app) {
   cmd->add_option("--seed", args->params.seed, "Random seed (same seed, same heights)")->default_val(1);
   cmd->add_option("--size", args->params.size, "Side of the square area, metres")->default_val(1000.0);
   cmd->add_option("--cell", args->params.cell, "Cell size, metres")->default_val(1.0);
-  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT");
+  cmd->add_option("--ortho", args->ortho,
+                  "Also write a synthetic orthophoto of the dump (RGB GeoTIFF on the DEM's grid) to this file");
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT (and --ortho FILE)");
   cmd->callback([args] { runMakeTerrain(*args); });
 }
 

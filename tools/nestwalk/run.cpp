@@ -40,6 +40,7 @@ struct RunArgs {
   bool render = false, showVolumes = false, noVideo = false, noFrames = false, osgCulling = false;
   std::string size = "1280x720";
   int every = 1;
+  TerrainArgs terrain;
 };
 
 void runRun(const RunArgs& args) {
@@ -83,6 +84,9 @@ void runRun(const RunArgs& args) {
     ro.height = height;
     ro.volumes = args.showVolumes;
     ro.nestedCulling = !args.osgCulling;
+    // A rendered run is a film: every frame the error rule's full answer, the same on every run.
+    ro.terrainLoading = TerrainLoading::Complete;
+    applyTerrainArgs(args.terrain, ro);
     try {
       renderer = std::make_unique<ViewRenderer>(scene, ro);
     } catch (const std::runtime_error& e) {
@@ -206,6 +210,7 @@ void registerRun(CLI::App& app) {
   cmd->add_flag("--show-volumes", args->showVolumes, "Draw the equipment's outer AABBs (yellow) and inner OBBs (cyan)");
   cmd->add_flag("--osg-culling", args->osgCulling, "Cull equipment with OSG's bounding spheres instead of the nested volumes");
   cmd->add_flag("--no-video", args->noVideo, "Render without writing flythrough.mp4");
+  addTerrainOptions(*cmd, args->terrain, "complete");
   cmd->add_flag("--no-frames", args->noFrames, "Render without writing the PNG frames");
   cmd->add_flag("--overwrite", args->overwrite, "Replace the run's files in the output folder");
   cmd->add_flag("--slide", args->slide, "Slide along contact faces instead of stopping");

@@ -49,6 +49,7 @@ struct ViewArgs {
   double hz = 60.0, seconds = 0;
   int frames = 0;
   MethodOverrides method;
+  TerrainArgs terrain;
 };
 
 /// Seconds between two updates of the HUD's text.
@@ -138,6 +139,7 @@ void runView(const ViewArgs& args) {
   ro.width = width;
   ro.height = height;
   ro.volumes = true;  // drawn, then shown or hidden with V
+  applyTerrainArgs(args.terrain, ro);
   ViewGraph graph(scene, ro);
   if (graph.parts().volumes) graph.parts().volumes->setNodeMask(args.volumes ? ~0u : 0u);
   Hud hud(graph.overlayLayer(), width, height);
@@ -270,6 +272,12 @@ void runView(const ViewArgs& args) {
     h.flying = walker.state().flying;
     h.sliding = walker.options().slide;
     h.method = volumeMethodName(method.volumes);
+    const PagedTerrainStats& terrain = graph.pagedTerrain().lastStats();
+    h.terrainChunks = terrain.chunksDrawn;
+    h.terrainLoading = terrain.chunksWanted;
+    h.terrainErrorPx = terrain.maxErrorPx;
+    h.terrainMiB = double(terrain.residentBytes) / (1 << 20);
+    h.terrainBudgetMiB = double(graph.pagedTerrain().budgetBytes()) / (1 << 20);
     h.status = manipulator->paused() ? "PAUSED (K resumes, L steps)" : status;
     if (!manipulator->message().empty() && status.empty()) h.status = manipulator->message();
     if (const FrameRecord* rec = manipulator->currentRecord()) {
@@ -346,6 +354,7 @@ void registerView(CLI::App& app) {
   cmd->add_flag("--overwrite", args->overwrite, "Write into an existing recording folder, replacing its files");
   cmd->add_option("--hz", args->hz, "Walker steps per second (fixed time step 1/hz; default 60)")->check(CLI::Range(1.0, 10000.0));
   cmd->add_option("--method", args->method.volumes, "Contact test: nested (default), aabb, obb, nested+mesh, kdop18, auto (overrides the scene)");
+  addTerrainOptions(*cmd, args->terrain, "background");
   cmd->add_option("--frames", args->frames, "Quit after this many frames (0: on Esc)");
   cmd->add_option("--seconds", args->seconds, "Quit after this many seconds (0: on Esc)");
   cmd->callback([args]() { runView(*args); });

@@ -40,4 +40,21 @@ MethodSpec applyMethodOverrides(const MethodOverrides& a, MethodSpec m) {
   return m;
 }
 
+void addTerrainOptions(CLI::App& cmd, TerrainArgs& args, const char* defaultLoading) {
+  cmd.add_option("--terrain-loading", args.loading,
+                 std::string("Terrain chunks: background (frames never wait; coarser until loaded) or complete (each "
+                             "frame waits for its chunks); default ") + defaultLoading);
+  cmd.add_option("--terrain-budget", args.budgetMiB,
+                 "Terrain cache budget in MiB (default: a sixteenth of the memory, 256 to 1024)")
+      ->check(CLI::Range(1.0, 1048576.0));
+}
+
+void applyTerrainArgs(const TerrainArgs& args, RenderOptions& options) {
+  if (args.loading == "background") options.terrainLoading = TerrainLoading::Background;
+  else if (args.loading == "complete") options.terrainLoading = TerrainLoading::Complete;
+  else if (!args.loading.empty())
+    throw InputError("--terrain-loading: expected background or complete, got '" + args.loading + "'");
+  if (args.budgetMiB > 0) options.terrainBudgetBytes = std::size_t(args.budgetMiB * 1024 * 1024);
+}
+
 }  // namespace nestwalk::tools

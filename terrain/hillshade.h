@@ -1,7 +1,9 @@
-// The hillshade of the top-down map (top_down_map.h): Horn's (1981) slope from the 3 x 3 weighted
-// differences of the sample grid and Lambert's cosine towards the sun, the rule of GDAL's
-// `gdaldem hillshade` (GDALDEMProcessing "hillshade", algorithm Horn, z factor 1); the report's
-// tests compare the two sample by sample (tests/report/hillshade_test.cpp).
+// Horn's (1981) hillshade: the slope from the 3 x 3 weighted differences of the sample grid and
+// Lambert's cosine towards the sun, the rule of GDAL's `gdaldem hillshade` (GDALDEMProcessing
+// "hillshade", algorithm Horn, z factor 1); tests/terrain/hillshade_test.cpp compares the two
+// sample by sample. One rule for every picture of the terrain: the report's top-down map shades
+// its samples with it, and the renderer bakes it into each terrain chunk at the chunk's level
+// (terrain_chunk.h: the same 3 x 3 rule on the level's samples, `step` samples apart).
 //
 // Frames: the heightfield's (terrain/heightfield.h): columns east, rows south, dx and dy metres;
 // heights metres. The sun direction is a unit vector towards the sun in map axes (x east, y north,
@@ -19,14 +21,15 @@
 
 #include <Eigen/Core>
 
-namespace nestwalk {
+namespace nestwalk::terrain {
 
 /// The unit vector towards a sun at `azimuthDeg` (clockwise from north) and `altitudeDeg` above
 /// the horizon, in map axes.
 Eigen::Vector3d sunDirection(double azimuthDeg, double altitudeDeg);
 
 /// The shade at the valid sample (col, row): max(0, n · sun) in [0, 1], n the unit normal of the
-/// surface from Horn's differences (see above).
-double hornShade(const terrain::Heightfield& hf, int col, int row, const Eigen::Vector3d& sun);
+/// surface from Horn's differences (see above) over the neighbours `step` samples away (step 1:
+/// GDAL's rule on the full grid; step 2^k: the same rule on level k's coarser grid).
+double hornShade(const Heightfield& hf, int col, int row, const Eigen::Vector3d& sun, int step = 1);
 
-}  // namespace nestwalk
+}  // namespace nestwalk::terrain

@@ -1,11 +1,11 @@
-// The top-down map's hillshade (engine/report/hillshade.h) against GDAL's DEM processing
+// The top-down map's hillshade (terrain/hillshade.h) against GDAL's DEM processing
 // (GDALDEMProcessing "hillshade": Horn, azimuth 315°, altitude 45°, z factor 1), sample by sample:
 // on a generated DEM at UTM magnitudes (steep and shadowed slopes included) and on a real one (the
 // shared LANDFIRE grid of Storm Lake, Montana, 30 m, UTM 12N; skipped when the shared data is
 // absent). GDAL writes 1 + 254 · shade rounded to a byte (0 is its nodata: the outermost samples
 // and those next to a hole), so each sample whose 3 x 3 neighbourhood is valid must have
 // |GDAL's byte - (1 + 254 · shade)| <= kByteRounding + kGdalArithmetic.
-#include "nestwalk/report/hillshade.h"
+#include "nestwalk/terrain/hillshade.h"
 
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/heightfield.h"
@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -61,7 +62,7 @@ struct Comparison {
 /// The map's shade against GDAL's bytes at every sample whose 3 x 3 neighbourhood is valid.
 Comparison compare(const terrain::Heightfield& hf, const std::vector<std::uint8_t>& gdal) {
   Comparison c;
-  const Eigen::Vector3d sun = sunDirection(315, 45);
+  const Eigen::Vector3d sun = terrain::sunDirection(315, 45);
   for (int r = 1; r + 1 < hf.rows(); ++r)
     for (int col = 1; col + 1 < hf.cols(); ++col) {
       bool full = true;
@@ -70,7 +71,7 @@ Comparison compare(const terrain::Heightfield& hf, const std::vector<std::uint8_
       if (!full) continue;
       const std::uint8_t g = gdal[std::size_t(r) * std::size_t(hf.cols()) + std::size_t(col)];
       EXPECT_NE(g, 0) << "GDAL left sample " << col << ", " << r << " without a value";
-      const double shade = hornShade(hf, col, r, sun);
+      const double shade = terrain::hornShade(hf, col, r, sun);
       const double diff = std::abs(double(g) - (1 + 254 * shade));
       if (diff > c.maxDiff) c.maxDiff = diff;
       EXPECT_LE(diff, kByteRounding + kGdalArithmetic)
@@ -84,7 +85,7 @@ Comparison compare(const terrain::Heightfield& hf, const std::vector<std::uint8_
 }
 
 TEST(Hillshade, SunDirectionIsNorthWestAndUp) {
-  const Eigen::Vector3d sun = sunDirection(315, 45);
+  const Eigen::Vector3d sun = terrain::sunDirection(315, 45);
   EXPECT_NEAR(sun.norm(), 1, 1e-15);
   EXPECT_NEAR(sun.x(), -0.5, 1e-15);  // west
   EXPECT_NEAR(sun.y(), 0.5, 1e-15);   // north
@@ -141,6 +142,31 @@ TEST(Hillshade, MatchesGdalOnARealDem) {
   EXPECT_GT(c.bright + c.shadowed, 0u);
   std::printf("[ hillshade] %s: %zu samples, %zu shadowed, %zu bright, max |diff| %.3f, mean %.3f levels\n",
               path.filename().c_str(), c.compared, c.shadowed, c.bright, c.maxDiff, c.sumDiff / double(c.compared));
+}
+
+TEST(Hillshade, AStepIsTheRuleOnTheCoarserGrid) {
+  // hornShade(step 2) on a grid equals hornShade(step 1) on every second sample of it (spacing
+  // doubled), the level grid a terrain chunk shades: interior, edges and holes alike.
+  constexpr int kCols = 41, kRows = 33;
+  std::vector<float> fine, coarse;
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kCols; ++c) {
+      float h = float(150 + 9 * std::sin(c / 4.0) * std::cos(r / 3.0) + 0.3 * c);
+      if ((c == 10 && r == 12) || (c == 24 && r == 0)) h = std::numeric_limits<float>::quiet_NaN();
+      fine.push_back(h);
+      if (c % 2 == 0 && r % 2 == 0) coarse.push_back(h);
+    }
+  const terrain::Heightfield f(kCols, kRows, fine, 600000.0, 7000000.0, 1.5, 2.5);
+  const terrain::Heightfield g(kCols / 2 + 1, kRows / 2 + 1, coarse, 600000.0, 7000000.0, 3.0, 5.0);
+  const Eigen::Vector3d sun = terrain::sunDirection(315, 45);
+  int compared = 0;
+  for (int r = 0; r < kRows; r += 2)
+    for (int c = 0; c < kCols; c += 2) {
+      if (!f.valid(c, r)) continue;
+      EXPECT_NEAR(terrain::hornShade(f, c, r, sun, 2), terrain::hornShade(g, c / 2, r / 2, sun), 1e-12) << c << " " << r;
+      ++compared;
+    }
+  EXPECT_GT(compared, 300);
 }
 
 }  // namespace

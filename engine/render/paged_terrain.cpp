@@ -1,0 +1,357 @@
+// View-bounded terrain (paged_terrain.h).
+#include "nestwalk/render/paged_terrain.h"
+
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/Timer>
+#include <osgUtil/CullVisitor>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace nestwalk {
+
+using terrain::ChunkKey;
+
+const char* terrainLoadingName(TerrainLoading l) {
+  return l == TerrainLoading::Complete ? "complete" : "background";
+}
+
+std::size_t defaultTerrainBudgetBytes() {
+  constexpr std::size_t kMiB = std::size_t(1) << 20;
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+  const std::size_t physical = pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 4096 * kMiB;
+  return std::clamp(physical / 16, 256 * kMiB, 1024 * kMiB);
+}
+
+// A resident chunk. node is null for a chunk without triangles (all holes).
+struct PagedTerrain::Entry {
+  osg::ref_ptr<osg::Node> node;
+  double error = 0;
+  std::vector<std::pair<float, osg::BoundingBox>> blocks;  // error (m) and surface box of each block
+  osg::BoundingBox box;  // surface and skirts, for frustum culling
+  std::size_t bytes = 0, triangles = 0, skirtTriangles = 0;
+  std::uint64_t lastUsed = 0;
+  int residentChildren = 0;
+};
+
+struct PagedTerrain::Built {
+  ChunkKey key;
+  Entry entry;
+  double seconds = 0;
+};
+
+namespace {
+
+/// Boxes are kept as floats, grown by this much so that they still hold what they bound: metres,
+/// above float rounding of mesh-frame coordinates up to 16 km (1 mm), far below what it changes of a
+/// distance.
+constexpr double kBoxPaddingM = 2e-3;
+
+osg::BoundingBox toBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  if (!(lo.x() <= hi.x())) return {};
+  const Eigen::Vector3d a = lo.array() - kBoxPaddingM, b = hi.array() + kBoxPaddingM;
+  return osg::BoundingBox(osg::Vec3(float(a.x()), float(a.y()), float(a.z())), osg::Vec3(float(b.x()), float(b.y()), float(b.z())));
+}
+
+/// The distance from p to the box (0 inside).
+double distanceToBox(const osg::Vec3d& p, const osg::BoundingBox& b) {
+  const double dx = std::max({double(b.xMin()) - p.x(), 0.0, p.x() - double(b.xMax())});
+  const double dy = std::max({double(b.yMin()) - p.y(), 0.0, p.y() - double(b.yMax())});
+  const double dz = std::max({double(b.zMin()) - p.z(), 0.0, p.z() - double(b.zMax())});
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/// A chunk's OSG node: its offset as a transform over one geometry (float positions, byte colours,
+/// 16-bit indices where they fit), drawn from vertex buffer objects.
+osg::ref_ptr<osg::Node> chunkNode(const terrain::ChunkMesh& m) {
+  if (m.empty()) return nullptr;
+  const std::size_t n = m.vertexCount();
+  osg::ref_ptr<osg::Vec3Array> positions = new osg::Vec3Array(unsigned(n));
+  std::copy(m.positions.begin(), m.positions.end(), &(*positions)[0][0]);
+  osg::ref_ptr<osg::Vec4ubArray> colours = new osg::Vec4ubArray(unsigned(n));
+  std::copy(m.colours.begin(), m.colours.end(), &(*colours)[0][0]);
+  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+  g->setUseDisplayList(false);
+  g->setUseVertexBufferObjects(true);
+  g->setVertexArray(positions.get());
+  g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
+  colours->setNormalize(true);
+  if (n <= 0xFFFF) {
+    osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(m.indices.size()));
+    std::copy(m.indices.begin(), m.indices.end(), e->begin());
+    g->addPrimitiveSet(e.get());
+  } else {
+    osg::ref_ptr<osg::DrawElementsUInt> e =
+        new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(m.indices.size()), m.indices.data());
+    g->addPrimitiveSet(e.get());
+  }
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(g.get());
+  osg::ref_ptr<osg::MatrixTransform> t =
+      new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
+  t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y));
+  t->addChild(geode.get());
+  return t;
+}
+
+}  // namespace
+
+PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfield, PagedTerrainOptions options)
+    : hf_(std::move(heightfield)),
+      options_(std::move(options)),
+      layout_(hf_ ? hf_->cols() : 0, hf_ ? hf_->rows() : 0, options_.chunkCells) {
+  if (!(options_.pixelsPerRadian > 0) || !(options_.maxPixels >= 0))
+    throw std::invalid_argument("PagedTerrain: pixelsPerRadian must be positive and maxPixels not negative");
+  budget_ = options_.budgetBytes > 0 ? options_.budgetBytes : defaultTerrainBudgetBytes();
+  shading_.shade = options_.shade;
+  shading_.imagery = options_.imagery;
+  shading_.mapOrigin = options_.mapOrigin;
+  if (const auto range = hf_->heightRange()) {
+    shading_.heightLo = range->first;
+    shading_.heightHi = range->second;
+  }
+  setCullingActive(false);  // the selection culls chunk by chunk
+  setDataVariance(osg::Object::DYNAMIC);
+  Built root = build(layout_.root());
+  const osg::BoundingBox box = root.entry.box;
+  if (box.valid()) bound_ = osg::BoundingSphere(box);
+  insert(std::move(root));
+  if (options_.loading == TerrainLoading::Background) loader_ = std::thread([this] { loaderLoop(); });
+}
+
+PagedTerrain::~PagedTerrain() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (loader_.joinable()) loader_.join();
+}
+
+osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
+
+void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
+  for (auto& [key, e] : cache_)
+    if (e.node) e.node->resizeGLObjectBuffers(maxSize);
+}
+
+void PagedTerrain::releaseGLObjects(osg::State* state) const {
+  for (const auto& [key, e] : cache_)
+    if (e.node) e.node->releaseGLObjects(state);
+}
+
+PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
+  const osg::Timer_t t0 = osg::Timer::instance()->tick();
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_);
+  Built b;
+  b.key = key;
+  b.entry.node = chunkNode(m);
+  b.entry.error = m.maxError;
+  for (const terrain::ChunkBlock& block : m.blocks)
+    if (block.min.x() <= block.max.x() && block.error > 0)
+      b.entry.blocks.emplace_back(float(block.error), toBox(block.min, block.max));
+  b.entry.box = toBox(m.boxMin, m.boxMax);
+  b.entry.bytes = 2 * m.bytes();
+  b.entry.triangles = m.surfaceTriangles + m.skirtTriangles;
+  b.entry.skirtTriangles = m.skirtTriangles;
+  b.seconds = osg::Timer::instance()->delta_s(t0, osg::Timer::instance()->tick());
+  return b;
+}
+
+void PagedTerrain::insert(Built&& built) {
+  if (cache_.count(built.key)) return;
+  built.entry.lastUsed = frame_;
+  residentBytes_ += built.entry.bytes;
+  ++stats_.chunksLoaded;
+  stats_.loadSeconds += built.seconds;
+  if (built.key.level + 1 < layout_.levels()) {
+    const ChunkKey parent{built.key.level + 1, built.key.x / 2, built.key.y / 2};
+    if (auto p = cache_.find(parent); p != cache_.end()) ++p->second.residentChildren;
+  }
+  cache_.emplace(built.key, std::move(built.entry));
+}
+
+void PagedTerrain::mergeLoaded() {
+  std::vector<Built> done;
+  {
+    std::lock_guard lock(mutex_);
+    done.swap(done_);
+  }
+  for (Built& b : done) {
+    // A chunk whose parent went while it was loading cannot be reached: drop it.
+    const ChunkKey parent{b.key.level + 1, b.key.x / 2, b.key.y / 2};
+    if (b.key.level + 1 < layout_.levels() && !cache_.count(parent)) continue;
+    insert(std::move(b));
+  }
+}
+
+void PagedTerrain::select(const ChunkKey& key, osg::NodeVisitor& nv, std::vector<Want>& wants) {
+  auto it = cache_.find(key);
+  if (it == cache_.end()) return;
+  Entry& e = it->second;
+  e.lastUsed = frame_;
+  if (!e.node) return;  // all holes, nothing below either
+  auto* cv = dynamic_cast<osgUtil::CullVisitor*>(&nv);
+  if (cv && cv->isCulled(e.box)) return;
+  // The projected error: the largest of the blocks' (terrain_chunk.h).
+  const osg::Vec3d eye = nv.getEyePoint();
+  double pixels = 0;
+  for (const auto& [error, box] : e.blocks)
+    pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
+  if (pixels > options_.maxPixels && key.level > 0) {
+    const std::vector<ChunkKey> children = layout_.children(key);
+    bool all = true;
+    for (const ChunkKey& c : children) {
+      if (auto ci = cache_.find(c); ci != cache_.end())
+        ci->second.lastUsed = frame_;  // waited for: not to be evicted while its siblings load
+      else {
+        all = false;
+        wants.push_back({c, pixels});
+      }
+    }
+    if (all) {
+      for (const ChunkKey& c : children) select(c, nv, wants);
+      return;
+    }
+    ++stats_.standIns;
+  }
+  drawList_.emplace_back(key, e.node.get());
+  ++stats_.chunksDrawn;
+  stats_.trianglesDrawn += e.triangles;
+  stats_.skirtTrianglesDrawn += e.skirtTriangles;
+  stats_.maxErrorM = std::max(stats_.maxErrorM, e.error);
+  stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
+  stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
+  stats_.coarsestLevel = std::max(stats_.coarsestLevel, key.level);
+}
+
+void PagedTerrain::evictUnused(std::size_t target) {
+  while (residentBytes_ > target) {
+    // Oldest first among the unused leaves of the resident tree (finer first when as old).
+    auto victim = cache_.end();
+    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+      const Entry& e = it->second;
+      if (e.lastUsed >= frame_ || e.residentChildren > 0 || it->first == layout_.root()) continue;
+      if (victim == cache_.end() || e.lastUsed < victim->second.lastUsed ||
+          (e.lastUsed == victim->second.lastUsed && it->first.level < victim->first.level))
+        victim = it;
+    }
+    if (victim == cache_.end()) return;
+    const ChunkKey key = victim->first;
+    if (victim->second.node) victim->second.node->releaseGLObjects(nullptr);
+    residentBytes_ -= victim->second.bytes;
+    cache_.erase(victim);
+    ++stats_.chunksEvicted;
+    const ChunkKey parent{key.level + 1, key.x / 2, key.y / 2};
+    if (auto p = cache_.find(parent); p != cache_.end()) --p->second.residentChildren;
+  }
+}
+
+void PagedTerrain::publish(std::vector<Want> wants) {
+  std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+  {
+    std::lock_guard lock(mutex_);
+    // Only what fits: each wanted chunk is counted at its parent's size (chunks of one tree have
+    // about the same number of vertices), in-flight ones included.
+    std::size_t planned = residentBytes_;
+    std::vector<Want> fitting;
+    for (const Want& w : wants) {
+      const ChunkKey parent{w.key.level + 1, w.key.x / 2, w.key.y / 2};
+      const auto p = cache_.find(parent);
+      const std::size_t estimate = p != cache_.end() ? p->second.bytes : 0;
+      if (planned + estimate > budget_) break;
+      planned += estimate;
+      fitting.push_back(w);
+    }
+    wanted_ = std::move(fitting);
+  }
+  wake_.notify_one();
+}
+
+void PagedTerrain::loaderLoop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [&] { return stop_ || !wanted_.empty(); });
+    if (stop_) return;
+    const ChunkKey key = wanted_.front().key;
+    wanted_.erase(wanted_.begin());
+    if (std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end()) continue;
+    inFlight_.push_back(key);
+    lock.unlock();
+    std::optional<Built> b;
+    std::string error;
+    try {
+      b = build(key);
+    } catch (const std::exception& e) {  // out of memory: the parent stays drawn
+      error = e.what();
+    }
+    lock.lock();
+    inFlight_.erase(std::find(inFlight_.begin(), inFlight_.end(), key));
+    if (b) done_.push_back(std::move(*b));
+    else if (loadError_.empty()) loadError_ = "terrain chunk " + std::to_string(key.level) + "/" +
+                                              std::to_string(key.x) + "/" + std::to_string(key.y) + ": " + error;
+    if (wanted_.empty()) idle_.notify_all();
+  }
+}
+
+std::string PagedTerrain::loadError() const {
+  std::lock_guard lock(mutex_);
+  return loadError_;
+}
+
+void PagedTerrain::waitUntilIdle() {
+  if (options_.loading != TerrainLoading::Background) return;
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [&] { return stop_ || (wanted_.empty() && inFlight_.empty()); });
+}
+
+void PagedTerrain::traverse(osg::NodeVisitor& nv) {
+  if (nv.getVisitorType() != osg::NodeVisitor::CULL_VISITOR) return;
+  ++frame_;
+  mergeLoaded();
+  std::vector<Want> wants;
+  for (;;) {
+    const std::uint64_t loaded = stats_.chunksLoaded, evicted = stats_.chunksEvicted;
+    const double loadSeconds = stats_.loadSeconds;
+    stats_ = PagedTerrainStats{};
+    stats_.chunksLoaded = loaded;
+    stats_.chunksEvicted = evicted;
+    stats_.loadSeconds = loadSeconds;
+    drawList_.clear();
+    wants.clear();
+    select(layout_.root(), nv, wants);
+    if (options_.loading != TerrainLoading::Complete || wants.empty()) break;
+    // Complete: build what fits (making room from what this selection did not touch), select again.
+    std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+    bool any = false;
+    for (const Want& w : wants) {
+      if (cache_.count(w.key)) continue;
+      const ChunkKey parent{w.key.level + 1, w.key.x / 2, w.key.y / 2};
+      const auto p = cache_.find(parent);
+      const std::size_t estimate = p != cache_.end() ? p->second.bytes : 0;
+      if (residentBytes_ + estimate > budget_ && estimate <= budget_) evictUnused(budget_ - estimate);
+      if (residentBytes_ + estimate > budget_) break;
+      insert(build(w.key));
+      any = true;
+    }
+    if (!any) break;
+  }
+  drawn_.clear();
+  for (const auto& [key, node] : drawList_) {
+    drawn_.push_back(key);
+    node->accept(nv);
+  }
+  stats_.chunksWanted = wants.size();
+  if (options_.loading == TerrainLoading::Background) publish(wants);
+  evictUnused(budget_);
+  stats_.chunksResident = cache_.size();
+  stats_.residentBytes = residentBytes_;
+}
+
+}  // namespace nestwalk

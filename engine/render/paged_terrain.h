@@ -1,0 +1,162 @@
+// View-bounded terrain: an OpenSceneGraph node that draws a cut of the terrain's chunk quadtree
+// (terrain/terrain_chunk.h), chunks built on demand from the heightfield on a background thread and
+// kept in a cache with a memory budget, least recently used evicted first. What it costs grows with
+// the view, not with the DEM.
+//
+// Selection (each cull): from the root down, a chunk outside the view frustum is skipped with all
+// below it; a chunk whose exact error projects to more than maxPixels is replaced by its children
+// once all of them are resident, else it is drawn itself (and its missing children are asked for).
+// A drawn chunk therefore shows at most maxPixels of vertical error, except where it stands in for
+// children still loading (Background) or that the budget cannot hold. Rule: the largest over the
+// chunk's blocks (terrain_chunk.h) of error * pixelsPerRadian / distance, distance from the eye to
+// the block's surface box (at least kMinEyeDistanceM): terrain_mesh.h's LodRule, block by block.
+//
+// Loading: Background (the interactive window and timed runs): one loader thread builds the chunks
+// the last cull asked for, most visible error first; a cull never waits for it, it draws what is
+// resident (the root is built by the constructor, so there is always something). Complete (tests,
+// exact renders): a cull builds what it asks for on its own thread before drawing, so each frame is
+// the error rule's full answer whatever the timing.
+//
+// Memory: each resident chunk costs twice its arrays (ChunkMesh::bytes(): OSG keeps its copy and
+// the GL driver another; with llvmpipe both live in the process). The cache holds at most
+// budgetBytes: chunks are asked for only while they fit, and after each cull the chunks it did not
+// use go, oldest first, leaves of the resident tree before their parents, until the cache fits. A
+// budget smaller than the view needs keeps the view coarser; it never breaks it (the root stays).
+//
+// Frames: the node's children are in the mesh frame of terrain_mesh.h (metres from the heightfield's
+// sample (0, 0)); the caller places it with a transform (view_graph.cpp).
+//
+// Ownership and threads: the node shares the heightfield (shared_ptr, read from both threads: it is
+// immutable) and owns the imagery reader, which only the loader thread (or, in Complete mode, the
+// cull thread) calls. Cull and draw on one thread (the viewers here are SingleThreaded); the
+// destructor stops the loader thread.
+#pragma once
+
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_chunk.h"
+
+#include <osg/BoundingBox>
+#include <osg/MatrixTransform>
+#include <osg/Node>
+#include <osg/ref_ptr>
+
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+namespace nestwalk {
+
+/// The eye's distance to a chunk is taken as at least this: metres, below any eye height above the
+/// ground the walker allows, and keeps the projected error finite inside a chunk's box.
+inline constexpr double kMinEyeDistanceM = 0.01;
+
+enum class TerrainLoading { Background, Complete };
+const char* terrainLoadingName(TerrainLoading l);  // "background", "complete"
+
+/// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
+std::size_t defaultTerrainBudgetBytes();
+
+struct PagedTerrainOptions {
+  int chunkCells = 64;              // cells per chunk side, a power of two >= 2
+  double pixelsPerRadian = 623.5;   // the screen's (LodRule::pixelsPerRadian; 1280 x 720 at 60 degrees)
+  double maxPixels = 1.0;           // the largest vertical error drawn, pixels (0: full resolution)
+  std::size_t budgetBytes = 0;      // 0: defaultTerrainBudgetBytes()
+  TerrainLoading loading = TerrainLoading::Background;
+  bool shade = true;                // bake Horn's hillshade into the colours
+  terrain::ColourGridReader imagery;  // draped imagery (empty: colours by height)
+  Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
+};
+
+/// What the last cull drew and what the cache holds.
+struct PagedTerrainStats {
+  std::size_t chunksDrawn = 0;
+  std::size_t trianglesDrawn = 0;    // surface and skirt triangles of the drawn chunks
+  std::size_t skirtTrianglesDrawn = 0;
+  double maxErrorM = 0;              // largest exact error of a drawn chunk, metres
+  double maxErrorPx = 0;             // its largest projected error, pixels (the rule above)
+  std::size_t standIns = 0;          // drawn chunks over maxPixels whose children were not resident
+  std::size_t chunksResident = 0;
+  std::size_t residentBytes = 0;     // counted as above (twice the arrays)
+  std::size_t chunksWanted = 0;      // asked for and not yet resident
+  std::uint64_t chunksLoaded = 0;    // built since the node was made
+  std::uint64_t chunksEvicted = 0;
+  double loadSeconds = 0;            // time spent building chunks since the node was made
+  int finestLevel = -1, coarsestLevel = -1;  // of the drawn chunks
+};
+
+class PagedTerrain : public osg::Node {
+ public:
+  /// Builds the root chunk (so the first frame has terrain) and, for Background, starts the loader.
+  /// Throws std::invalid_argument for bad options.
+  PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfield, PagedTerrainOptions options);
+  ~PagedTerrain() override;
+  PagedTerrain(const PagedTerrain&) = delete;
+  PagedTerrain& operator=(const PagedTerrain&) = delete;
+
+  const char* libraryName() const override { return "nestwalk"; }
+  const char* className() const override { return "PagedTerrain"; }
+  void traverse(osg::NodeVisitor& nv) override;
+  osg::BoundingSphere computeBound() const override;
+  void resizeGLObjectBuffers(unsigned maxSize) override;
+  void releaseGLObjects(osg::State* state = nullptr) const override;
+
+  const PagedTerrainStats& lastStats() const { return stats_; }
+  const PagedTerrainOptions& options() const { return options_; }
+  const terrain::ChunkLayout& layout() const { return layout_; }
+  std::size_t budgetBytes() const { return budget_; }
+  /// The screen changed (a resized window): the projection rule's pixels per radian.
+  void setPixelsPerRadian(double pixelsPerRadian) { options_.pixelsPerRadian = pixelsPerRadian; }
+  /// Waits until the loader has built everything asked for so far (Background; returns at once for
+  /// Complete). For tests and for timing a settled view.
+  void waitUntilIdle();
+  /// The first chunk the loader could not build (empty: none), e.g. out of memory; that chunk's
+  /// parent stays drawn.
+  std::string loadError() const;
+  /// The keys of the chunks the last cull drew.
+  const std::vector<terrain::ChunkKey>& drawnChunks() const { return drawn_; }
+
+ private:
+  struct Entry;
+  struct Built;
+  struct Want {
+    terrain::ChunkKey key;
+    double priority;  // the parent's projected error, pixels
+  };
+  Built build(const terrain::ChunkKey& key) const;
+  void insert(Built&& built);
+  void mergeLoaded();
+  void select(const terrain::ChunkKey& key, osg::NodeVisitor& nv, std::vector<Want>& wants);
+  void evictUnused(std::size_t target);
+  void publish(std::vector<Want> wants);
+  void loaderLoop();
+
+  std::shared_ptr<const terrain::Heightfield> hf_;
+  PagedTerrainOptions options_;
+  terrain::ChunkLayout layout_;
+  terrain::ChunkShading shading_;
+  std::size_t budget_ = 0;
+  std::unordered_map<terrain::ChunkKey, Entry, terrain::ChunkKeyHash> cache_;
+  std::size_t residentBytes_ = 0;
+  std::uint64_t frame_ = 0;
+  PagedTerrainStats stats_;
+  std::vector<terrain::ChunkKey> drawn_;
+  std::vector<std::pair<terrain::ChunkKey, osg::Node*>> drawList_;
+  osg::BoundingSphere bound_;
+
+  // The loader: wanted_ and done_ are shared with its thread under mutex_.
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  std::vector<Want> wanted_;
+  std::vector<terrain::ChunkKey> inFlight_;
+  std::vector<Built> done_;
+  bool stop_ = false;
+  std::string loadError_;
+  std::thread loader_;
+};
+
+}  // namespace nestwalk

@@ -1,0 +1,333 @@
+// Terrain chunks: the quadtree layout, a chunk's mesh with its exact error, skirts and baked
+// shading (terrain_chunk.h).
+#include "nestwalk/terrain/terrain_chunk.h"
+
+#include "nestwalk/terrain/hillshade.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace nestwalk::terrain {
+
+ChunkLayout::ChunkLayout(int cols, int rows, int chunkCells) : cols_(cols), rows_(rows), chunkCells_(chunkCells) {
+  if (cols < 2 || rows < 2) throw std::invalid_argument("ChunkLayout: the grid needs 2 x 2 samples");
+  if (chunkCells < 2 || (chunkCells & (chunkCells - 1)) != 0)
+    throw std::invalid_argument("ChunkLayout: chunkCells must be a power of two >= 2");
+  const std::int64_t cells = std::max(cols - 1, rows - 1);
+  int level = 0;
+  while ((std::int64_t(chunkCells) << level) < cells) ++level;
+  levels_ = level + 1;
+}
+
+int ChunkLayout::chunksX(int level) const {
+  const std::int64_t span = std::int64_t(chunkCells_) << level;
+  return int((std::int64_t(cols_ - 1) + span - 1) / span);
+}
+
+int ChunkLayout::chunksY(int level) const {
+  const std::int64_t span = std::int64_t(chunkCells_) << level;
+  return int((std::int64_t(rows_ - 1) + span - 1) / span);
+}
+
+bool ChunkLayout::exists(const ChunkKey& k) const {
+  return k.level >= 0 && k.level < levels_ && k.x >= 0 && k.y >= 0 && k.x < chunksX(k.level) && k.y < chunksY(k.level);
+}
+
+std::vector<ChunkKey> ChunkLayout::children(const ChunkKey& k) const {
+  std::vector<ChunkKey> out;
+  if (k.level == 0) return out;
+  for (int b = 0; b < 2; ++b)
+    for (int a = 0; a < 2; ++a) {
+      const ChunkKey c{k.level - 1, 2 * k.x + a, 2 * k.y + b};
+      if (exists(c)) out.push_back(c);
+    }
+  return out;
+}
+
+std::vector<int> ChunkLayout::kept(int first, int last, int step) const {
+  std::vector<int> v;
+  for (std::int64_t i = first; i < last; i += step) v.push_back(int(i));
+  v.push_back(last);
+  return v;
+}
+
+std::vector<int> ChunkLayout::columns(const ChunkKey& k) const {
+  const std::int64_t span = std::int64_t(chunkCells_) << k.level;
+  const std::int64_t first = k.x * span;
+  return kept(int(first), int(std::min<std::int64_t>(first + span, cols_ - 1)), 1 << k.level);
+}
+
+std::vector<int> ChunkLayout::rowsOf(const ChunkKey& k) const {
+  const std::int64_t span = std::int64_t(chunkCells_) << k.level;
+  const std::int64_t first = k.y * span;
+  return kept(int(first), int(std::min<std::int64_t>(first + span, rows_ - 1)), 1 << k.level);
+}
+
+std::size_t ChunkMesh::bytes() const {
+  return positions.size() * sizeof(float) + colours.size() + indices.size() * sizeof(std::uint32_t);
+}
+
+namespace {
+
+/// Green valleys, brown slopes, white tops: the height ramp of the terrain's colours where no
+/// imagery is draped (terrain_mesh.cpp's ramp), RGB in [0, 1].
+Eigen::Vector3d heightColour(double h, double lo, double hi) {
+  const double f = std::clamp((h - lo) / (hi > lo ? hi - lo : 1.0), 0.0, 1.0);
+  const Eigen::Vector3d green(0.25, 0.45, 0.2), brown(0.5, 0.4, 0.3), white(0.95, 0.95, 0.95);
+  return f < 0.6 ? Eigen::Vector3d(green * (1 - f / 0.6) + brown * (f / 0.6))
+                 : Eigen::Vector3d(brown * (1 - (f - 0.6) / 0.4) + white * ((f - 0.6) / 0.4));
+}
+
+std::uint8_t toByte(double v) { return std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+
+/// The kept samples of one chunk and which coarse triangles exist.
+struct ChunkGrid {
+  const Heightfield& hf;
+  std::vector<int> cols, rows;
+  std::size_t nc() const { return cols.size(); }
+  std::size_t nr() const { return rows.size(); }
+  bool valid(std::size_t i, std::size_t j) const { return hf.valid(cols[i], rows[j]); }
+  double height(std::size_t i, std::size_t j) const { return hf.sample(cols[i], rows[j]); }
+  bool upper(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j) && valid(i + 1, j + 1); }
+  bool lower(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j + 1) && valid(i, j + 1); }
+};
+
+/// Max |fine - coarse| over one coarse cell (i, j): at its fine samples, and for a cell that is not
+/// square, also where its diagonal crosses fine edges (terrain_chunk.h).
+double cellError(const ChunkGrid& g, std::size_t i, std::size_t j) {
+  const bool up = g.upper(i, j), low = g.lower(i, j);
+  if (!up && !low) return 0.0;
+  const Heightfield& hf = g.hf;
+  const int ca = g.cols[i], ra = g.rows[j];
+  const int w = g.cols[i + 1] - ca, h = g.rows[j + 1] - ra;
+  const double ha = g.height(i, j), hb = g.height(i + 1, j), hc = g.height(i + 1, j + 1), hd = g.height(i, j + 1);
+  const double invW = 1.0 / w, invH = 1.0 / h;
+  double err = 0;
+  for (int v = 0; v <= h; ++v)
+    for (int u = 0; u <= w; ++u) {
+      if (!hf.valid(ca + u, ra + v)) continue;
+      // Upper triangle: on or above the diagonal from (0, 0) to (w, h), i.e. u h >= v w.
+      const std::int64_t side = std::int64_t(u) * h - std::int64_t(v) * w;
+      double coarse;
+      if (side >= 0 && up)
+        coarse = ha + (u * invW) * (hb - ha) + (v * invH) * (hc - hb);
+      else if (side <= 0 && low)
+        coarse = ha + (v * invH) * (hd - ha) + (u * invW) * (hc - hd);
+      else
+        continue;
+      err = std::max(err, std::abs(double(hf.sample(ca + u, ra + v)) - coarse));
+    }
+  if (w != h) {
+    // The diagonal (t w, t h), t in [0, 1], crosses fine columns at t = k / w, fine rows at k / h and
+    // fine diagonals (u - v = m) at t = m / (w - h).
+    const Eigen::Vector2d o = hf.origin();
+    auto at = [&](double t) {
+      const double x = o.x() + (ca + t * w) * hf.dx(), y = o.y() - (ra + t * h) * hf.dy();
+      if (const std::optional<double> fine = hf.groundHeight(x, y))
+        err = std::max(err, std::abs(*fine - (ha + t * (hc - ha))));
+    };
+    for (int k = 1; k < w; ++k) at(double(k) / w);
+    for (int k = 1; k < h; ++k) at(double(k) / h);
+    const int d = std::abs(w - h);
+    for (int m = 1; m < d; ++m) at(double(m) / d);
+  }
+  return err;
+}
+
+}  // namespace
+
+ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading) {
+  if (layout.cols() != hf.cols() || layout.rows() != hf.rows() || !layout.exists(key))
+    throw std::invalid_argument("buildChunk: the chunk is not in the heightfield's layout");
+  ChunkMesh m;
+  m.key = key;
+  const ChunkGrid g{hf, layout.columns(key), layout.rowsOf(key)};
+  const std::size_t nc = g.nc(), nr = g.nr();
+  const int step = 1 << key.level;
+  const double dx = hf.dx(), dy = hf.dy();
+  const int c0 = g.cols.front(), r0 = g.rows.front();
+  m.offset = {c0 * dx, -r0 * dy, 0.0};
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  m.surfaceMin = m.boxMin = Eigen::Vector3d::Constant(kInf);
+  m.surfaceMax = m.boxMax = Eigen::Vector3d::Constant(-kInf);
+
+  // Base colours: the imagery on the level's regular grid (the last, irregular column or row blended
+  // between the two regular ones around it), over the height ramp where the imagery is transparent.
+  std::vector<std::uint8_t> image;
+  if (shading.imagery) {
+    image = shading.imagery(shading.mapOrigin.x() + c0 * dx, shading.mapOrigin.y() - r0 * dy, step * dx, step * dy,
+                            int(nc), int(nr));
+    if (image.size() != nc * nr * 4) image.clear();
+  }
+  auto imageAt = [&](std::size_t i, std::size_t j) -> Eigen::Vector4d {
+    // Regular position of kept column i is c0 + i step; the last kept one may lie before it.
+    auto coord = [&](const std::vector<int>& kept, std::size_t i, int first) {
+      const double f = double(kept[i] - first) / step;
+      const std::size_t lo = std::min(std::size_t(f), kept.size() - 1);
+      return std::pair<std::size_t, double>(lo, f - double(lo));
+    };
+    const auto [ci, fx] = coord(g.cols, i, c0);
+    const auto [rj, fy] = coord(g.rows, j, r0);
+    Eigen::Vector4d acc = Eigen::Vector4d::Zero();
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a) {
+        const double wgt = (a ? fx : 1 - fx) * (b ? fy : 1 - fy);
+        if (wgt == 0) continue;
+        const std::size_t x = std::min(ci + a, nc - 1), y = std::min(rj + b, nr - 1);
+        const std::uint8_t* p = &image[(y * nc + x) * 4];
+        acc += wgt * Eigen::Vector4d(p[0], p[1], p[2], p[3]) / 255.0;
+      }
+    return acc;
+  };
+  const double lo = shading.heightLo, hi = shading.heightHi;
+
+  std::vector<std::int32_t> index(nc * nr, -1);
+  for (std::size_t j = 0; j < nr; ++j)
+    for (std::size_t i = 0; i < nc; ++i) {
+      if (!g.valid(i, j)) continue;
+      const int c = g.cols[i], r = g.rows[j];
+      const Eigen::Vector3d p(c * dx, -r * dy, g.height(i, j));
+      index[j * nc + i] = std::int32_t(m.positions.size() / 3);
+      for (int k = 0; k < 3; ++k) m.positions.push_back(float(p[k] - m.offset[k]));
+      m.surfaceMin = m.surfaceMin.cwiseMin(p);
+      m.surfaceMax = m.surfaceMax.cwiseMax(p);
+      Eigen::Vector3d colour = heightColour(p.z(), lo, hi);
+      if (!image.empty()) {
+        const Eigen::Vector4d im = imageAt(i, j);
+        colour = im.w() * im.head<3>() + (1 - im.w()) * colour;
+      }
+      if (shading.shade) colour *= std::min(1.0, kAmbientLight + kSunLight * hornShade(hf, c, r, shading.sun, step));
+      for (int k = 0; k < 3; ++k) m.colours.push_back(toByte(colour[k]));
+      m.colours.push_back(255);
+    }
+  m.surfaceVertices = m.positions.size() / 3;
+  auto vertex = [&](std::size_t i, std::size_t j) { return std::uint32_t(index[j * nc + i]); };
+
+  // Blocks: cell i of n goes to block i * blocks / n.
+  const std::size_t cellsX = nc - 1, cellsY = nr - 1;
+  m.blocksX = int(std::min<std::size_t>(kChunkBlocksPerSide, cellsX));
+  m.blocksY = int(std::min<std::size_t>(kChunkBlocksPerSide, cellsY));
+  m.blocks.assign(std::size_t(m.blocksX) * std::size_t(m.blocksY),
+                  ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
+
+  // Surface: the heightfield's vertex order is clockwise seen from above; OpenGL's front faces are
+  // counter-clockwise, so the second and third vertices swap.
+  for (std::size_t j = 0; j + 1 < nr; ++j)
+    for (std::size_t i = 0; i + 1 < nc; ++i) {
+      const bool up = g.upper(i, j), low = g.lower(i, j);
+      if (up) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i + 1, j + 1), vertex(i + 1, j)});
+      if (low) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1)});
+      if (!up && !low) continue;
+      ChunkBlock& b = m.blocks[(j * std::size_t(m.blocksY) / cellsY) * std::size_t(m.blocksX) +
+                               i * std::size_t(m.blocksX) / cellsX];
+      if (key.level > 0) b.error = std::max(b.error, cellError(g, i, j));
+      for (std::size_t jj = j; jj <= j + 1; ++jj)
+        for (std::size_t ii = i; ii <= i + 1; ++ii)
+          if (g.valid(ii, jj)) {
+            const Eigen::Vector3d p(g.cols[ii] * dx, -g.rows[jj] * dy, g.height(ii, jj));
+            b.min = b.min.cwiseMin(p);
+            b.max = b.max.cwiseMax(p);
+          }
+    }
+  for (const ChunkBlock& b : m.blocks) m.maxError = std::max(m.maxError, b.error);
+  m.surfaceTriangles = m.indices.size() / 3;
+
+  // Skirts on the edges inside the grid. An edge is a list of kept cells along one grid line; a
+  // segment hangs a skirt when the coarse triangle on its inner side exists.
+  struct Edge {
+    bool alongRow;        // the edge runs along a grid row (north or south edge)
+    int line;             // that row, or column
+    Eigen::Vector2d out;  // outward direction in the mesh frame
+  };
+  const int c1 = g.cols.back(), r1 = g.rows.back();
+  std::vector<Edge> edges;
+  if (r0 > 0) edges.push_back({true, r0, {0, 1}});
+  if (r1 < hf.rows() - 1) edges.push_back({true, r1, {0, -1}});
+  if (c0 > 0) edges.push_back({false, c0, {-1, 0}});
+  if (c1 < hf.cols() - 1) edges.push_back({false, c1, {1, 0}});
+  const int reach = kSkirtReachSteps * step;
+  if (std::getenv("NESTWALK_NO_SKIRTS")) edges.clear();  // EXPERIMENT
+  for (const Edge& e : edges) {
+    const std::vector<int>& along = e.alongRow ? g.cols : g.rows;
+    const int lineEnd = (e.alongRow ? hf.cols() : hf.rows()) - 1;
+    auto fine = [&](int p) { return e.alongRow ? std::pair(p, e.line) : std::pair(e.line, p); };
+    auto kept = [&](std::size_t k) {
+      return e.alongRow ? std::pair<std::size_t, std::size_t>(k, e.line == r0 ? 0 : nr - 1)
+                        : std::pair<std::size_t, std::size_t>(e.line == c0 ? 0 : nc - 1, k);
+    };
+    auto segmentHasTriangle = [&](std::size_t k) {  // segment between kept k and k + 1
+      if (e.alongRow) return e.line == r0 ? g.upper(k, 0) : g.lower(k, nr - 2);
+      return e.line == c0 ? g.lower(0, k) : g.upper(nc - 2, k);
+    };
+    std::vector<std::int32_t> bottom(along.size(), -1);
+    auto bottomOf = [&](std::size_t k) -> std::uint32_t {
+      if (bottom[k] >= 0) return std::uint32_t(bottom[k]);
+      const int from = std::max(0, along[k > 0 ? k - 1 : k] - reach);
+      const int to = std::min(lineEnd, along[k + 1 < along.size() ? k + 1 : k] + reach);
+      const auto [ki, kj] = kept(k);
+      double lowest = g.height(ki, kj);
+      for (int p = from; p <= to; ++p) {
+        const auto [c, r] = fine(p);
+        if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
+      }
+      const std::uint32_t top = vertex(ki, kj);
+      const Eigen::Vector3d q(m.positions[3 * top] + m.offset.x(), m.positions[3 * top + 1] + m.offset.y(),
+                              lowest - kSkirtMarginM);
+      bottom[k] = std::int32_t(m.positions.size() / 3);
+      for (int i = 0; i < 3; ++i) m.positions.push_back(float(q[i] - m.offset[i]));
+      for (int i = 0; i < 4; ++i) m.colours.push_back(m.colours[4 * top + i]);
+      m.boxMin = m.boxMin.cwiseMin(q);
+      return std::uint32_t(bottom[k]);
+    };
+    for (std::size_t k = 0; k + 1 < along.size(); ++k) {
+      if (!segmentHasTriangle(k)) continue;
+      const auto [ai, aj] = kept(k);
+      const auto [bi, bj] = kept(k + 1);
+      const std::uint32_t p1 = vertex(ai, aj), p2 = vertex(bi, bj), q1 = bottomOf(k), q2 = bottomOf(k + 1);
+      // Outward-facing: the triangle (p1, q1, p2)'s normal has a positive outward part, else swap.
+      auto pos = [&](std::uint32_t v) {
+        return Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
+      };
+      const Eigen::Vector3d n = (pos(q1) - pos(p1)).cross(pos(p2) - pos(p1));
+      if (n.x() * e.out.x() + n.y() * e.out.y() >= 0)
+        m.indices.insert(m.indices.end(), {p1, q1, p2, p2, q1, q2});
+      else
+        m.indices.insert(m.indices.end(), {p1, p2, q1, p2, q2, q1});
+    }
+  }
+  m.skirtTriangles = m.indices.size() / 3 - m.surfaceTriangles;
+  if (m.surfaceVertices > 0) {
+    m.boxMin = m.boxMin.cwiseMin(m.surfaceMin);
+    m.boxMax = m.boxMax.cwiseMax(m.surfaceMax);
+  }
+  return m;
+}
+
+std::optional<double> chunkHeightAt(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, double x,
+                                    double y) {
+  const ChunkGrid g{hf, layout.columns(key), layout.rowsOf(key)};
+  const double fc = x / hf.dx(), fr = -y / hf.dy();
+  if (!(fc >= g.cols.front() && fc <= g.cols.back() && fr >= g.rows.front() && fr <= g.rows.back())) return std::nullopt;
+  const int s = 1 << key.level;
+  auto cellOf = [&](const std::vector<int>& kept, double f) {
+    return std::min(std::size_t((f - kept.front()) / s), kept.size() - 2);
+  };
+  const std::size_t i0 = cellOf(g.cols, fc), j0 = cellOf(g.rows, fr);
+  // The closed union: a point on a cell's west or north border also belongs to the neighbour there.
+  for (std::size_t j = j0 + 1; j-- > (j0 > 0 ? j0 - 1 : 0);)
+    for (std::size_t i = i0 + 1; i-- > (i0 > 0 ? i0 - 1 : 0);) {
+      const double w = g.cols[i + 1] - g.cols[i], h = g.rows[j + 1] - g.rows[j];
+      const double u = (fc - g.cols[i]) / w, v = (fr - g.rows[j]) / h;
+      if (u < 0 || u > 1 || v < 0 || v > 1) continue;
+      const double ha = g.height(i, j), hb = g.height(i + 1, j), hc = g.height(i + 1, j + 1), hd = g.height(i, j + 1);
+      if (u >= v && g.upper(i, j)) return ha + u * (hb - ha) + v * (hc - hb);
+      if (v >= u && g.lower(i, j)) return ha + v * (hd - ha) + u * (hc - hd);
+    }
+  return std::nullopt;
+}
+
+}  // namespace nestwalk::terrain

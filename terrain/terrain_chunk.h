@@ -1,0 +1,171 @@
+// Terrain chunks for view-bounded rendering: a quadtree over the heightfield's grid in which every
+// node (a chunk) holds the same number of cells per side at its own level, so that what is drawn
+// grows with the view, not with the DEM. The renderer (engine/render/paged_terrain.h) builds chunks
+// on demand from the heightfield that the walker already holds and draws a cut of the tree.
+//
+// Layout: with C = chunkCells (a power of two), the chunk (level L, x, y) covers the fine samples
+// cols [x C 2^L, min((x + 1) C 2^L, cols - 1)] and rows [y C 2^L, min((y + 1) C 2^L, rows - 1)],
+// keeping every s-th of them (s = 2^L, counted from sample 0 of the whole grid, so every coarser
+// grid line is also a line of every finer level) plus the grid's last column and row where they
+// fall between two kept ones. The root is the one chunk of the top level; a chunk's children are the
+// (up to four) chunks of the level below inside it. Level 0 is exactly the heightfield's
+// triangulation (heightfield.h); every coarser cell is split along its north-west to south-east
+// diagonal like the fine ones, and a coarse triangle exists only when its three samples are valid.
+//
+// Error: maxError is max |fine(p) - coarse(p)| over every point p where both surfaces exist,
+// exact: square coarse cells follow fine edges, so the maximum lies at fine samples (the argument of
+// terrain_mesh.cpp); the last column's and row's narrower cells have a diagonal that crosses fine
+// cells, and there the crossings of that diagonal with the fine edges are evaluated as well (the
+// difference is linear on every piece of the two triangulations' common refinement).
+//
+// Blocks: the chunk's cells are grouped into at most kChunkBlocksPerSide x kChunkBlocksPerSide
+// blocks, each with the maximum error of its own cells and the box of its cells' surface vertices.
+// Every point of the coarse surface lies in a block whose box holds it and whose error bounds its
+// own, so max over blocks of (error / distance from the eye to the box) bounds the projected error
+// of the whole chunk far more tightly than the chunk's one error at its nearest point: a chunk with
+// a rough corner near the eye is refined for that corner, not for its flat far side.
+//
+// Cracks: a chunk's edge and a neighbour's edge of another level meet on the same grid line but not
+// at the same vertices. Every chunk edge inside the grid hangs a skirt: a wall from each edge vertex
+// down to the lowest fine sample on that grid line within kSkirtReachSteps of the chunk's steps on
+// either side of the vertex's two segments (less kSkirtMarginM). A neighbour's edge is a polyline
+// through fine samples of the same line, every point of it no lower than the lower end of its
+// segment; so wherever the neighbour's level is at most log2(kSkirtReachSteps) levels away, the
+// higher of the two edges has a skirt reaching down to the lower one, and no gap shows.
+// Skirts face outward (front faces away from the chunk), so the terrain's back-face culling drops
+// the half that could never be seen.
+//
+// Shading: each vertex carries a colour: the base colour (draped imagery where given, else a ramp by
+// height) times the light of Horn's hillshade (hillshade.h) on the level's own samples (neighbours
+// s samples apart), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1.
+//
+// Frames: the mesh frame of terrain_mesh.h (x = col * dx, y = -row * dy, z = height; metres from
+// sample (0, 0) for a projected CRS). A chunk's vertices are stored relative to its `offset` (its
+// first sample's x and y, z 0) as floats, so they stay small whatever the DEM's size.
+//
+// Ownership: a ChunkMesh owns its arrays. Thread safety: ChunkLayout is immutable; buildChunk only
+// reads the heightfield and may run on several threads at once (the colour reader is called on the
+// calling thread and must itself be safe there).
+#pragma once
+
+#include "nestwalk/terrain/heightfield.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// Skirts reach the lowest fine sample this many of the chunk's own steps beyond each of its edge
+/// vertices' segments: neighbours up to log2(8) = 3 levels finer or coarser are closed (a coarser
+/// neighbour's vertices lie at most its step, 2^3 of ours, away; a finer one's skirt needs our step).
+inline constexpr int kSkirtReachSteps = 8;
+/// Skirts go this much deeper than the lowest sample they must reach: metres, far below any visible
+/// size yet above float rounding of heights up to 9 km (0.5 mm).
+inline constexpr double kSkirtMarginM = 0.01;
+/// The sun's light on the terrain: ambient and direct parts, the lit scene's own (view_graph.cpp:
+/// ambient 0.30, diffuse 0.85), so a shaded chunk looks as the lit tiles did.
+inline constexpr double kAmbientLight = 0.30;
+inline constexpr double kSunLight = 0.85;
+/// Blocks per chunk side for the projected-error bound (see above): 8 x 8 blocks of 8 x 8 cells in a
+/// chunk of 64; 64 distances a visited chunk per cull, a small price for drawing a third fewer
+/// triangles on the bundled flythroughs.
+inline constexpr int kChunkBlocksPerSide = 8;
+
+struct ChunkKey {
+  int level = 0, x = 0, y = 0;
+  friend bool operator==(const ChunkKey&, const ChunkKey&) = default;
+  friend auto operator<=>(const ChunkKey&, const ChunkKey&) = default;
+};
+
+struct ChunkKeyHash {
+  std::size_t operator()(const ChunkKey& k) const {
+    return (std::size_t(k.level) << 56) ^ (std::size_t(std::uint32_t(k.x)) << 28) ^ std::size_t(std::uint32_t(k.y));
+  }
+};
+
+class ChunkLayout {
+ public:
+  /// A grid of cols x rows samples (at least 2 x 2); chunkCells a power of two >= 2.
+  /// Throws std::invalid_argument otherwise.
+  ChunkLayout(int cols, int rows, int chunkCells);
+
+  int cols() const { return cols_; }
+  int rows() const { return rows_; }
+  int chunkCells() const { return chunkCells_; }
+  /// Levels 0 .. levels() - 1; the root is the one chunk of the top level.
+  int levels() const { return levels_; }
+  ChunkKey root() const { return {levels_ - 1, 0, 0}; }
+  bool exists(const ChunkKey& k) const;
+  /// The chunk's children (the chunks of the level below inside it; none at level 0).
+  std::vector<ChunkKey> children(const ChunkKey& k) const;
+  /// The chunk's kept sample columns (west to east) and rows (north to south), see above.
+  std::vector<int> columns(const ChunkKey& k) const;
+  std::vector<int> rowsOf(const ChunkKey& k) const;
+  /// Chunks per side at a level.
+  int chunksX(int level) const;
+  int chunksY(int level) const;
+
+ private:
+  std::vector<int> kept(int first, int last, int step) const;
+  int cols_, rows_, chunkCells_, levels_;
+};
+
+/// RGBA8 colours (row-major, row 0 north) at the map points (x0 + i sx, y0 - j sy), i < width,
+/// j < height: the draped imagery's reader (alpha 0 where it has none).
+using ColourGridReader =
+    std::function<std::vector<std::uint8_t>(double x0, double y0, double sx, double sy, int width, int height)>;
+
+/// A block of a chunk's cells: their largest error (metres) and the mesh-frame box of their surface
+/// vertices (empty, min > max, when none of its cells has a triangle).
+struct ChunkBlock {
+  double error = 0;
+  Eigen::Vector3d min, max;
+};
+
+struct ChunkMesh {
+  ChunkKey key;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // mesh frame position of the stored (0, 0, 0)
+  std::vector<float> positions;        // x, y, z per vertex, relative to offset
+  std::vector<std::uint8_t> colours;   // RGBA per vertex
+  std::vector<std::uint32_t> indices;  // surface triangles, then skirt triangles (counter-clockwise)
+  std::size_t surfaceTriangles = 0, skirtTriangles = 0;
+  std::size_t surfaceVertices = 0;     // vertices [0, surfaceVertices) lie on the surface; the rest
+                                       // are skirt bottoms
+  double maxError = 0;                 // metres, exact (see above)
+  std::vector<ChunkBlock> blocks;      // see above; row-major, blocksX per row
+  int blocksX = 0, blocksY = 0;
+  /// Mesh-frame box of the surface vertices, and of everything (skirts included); empty (min > max)
+  /// when the chunk has no triangle.
+  Eigen::Vector3d surfaceMin, surfaceMax, boxMin, boxMax;
+  bool empty() const { return indices.empty(); }
+  std::size_t vertexCount() const { return positions.size() / 3; }
+  /// Bytes of the arrays (what a drawn copy costs once more in the GL's own buffers).
+  std::size_t bytes() const;
+};
+
+struct ChunkShading {
+  bool shade = true;                       // Horn's hillshade baked in (else the base colour alone)
+  Eigen::Vector3d sun{-0.5, 0.5, std::sqrt(0.5)};  // towards the sun, map axes: azimuth 315, altitude 45
+  ColourGridReader imagery;                // draped imagery (empty: colours by height)
+  double heightLo = 0, heightHi = 1;       // the height ramp's ends, metres (the DEM's range)
+  /// The map position of mesh-frame (0, 0): the heightfield's sample (0, 0), for the imagery reader.
+  Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();
+};
+
+/// Builds one chunk (see above). The layout must be the heightfield's (same cols and rows).
+ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key,
+                     const ChunkShading& shading = {});
+
+/// The coarse surface of a chunk at mesh-frame (x, y): the closed union of its existing triangles
+/// (nullopt outside them). For tests and measurements; O(1).
+std::optional<double> chunkHeightAt(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, double x,
+                                    double y);
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,171 @@
+// terrain/mining_dump_ortho and the generator's surfaces (terrain/mining_dump.h): each sample's
+// surface agrees with the heights the generator produced, measured independently (slopes from the
+// grid, levels from the layout: tops and berms flat at their levels, faces at 35 degrees, the ramp at
+// its grade, the ditch a trough), and the orthophoto's colour at a sample is its surface's material
+// (the nearest base colour of a 3 x 3 average), deterministic from the seed.
+#include "nestwalk/terrain/mining_dump.h"
+#include "nestwalk/terrain/mining_dump_ortho.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+
+namespace nestwalk::test {
+namespace {
+
+using terrain::DumpSurface;
+
+/// Metres: heights of a flat surface against its level (the generator's roughness is 5 cm).
+constexpr double kLevelTolerance = 0.15;
+/// Degrees: the steepest slope of a flat surface over one cell (5 cm of roughness over 2 m).
+constexpr double kFlatSlopeDeg = 3.0;
+/// Degrees: a face's slope over two cells against its 35 degrees (roughness over 2 m).
+constexpr double kFaceSlopeToleranceDeg = 3.0;
+/// Share of the samples that must pass each check (a few sit where the roughness peaks).
+constexpr double kRequiredShare = 0.99;
+
+const terrain::MiningDump& dump() {
+  static const terrain::MiningDump d = terrain::generateMiningDump(terrain::MiningDumpParams{});
+  return d;
+}
+
+struct Probe {
+  const terrain::MiningDump& d;
+  double h(int c, int r) const { return d.heights[std::size_t(r) * std::size_t(d.cols) + std::size_t(c)]; }
+  DumpSurface s(int c, int r) const { return d.surfaces[std::size_t(r) * std::size_t(d.cols) + std::size_t(c)]; }
+  /// Slope in degrees from central differences over two cells.
+  double slopeDeg(int c, int r) const {
+    const double gx = (h(c + 1, r) - h(c - 1, r)) / (2 * d.cell), gy = (h(c, r - 1) - h(c, r + 1)) / (2 * d.cell);
+    return std::atan(std::hypot(gx, gy)) * 180.0 / std::numbers::pi;
+  }
+  /// Metres: the mean height of the samples of other surfaces within 3 cells, less this sample's
+  /// (NaN when there are none): how far it lies below what surrounds its surface.
+  double relief(int c, int r) const {
+    double sum = 0;
+    int n = 0;
+    for (int dr = -3; dr <= 3; ++dr)
+      for (int dc = -3; dc <= 3; ++dc)
+        if (s(c + dc, r + dr) != s(c, r)) sum += h(c + dc, r + dr), ++n;
+    return n ? sum / n - h(c, r) : std::nan("");
+  }
+  /// Whether the samples within `k` cells all have this one's surface.
+  bool uniform(int c, int r, int k) const {
+    for (int dr = -k; dr <= k; ++dr)
+      for (int dc = -k; dc <= k; ++dc)
+        if (s(c + dc, r + dr) != s(c, r)) return false;
+    return true;
+  }
+};
+
+TEST(MiningDumpSurfaces, AgreeWithTheGeneratedHeights) {
+  const terrain::MiningDump& d = dump();
+  const Probe p{d};
+  ASSERT_EQ(d.surfaces.size(), d.heights.size());
+  const auto& L = d.layout;
+  const int benches = int(std::lround((L.topHeight - L.baseHeight) / 10.0));
+  std::map<DumpSurface, std::array<int, 2>> tally;  // surface -> {checked, passed}
+  double ditchRelief = 0;
+  int ditchSamples = 0;
+  for (int r = 3; r < d.rows - 3; ++r)
+    for (int c = 3; c < d.cols - 3; ++c) {
+      const DumpSurface s = p.s(c, r);
+      // Away from where surfaces meet (but all of the ditch, which is only 4 m wide).
+      if (s != DumpSurface::Ditch && !p.uniform(c, r, 1)) continue;
+      const double h = p.h(c, r), slope = p.slopeDeg(c, r);
+      bool ok = true;
+      switch (s) {
+        case DumpSurface::Top:
+          ok = std::abs(h - L.topHeight) < kLevelTolerance && slope < kFlatSlopeDeg;
+          break;
+        case DumpSurface::Berm: {
+          const double k = std::round((h - L.baseHeight) / 10.0);
+          ok = k >= 1 && k < benches && std::abs(h - (L.baseHeight + 10.0 * k)) < kLevelTolerance && slope < kFlatSlopeDeg;
+          break;
+        }
+        case DumpSurface::Face:
+        case DumpSurface::RampSide:
+          ok = std::abs(slope - 35.0) < kFaceSlopeToleranceDeg;
+          break;
+        case DumpSurface::Ramp:
+          ok = slope > 3.0 && slope < 9.0;  // a 10 % grade: 5.7 degrees
+          break;
+        case DumpSurface::Ditch: {
+          // Never above what surrounds it (its edges are only centimetres deep, within the roughness),
+          // and 1.5 m deep at its axis: on average well below.
+          const double relief = p.relief(c, r);
+          ok = !(relief < -kLevelTolerance);
+          if (!std::isnan(relief)) ditchRelief += relief, ++ditchSamples;
+          break;
+        }
+        case DumpSurface::Pit:
+          ok = slope > 20.0 || h < p.h(c + 2, r) + 0.5;  // walls, or a floor below its rim
+          break;
+        case DumpSurface::Ground:
+          ok = slope < 6.0;  // gentle natural ground
+          break;
+      }
+      ++tally[s][0];
+      tally[s][1] += ok;
+    }
+  for (int k = 0; k < terrain::kDumpSurfaceCount; ++k) {
+    const auto s = DumpSurface(k);
+    const auto [checked, passed] = tally[s];
+    std::printf("[ surfaces ] %-9s %7d samples, %7d as the heights say\n", terrain::dumpSurfaceName(s), checked, passed);
+    EXPECT_GT(checked, 50) << terrain::dumpSurfaceName(s) << ": every surface is there";
+    EXPECT_GE(passed, kRequiredShare * checked) << terrain::dumpSurfaceName(s);
+  }
+  ASSERT_GT(ditchSamples, 0);
+  std::printf("[ surfaces ] the ditch lies %.3f m below its surroundings on average\n", ditchRelief / ditchSamples);
+  EXPECT_GT(ditchRelief / ditchSamples, 0.4);
+}
+
+TEST(MiningDumpOrtho, ColoursAreTheSurfacesMaterials) {
+  const terrain::MiningDump& d = dump();
+  const Probe p{d};
+  const std::vector<std::uint8_t> rgb = terrain::miningDumpOrtho(d, 7);
+  ASSERT_EQ(rgb.size(), d.heights.size() * 3u);
+  std::array<int, terrain::kDumpSurfaceCount> checked{}, right{};
+  for (int r = 1; r < d.rows - 1; ++r)
+    for (int c = 1; c < d.cols - 1; ++c) {
+      if (!p.uniform(c, r, 1)) continue;
+      double mean[3] = {0, 0, 0};
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc)
+          for (int k = 0; k < 3; ++k)
+            mean[k] += rgb[(std::size_t(r + dr) * std::size_t(d.cols) + std::size_t(c + dc)) * 3u + std::size_t(k)] / 9.0;
+      int nearest = 0;
+      double best = 1e9;
+      for (int m = 0; m < terrain::kDumpSurfaceCount; ++m) {
+        const auto& base = terrain::kDumpSurfaceColours[std::size_t(m)];
+        const double dist = std::hypot(mean[0] - base[0], mean[1] - base[1], mean[2] - base[2]);
+        if (dist < best) best = dist, nearest = m;
+      }
+      const int s = int(p.s(c, r));
+      ++checked[std::size_t(s)];
+      right[std::size_t(s)] += nearest == s;
+    }
+  for (int s = 0; s < terrain::kDumpSurfaceCount; ++s) {
+    EXPECT_GT(checked[std::size_t(s)], 0) << terrain::dumpSurfaceName(DumpSurface(s));
+    EXPECT_EQ(right[std::size_t(s)], checked[std::size_t(s)]) << terrain::dumpSurfaceName(DumpSurface(s));
+  }
+  // The top is lighter than the faces (the tops light grey-brown, the faces a darker ochre).
+  const auto& top = terrain::kDumpSurfaceColours[std::size_t(DumpSurface::Top)];
+  const auto& face = terrain::kDumpSurfaceColours[std::size_t(DumpSurface::Face)];
+  EXPECT_GT(top[0] + top[1] + top[2], face[0] + face[1] + face[2] + 100);
+}
+
+TEST(MiningDumpOrtho, SameSeedSameBytes) {
+  const terrain::MiningDump& d = dump();
+  EXPECT_EQ(terrain::miningDumpOrtho(d, 7), terrain::miningDumpOrtho(d, 7));
+  EXPECT_NE(terrain::miningDumpOrtho(d, 7), terrain::miningDumpOrtho(d, 8));
+  terrain::MiningDump broken = d;
+  broken.surfaces.pop_back();
+  EXPECT_THROW(terrain::miningDumpOrtho(broken, 7), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nestwalk::test

@@ -1,0 +1,387 @@
+// Terrain chunks (terrain/terrain_chunk.h): the layout covers the grid once per level, level 0 is the
+// heightfield's surface, the recorded errors equal the tile errors of TerrainMesh (an independent
+// implementation) and bound a dense brute force on grids whose last cells are narrow, skirts close
+// the gap to every neighbour up to three levels away and face outward, and the baked colours are a
+// plane's Lambert shade and the imagery on the level's grid.
+#include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_mesh.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <random>
+#include <vector>
+
+namespace nestwalk::terrain {
+namespace {
+
+constexpr double kOriginX = 500000.0, kOriginY = 5200000.0;  // UTM magnitudes
+
+/// Smooth hills plus per-sample noise, optionally with holes (NaN).
+std::vector<float> roughHeights(int cols, int rows, unsigned seed, double holeFraction = 0.0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-1.5, 1.5), unit(0.0, 1.0);
+  std::vector<float> h(std::size_t(cols) * std::size_t(rows));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      double v = 100 + 20 * std::sin(0.11 * c) * std::cos(0.07 * r) + 0.3 * c - 0.2 * r + noise(rng);
+      if (holeFraction > 0 && unit(rng) < holeFraction) v = std::numeric_limits<double>::quiet_NaN();
+      h[std::size_t(r) * std::size_t(cols) + std::size_t(c)] = float(v);
+    }
+  return h;
+}
+
+Heightfield roughField(int cols, int rows, unsigned seed, double holes = 0.0, double dx = 1.0, double dy = 1.0) {
+  return Heightfield(cols, rows, roughHeights(cols, rows, seed, holes), kOriginX, kOriginY, dx, dy);
+}
+
+std::vector<ChunkKey> chunksOf(const ChunkLayout& l, int level) {
+  std::vector<ChunkKey> v;
+  for (int y = 0; y < l.chunksY(level); ++y)
+    for (int x = 0; x < l.chunksX(level); ++x) v.push_back({level, x, y});
+  return v;
+}
+
+/// The fine surface at mesh-frame (x, y).
+std::optional<double> fineAt(const Heightfield& hf, double x, double y) {
+  return hf.groundHeight(hf.origin().x() + x, hf.origin().y() + y);
+}
+
+TEST(ChunkLayout, EveryLevelCoversEachCellOnceAndChildrenTileTheirParent) {
+  const ChunkLayout l(203, 150, 16);
+  EXPECT_EQ(l.levels(), 5);  // 16 * 2^4 = 256 >= 202 cells > 128
+  for (int level = 0; level < l.levels(); ++level) {
+    std::vector<int> covered(std::size_t(202) * 149, 0);
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      ASSERT_TRUE(l.exists(k));
+      const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+      EXPECT_LE(int(cols.size()), 17 + 1);
+      for (std::size_t i = 0; i + 1 < cols.size(); ++i) EXPECT_LE(cols[i + 1] - cols[i], 1 << level);
+      for (int r = rows.front(); r < rows.back(); ++r)
+        for (int c = cols.front(); c < cols.back(); ++c) ++covered[std::size_t(r) * 202 + std::size_t(c)];
+      if (level > 0) {
+        int childCells = 0;
+        for (const ChunkKey& ch : l.children(k)) {
+          const std::vector<int> cc = l.columns(ch), cr = l.rowsOf(ch);
+          EXPECT_GE(cc.front(), cols.front());
+          EXPECT_LE(cc.back(), cols.back());
+          EXPECT_GE(cr.front(), rows.front());
+          EXPECT_LE(cr.back(), rows.back());
+          childCells += (cc.back() - cc.front()) * (cr.back() - cr.front());
+        }
+        EXPECT_EQ(childCells, (cols.back() - cols.front()) * (rows.back() - rows.front()));
+      }
+    }
+    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; })) << "level " << level;
+  }
+  EXPECT_FALSE(l.exists({0, 13, 0}));  // 13 * 16 = 208 > 202
+  EXPECT_TRUE(l.exists({0, 12, 9}));
+  EXPECT_EQ(l.root(), (ChunkKey{4, 0, 0}));
+  EXPECT_THROW(ChunkLayout(10, 10, 12), std::invalid_argument);
+}
+
+TEST(TerrainChunk, LevelZeroIsTheHeightfieldSurface) {
+  const Heightfield hf = roughField(70, 45, 3, 0.05);
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> ux(0, 69), uy(-44, 0);
+  int compared = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = ux(rng), y = uy(rng);
+    const ChunkKey k{0, std::min(int(x / 16), 4), std::min(int(-y / 16), 2)};
+    const std::optional<double> chunk = chunkHeightAt(hf, l, k, x, y);
+    if (!chunk) continue;
+    const std::optional<double> fine = fineAt(hf, x, y);
+    ASSERT_TRUE(fine.has_value());
+    // The heightfield is asked at map x, y near 5e5 / 5.2e6 m (positions rounded to ~1e-9 m), the
+    // chunk in the mesh frame: on slopes of a few metres per metre they differ by ~1e-9 m.
+    EXPECT_NEAR(*chunk, *fine, 1e-8);
+    ++compared;
+  }
+  EXPECT_GT(compared, 15000);
+  for (const ChunkKey& k : chunksOf(l, 0)) EXPECT_EQ(buildChunk(hf, l, k).maxError, 0.0);
+}
+
+TEST(TerrainChunk, ErrorsEqualTheTileErrorsOfTerrainMesh) {
+  // 129 x 129 samples: a chunk of 16 cells at level L is TerrainMesh's tile of 16 * 2^L cells at level L.
+  for (double holes : {0.0, 0.03}) {
+    const Heightfield hf = roughField(129, 129, 11, holes, 1.5, 0.75);
+    const ChunkLayout l(hf.cols(), hf.rows(), 16);
+    ASSERT_EQ(l.levels(), 4);
+    for (int level = 0; level < l.levels(); ++level) {
+      const TerrainMesh mesh(hf, TerrainMeshOptions{16 << level, 0});
+      for (const ChunkKey& k : chunksOf(l, level)) {
+        const TerrainTile& tile = mesh.tile(k.x, k.y);
+        const ChunkMesh m = buildChunk(hf, l, k);
+        EXPECT_NEAR(m.maxError, tile.maxError[std::size_t(level)], 1e-12) << level << " " << k.x << " " << k.y;
+        EXPECT_EQ(m.surfaceTriangles, tile.triangles[std::size_t(level)]);
+      }
+    }
+  }
+}
+
+TEST(TerrainChunk, ErrorsAreExactOnADegreeGrid) {
+  // A geographic DEM (one arc-second, longitude and latitude in degrees, heights in metres) builds
+  // the same chunks: its tiny spacing changes nothing of the errors or the triangles.
+  const double arcSecond = 1.0 / 3600.0;
+  const Heightfield hf(129, 129, roughHeights(129, 129, 37, 0.02), -121.76, 46.85, arcSecond, arcSecond);
+  const ChunkLayout l(hf.cols(), hf.rows(), 32);
+  for (int level = 0; level < l.levels(); ++level) {
+    const TerrainMesh mesh(hf, TerrainMeshOptions{32 << level, 0});
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k);
+      EXPECT_NEAR(m.maxError, mesh.tile(k.x, k.y).maxError[std::size_t(level)], 1e-12);
+      EXPECT_EQ(m.surfaceTriangles, mesh.tile(k.x, k.y).triangles[std::size_t(level)]);
+      // Vertices relative to the chunk's first sample: the largest is the chunk's own size.
+      for (std::size_t v = 0; v < m.surfaceVertices; ++v) {
+        EXPECT_LE(std::abs(m.positions[3 * v]), (32 << level) * arcSecond * (1 + 1e-6));
+        EXPECT_LE(std::abs(m.positions[3 * v + 1]), (32 << level) * arcSecond * (1 + 1e-6));
+      }
+    }
+  }
+}
+
+TEST(TerrainChunk, ErrorIsTheExactMaximumOnNarrowLastCells) {
+  // 78 x 54 samples: 77 and 53 cells, so every coarse level ends in narrower cells.
+  const Heightfield hf = roughField(78, 54, 17, 0.02, 1.0, 2.0);
+  const ChunkLayout l(hf.cols(), hf.rows(), 8);
+  for (int level = 1; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k);
+      const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+      double lattice = 0, diagonals = 0;
+      auto diff = [&](double fc, double fr) -> double {
+        const double x = fc * hf.dx(), y = -fr * hf.dy();
+        const std::optional<double> a = chunkHeightAt(hf, l, k, x, y), b = fineAt(hf, x, y);
+        return a && b ? std::abs(*a - *b) : 0.0;
+      };
+      constexpr int kSub = 8;  // lattice points per fine cell side
+      for (int fr = rows.front() * kSub; fr <= rows.back() * kSub; ++fr)
+        for (int fc = cols.front() * kSub; fc <= cols.back() * kSub; ++fc)
+          lattice = std::max(lattice, diff(double(fc) / kSub, double(fr) / kSub));
+      // Along every coarse diagonal at t = n / (w h |w - h|): all its crossings with fine edges.
+      for (std::size_t j = 0; j + 1 < rows.size(); ++j)
+        for (std::size_t i = 0; i + 1 < cols.size(); ++i) {
+          const int w = cols[i + 1] - cols[i], h = rows[j + 1] - rows[j];
+          const int n = w * h * std::max(1, std::abs(w - h));
+          for (int t = 0; t <= n; ++t)
+            diagonals = std::max(diagonals, diff(cols[i] + double(t) * w / n, rows[j] + double(t) * h / n));
+        }
+      EXPECT_LE(lattice, m.maxError + 1e-9) << "level " << level << " chunk " << k.x << " " << k.y;
+      EXPECT_NEAR(m.maxError, std::max(lattice, diagonals), 1e-9) << "level " << level << " chunk " << k.x << " " << k.y;
+    }
+}
+
+TEST(TerrainChunk, BlocksHoldEveryPointWithItsError) {
+  // Every point of the coarse surface lies in a block's box whose error is at least its own: the
+  // renderer's projected-error bound (terrain_chunk.h, "Blocks").
+  const Heightfield hf = roughField(78, 54, 41, 0.02, 1.0, 2.0);
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  std::mt19937 rng(43);
+  std::size_t points = 0;
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k);
+      ASSERT_EQ(m.blocks.size(), std::size_t(m.blocksX) * std::size_t(m.blocksY));
+      double blocksMax = 0;
+      for (const ChunkBlock& b : m.blocks) blocksMax = std::max(blocksMax, b.error);
+      EXPECT_EQ(blocksMax, m.maxError);
+      const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+      std::uniform_real_distribution<double> uc(cols.front(), cols.back()), ur(rows.front(), rows.back());
+      for (int i = 0; i < 3000; ++i) {
+        const double fc = uc(rng), fr = ur(rng), x = fc * hf.dx(), y = -fr * hf.dy();
+        const std::optional<double> coarse = chunkHeightAt(hf, l, k, x, y), fine = fineAt(hf, x, y);
+        if (!coarse || !fine) continue;
+        const double e = std::abs(*coarse - *fine);
+        const Eigen::Vector3d p(x, y, *coarse);
+        const bool held = std::any_of(m.blocks.begin(), m.blocks.end(), [&](const ChunkBlock& b) {
+          return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
+                 b.error >= e - 1e-8;
+        });
+        EXPECT_TRUE(held) << "level " << level << " point " << fc << " " << fr << " error " << e;
+        ++points;
+      }
+    }
+  EXPECT_GT(points, 30000u);
+}
+
+/// The vertical interval a chunk's skirt covers at position t along a grid line (the line x = line
+/// when alongRow is false, y = line otherwise; mesh frame), from its skirt triangles in that plane.
+struct Cover {
+  double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+};
+Cover skirtCover(const ChunkMesh& m, bool alongRow, double line, double t) {
+  Cover c;
+  for (std::size_t f = m.surfaceTriangles; f < m.surfaceTriangles + m.skirtTriangles; ++f) {
+    double s[3], z[3];
+    bool inPlane = true;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.indices[3 * f + std::size_t(k)];
+      const double x = m.positions[3 * v] + m.offset.x(), y = m.positions[3 * v + 1] + m.offset.y();
+      z[k] = m.positions[3 * v + 2] + m.offset.z();
+      s[k] = alongRow ? x : y;
+      if (std::abs((alongRow ? y : x) - line) > 1e-6) inPlane = false;
+    }
+    if (!inPlane) continue;
+    // The triangle in the (s, z) plane cut by s = t: the z range of its edges there.
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      const double s0 = std::min(s[a], s[b]), s1 = std::max(s[a], s[b]);
+      if (t < s0 - 1e-9 || t > s1 + 1e-9) continue;
+      const double zt = s1 - s0 < 1e-12 ? std::min(z[a], z[b]) : z[a] + (z[b] - z[a]) * (t - s[a]) / (s[b] - s[a]);
+      const double zt2 = s1 - s0 < 1e-12 ? std::max(z[a], z[b]) : zt;
+      c.lo = std::min(c.lo, std::min(zt, zt2));
+      c.hi = std::max(c.hi, std::max(zt, zt2));
+    }
+  }
+  return c;
+}
+
+TEST(TerrainChunk, SkirtsCloseTheGapToNeighboursUpToThreeLevelsAway) {
+  const Heightfield hf = roughField(129, 129, 23, 0.0, 1.0, 1.0);
+  const ChunkLayout l(hf.cols(), hf.rows(), 8);
+  ASSERT_EQ(l.levels(), 5);
+  std::size_t checked = 0, gaps = 0;
+  for (int a = 0; a < l.levels(); ++a)
+    for (const ChunkKey& ka : chunksOf(l, a)) {
+      const ChunkMesh ma = buildChunk(hf, l, ka);
+      const std::vector<int> ca = l.columns(ka), ra = l.rowsOf(ka);
+      for (int b = std::max(0, a - 3); b <= std::min(l.levels() - 1, a + 3); ++b)
+        for (const ChunkKey& kb : chunksOf(l, b)) {
+          const std::vector<int> cb = l.columns(kb), rb = l.rowsOf(kb);
+          // kb east of ka, sharing the column ca.back(); or south of it, sharing the row ra.back().
+          for (bool alongRow : {false, true}) {
+            const bool touches = alongRow ? rb.front() == ra.back() : cb.front() == ca.back();
+            if (!touches) continue;
+            const int from = alongRow ? std::max(ca.front(), cb.front()) : std::max(ra.front(), rb.front());
+            const int to = alongRow ? std::min(ca.back(), cb.back()) : std::min(ra.back(), rb.back());
+            if (from >= to) continue;
+            const ChunkMesh mb = buildChunk(hf, l, kb);
+            const double line = alongRow ? -ra.back() * hf.dy() : ca.back() * hf.dx();
+            for (int q = from * 4; q <= to * 4; ++q) {
+              const double t = alongRow ? q / 4.0 * hf.dx() : -q / 4.0 * hf.dy();
+              const double x = alongRow ? t : line, y = alongRow ? line : t;
+              const std::optional<double> ha = chunkHeightAt(hf, l, ka, x, y), hb = chunkHeightAt(hf, l, kb, x, y);
+              ASSERT_TRUE(ha && hb);
+              const bool aHigher = *ha >= *hb;
+              const Cover c = skirtCover(aHigher ? ma : mb, alongRow, line, t);
+              const double low = std::min(*ha, *hb), high = std::max(*ha, *hb);
+              ++checked;
+              // Float vertices: 1e-4 m is far below a pixel and above their rounding at 100 m.
+              if (!(c.lo <= low + 1e-4 && c.hi >= high - 1e-4)) ++gaps;
+            }
+          }
+        }
+    }
+  EXPECT_GT(checked, 20000u);
+  EXPECT_EQ(gaps, 0u);
+}
+
+TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {
+  const Heightfield hf = roughField(100, 70, 29, 0.02);
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k);
+      const Eigen::Vector3d centre = 0.5 * (m.surfaceMin + m.surfaceMax);
+      for (std::size_t f = m.surfaceTriangles; f < m.surfaceTriangles + m.skirtTriangles; ++f) {
+        Eigen::Vector3d p[3];
+        for (int i = 0; i < 3; ++i) {
+          const std::uint32_t v = m.indices[3 * f + std::size_t(i)];
+          p[i] = Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]) + m.offset;
+        }
+        const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+        const Eigen::Vector3d out = (p[0] + p[1] + p[2]) / 3 - centre;
+        EXPECT_GT(n.x() * out.x() + n.y() * out.y(), 0.0);
+        EXPECT_NEAR(n.z(), 0.0, 1e-6 * n.norm());  // vertical walls
+        // Never a wall on the grid's outer edges (x = 0, x = 99, y = 0, y = -69 m).
+        const bool onWest = p[0].x() == 0 && p[1].x() == 0 && p[2].x() == 0;
+        const bool onEast = p[0].x() == 99 && p[1].x() == 99 && p[2].x() == 99;
+        const bool onNorth = p[0].y() == 0 && p[1].y() == 0 && p[2].y() == 0;
+        const bool onSouth = p[0].y() == -69 && p[1].y() == -69 && p[2].y() == -69;
+        EXPECT_FALSE(onWest || onEast || onNorth || onSouth);
+      }
+      // Surface triangles face up (counter-clockwise seen from above).
+      for (std::size_t f = 0; f < m.surfaceTriangles; ++f) {
+        Eigen::Vector3d p[3];
+        for (int i = 0; i < 3; ++i) {
+          const std::uint32_t v = m.indices[3 * f + std::size_t(i)];
+          p[i] = Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
+        }
+        EXPECT_GT((p[1] - p[0]).cross(p[2] - p[0]).z(), 0.0);
+      }
+    }
+}
+
+TEST(TerrainChunk, APlaneIsShadedWithItsLambertShadeAtEveryLevel) {
+  const int cols = 65, rows = 49;
+  const double a = 0.31, b = -0.47;  // dz/dx, dz/dy (y north)
+  std::vector<float> h(std::size_t(cols) * rows);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) h[std::size_t(r) * cols + std::size_t(c)] = float(200 + a * c * 2.0 + b * (-r * 2.0));
+  const Heightfield hf(cols, rows, h, kOriginX, kOriginY, 2.0, 2.0);
+  const ChunkLayout l(cols, rows, 8);
+  ChunkShading shading;
+  shading.imagery = [](double, double, double, double, int w, int hgt) {
+    return std::vector<std::uint8_t>(std::size_t(w) * std::size_t(hgt) * 4, 255);  // opaque white
+  };
+  const Eigen::Vector3d n = Eigen::Vector3d(-a, -b, 1).normalized();
+  const double light = std::min(1.0, kAmbientLight + kSunLight * std::max(0.0, n.dot(shading.sun)));
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k, shading);
+      EXPECT_LT(m.maxError, 1e-4);  // a plane (float heights)
+      for (std::size_t v = 0; v < m.vertexCount(); ++v)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.colours[4 * v + std::size_t(c)], 255 * light, 1.0);
+    }
+}
+
+TEST(TerrainChunk, ImageryIsReadOnTheLevelsGridAtMapPositions) {
+  const Heightfield hf = roughField(53, 41, 31, 0.0, 2.0, 3.0);
+  const ChunkLayout l(hf.cols(), hf.rows(), 8);
+  ChunkShading shading;
+  shading.shade = false;
+  shading.mapOrigin = hf.origin();
+  // Colour from the map position: red with x, green with y (each wraps every 256 units).
+  auto colourAt = [](double x, double y) {
+    return std::array<double, 2>{std::fmod(x - kOriginX, 256.0), std::fmod(kOriginY - y, 256.0)};
+  };
+  int calls = 0;
+  shading.imagery = [&](double x0, double y0, double sx, double sy, int w, int hgt) {
+    ++calls;
+    std::vector<std::uint8_t> rgba(std::size_t(w) * std::size_t(hgt) * 4);
+    for (int j = 0; j < hgt; ++j)
+      for (int i = 0; i < w; ++i) {
+        const auto c = colourAt(x0 + i * sx, y0 - j * sy);
+        std::uint8_t* p = &rgba[(std::size_t(j) * std::size_t(w) + std::size_t(i)) * 4];
+        p[0] = std::uint8_t(std::lround(c[0]));
+        p[1] = std::uint8_t(std::lround(c[1]));
+        p[2] = 0;
+        p[3] = 255;
+      }
+    return rgba;
+  };
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k, shading);
+      for (std::size_t v = 0; v < m.surfaceVertices; ++v) {
+        const double x = m.positions[3 * v] + m.offset.x() + kOriginX, y = m.positions[3 * v + 1] + m.offset.y() + kOriginY;
+        const auto c = colourAt(x, y);
+        // The last, narrower column or row is blended between regular ones: colours linear in x, y
+        // blend to their own value there, up to rounding.
+        EXPECT_NEAR(m.colours[4 * v], c[0], 1.01) << x;
+        EXPECT_NEAR(m.colours[4 * v + 1], c[1], 1.01) << y;
+      }
+    }
+  EXPECT_GT(calls, 0);
+}
+
+}  // namespace
+}  // namespace nestwalk::terrain
