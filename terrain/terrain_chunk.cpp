@@ -6,7 +6,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdlib>
+#include <functional>
+#include <map>
+#include <tuple>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -207,99 +209,106 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   m.surfaceVertices = m.positions.size() / 3;
   auto vertex = [&](std::size_t i, std::size_t j) { return std::uint32_t(index[j * nc + i]); };
 
-  // Blocks: cell i of n goes to block i * blocks / n.
-  const std::size_t cellsX = nc - 1, cellsY = nr - 1;
-  m.blocksX = int(std::min<std::size_t>(kChunkBlocksPerSide, cellsX));
-  m.blocksY = int(std::min<std::size_t>(kChunkBlocksPerSide, cellsY));
-  m.blocks.assign(std::size_t(m.blocksX) * std::size_t(m.blocksY),
-                  ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
-
-  // Surface: the heightfield's vertex order is clockwise seen from above; OpenGL's front faces are
-  // counter-clockwise, so the second and third vertices swap.
-  for (std::size_t j = 0; j + 1 < nr; ++j)
-    for (std::size_t i = 0; i + 1 < nc; ++i) {
-      const bool up = g.upper(i, j), low = g.lower(i, j);
-      if (up) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i + 1, j + 1), vertex(i + 1, j)});
-      if (low) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1)});
-      if (!up && !low) continue;
-      ChunkBlock& b = m.blocks[(j * std::size_t(m.blocksY) / cellsY) * std::size_t(m.blocksX) +
-                               i * std::size_t(m.blocksX) / cellsX];
-      if (key.level > 0) b.error = std::max(b.error, cellError(g, i, j));
-      for (std::size_t jj = j; jj <= j + 1; ++jj)
-        for (std::size_t ii = i; ii <= i + 1; ++ii)
-          if (g.valid(ii, jj)) {
-            const Eigen::Vector3d p(g.cols[ii] * dx, -g.rows[jj] * dy, g.height(ii, jj));
-            b.min = b.min.cwiseMin(p);
-            b.max = b.max.cwiseMax(p);
-          }
-    }
-  for (const ChunkBlock& b : m.blocks) m.maxError = std::max(m.maxError, b.error);
-  m.surfaceTriangles = m.indices.size() / 3;
-
-  // Skirts on the edges inside the grid. An edge is a list of kept cells along one grid line; a
-  // segment hangs a skirt when the coarse triangle on its inner side exists.
-  struct Edge {
-    bool alongRow;        // the edge runs along a grid row (north or south edge)
-    int line;             // that row, or column
-    Eigen::Vector2d out;  // outward direction in the mesh frame
-  };
-  const int c1 = g.cols.back(), r1 = g.rows.back();
-  std::vector<Edge> edges;
-  if (r0 > 0) edges.push_back({true, r0, {0, 1}});
-  if (r1 < hf.rows() - 1) edges.push_back({true, r1, {0, -1}});
-  if (c0 > 0) edges.push_back({false, c0, {-1, 0}});
-  if (c1 < hf.cols() - 1) edges.push_back({false, c1, {1, 0}});
+  // Skirt bottoms, shared by the skirts that hang from one vertex on one grid line: the lowest
+  // fine sample of that line within reach of the vertex's two segments (terrain_chunk.h).
   const int reach = kSkirtReachSteps * step;
-  if (std::getenv("NESTWALK_NO_SKIRTS")) edges.clear();  // EXPERIMENT
-  for (const Edge& e : edges) {
-    const std::vector<int>& along = e.alongRow ? g.cols : g.rows;
-    const int lineEnd = (e.alongRow ? hf.cols() : hf.rows()) - 1;
-    auto fine = [&](int p) { return e.alongRow ? std::pair(p, e.line) : std::pair(e.line, p); };
-    auto kept = [&](std::size_t k) {
-      return e.alongRow ? std::pair<std::size_t, std::size_t>(k, e.line == r0 ? 0 : nr - 1)
-                        : std::pair<std::size_t, std::size_t>(e.line == c0 ? 0 : nc - 1, k);
-    };
-    auto segmentHasTriangle = [&](std::size_t k) {  // segment between kept k and k + 1
-      if (e.alongRow) return e.line == r0 ? g.upper(k, 0) : g.lower(k, nr - 2);
-      return e.line == c0 ? g.lower(0, k) : g.upper(nc - 2, k);
-    };
-    std::vector<std::int32_t> bottom(along.size(), -1);
-    auto bottomOf = [&](std::size_t k) -> std::uint32_t {
-      if (bottom[k] >= 0) return std::uint32_t(bottom[k]);
-      const int from = std::max(0, along[k > 0 ? k - 1 : k] - reach);
-      const int to = std::min(lineEnd, along[k + 1 < along.size() ? k + 1 : k] + reach);
-      const auto [ki, kj] = kept(k);
-      double lowest = g.height(ki, kj);
-      for (int p = from; p <= to; ++p) {
-        const auto [c, r] = fine(p);
-        if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
-      }
-      const std::uint32_t top = vertex(ki, kj);
-      const Eigen::Vector3d q(m.positions[3 * top] + m.offset.x(), m.positions[3 * top + 1] + m.offset.y(),
-                              lowest - kSkirtMarginM);
-      bottom[k] = std::int32_t(m.positions.size() / 3);
-      for (int i = 0; i < 3; ++i) m.positions.push_back(float(q[i] - m.offset[i]));
-      for (int i = 0; i < 4; ++i) m.colours.push_back(m.colours[4 * top + i]);
-      m.boxMin = m.boxMin.cwiseMin(q);
-      return std::uint32_t(bottom[k]);
-    };
-    for (std::size_t k = 0; k + 1 < along.size(); ++k) {
+  std::map<std::tuple<bool, std::size_t, std::size_t>, std::uint32_t> bottoms;
+  // Kept sample k of the kept row (alongRow) or column `line`.
+  auto keptAt = [&](bool alongRow, std::size_t line, std::size_t k) {
+    return alongRow ? std::pair(k, line) : std::pair(line, k);
+  };
+  auto bottomOf = [&](bool alongRow, std::size_t line, std::size_t k) -> std::uint32_t {
+    const auto key = std::tuple(alongRow, line, k);
+    if (const auto it = bottoms.find(key); it != bottoms.end()) return it->second;
+    const std::vector<int>& along = alongRow ? g.cols : g.rows;
+    const int fineLine = alongRow ? g.rows[line] : g.cols[line];
+    const int lineEnd = (alongRow ? hf.cols() : hf.rows()) - 1;
+    const int from = std::max(0, along[k > 0 ? k - 1 : k] - reach);
+    const int to = std::min(lineEnd, along[k + 1 < along.size() ? k + 1 : k] + reach);
+    const auto [ki, kj] = keptAt(alongRow, line, k);
+    double lowest = g.height(ki, kj);
+    for (int p = from; p <= to; ++p) {
+      const int c = alongRow ? p : fineLine, r = alongRow ? fineLine : p;
+      if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
+    }
+    const std::uint32_t top = vertex(ki, kj);
+    const Eigen::Vector3d q(m.positions[3 * top] + m.offset.x(), m.positions[3 * top + 1] + m.offset.y(),
+                            lowest - kSkirtMarginM);
+    const auto v = std::uint32_t(m.positions.size() / 3);
+    for (int i = 0; i < 3; ++i) m.positions.push_back(float(q[i] - m.offset[i]));
+    for (int i = 0; i < 4; ++i) m.colours.push_back(m.colours[4 * top + i]);
+    m.boxMin = m.boxMin.cwiseMin(q);
+    bottoms.emplace(key, v);
+    return v;
+  };
+  auto pos = [&](std::uint32_t v) {
+    return Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
+  };
+  // A skirt along kept line `line` over kept samples [k0, k1], facing `out`, on the segments whose
+  // inner triangle exists.
+  auto skirt = [&](bool alongRow, std::size_t line, std::size_t k0, std::size_t k1, const Eigen::Vector2d& out,
+                   const std::function<bool(std::size_t)>& segmentHasTriangle) {
+    for (std::size_t k = k0; k < k1; ++k) {
       if (!segmentHasTriangle(k)) continue;
-      const auto [ai, aj] = kept(k);
-      const auto [bi, bj] = kept(k + 1);
-      const std::uint32_t p1 = vertex(ai, aj), p2 = vertex(bi, bj), q1 = bottomOf(k), q2 = bottomOf(k + 1);
+      const auto [ai, aj] = keptAt(alongRow, line, k);
+      const auto [bi, bj] = keptAt(alongRow, line, k + 1);
+      const std::uint32_t p1 = vertex(ai, aj), p2 = vertex(bi, bj);
+      const std::uint32_t q1 = bottomOf(alongRow, line, k), q2 = bottomOf(alongRow, line, k + 1);
       // Outward-facing: the triangle (p1, q1, p2)'s normal has a positive outward part, else swap.
-      auto pos = [&](std::uint32_t v) {
-        return Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
-      };
       const Eigen::Vector3d n = (pos(q1) - pos(p1)).cross(pos(p2) - pos(p1));
-      if (n.x() * e.out.x() + n.y() * e.out.y() >= 0)
+      if (n.x() * out.x() + n.y() * out.y() >= 0)
         m.indices.insert(m.indices.end(), {p1, q1, p2, p2, q1, q2});
       else
         m.indices.insert(m.indices.end(), {p1, p2, q1, p2, q2, q1});
     }
+  };
+
+  // Quadrants: the cells of child (2x + a, 2y + b), split at the kept sample chunkCells / 2.
+  const std::size_t cellsX = nc - 1, cellsY = nr - 1, half = std::size_t(layout.chunkCells() / 2);
+  const int rowsEnd = hf.rows() - 1, colsEnd = hf.cols() - 1;
+  for (int q = 0; q < 4; ++q) {
+    const int a = q & 1, b = q >> 1;
+    const std::size_t i0 = a ? half : 0, i1 = a ? cellsX : std::min(half, cellsX);
+    const std::size_t j0 = b ? half : 0, j1 = b ? cellsY : std::min(half, cellsY);
+    ChunkQuadrant& quad = m.quadrants[std::size_t(q)];
+    quad.firstIndex = m.indices.size();
+    if (i0 >= i1 || j0 >= j1) continue;
+    // Blocks: cell i of the quadrant's n goes to block i * blocks / n.
+    const std::size_t bx = std::min<std::size_t>(kChunkBlocksPerSide / 2, i1 - i0);
+    const std::size_t by = std::min<std::size_t>(kChunkBlocksPerSide / 2, j1 - j0);
+    quad.blocks.assign(bx * by, ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
+    // Surface: the heightfield's vertex order is clockwise seen from above; OpenGL's front faces are
+    // counter-clockwise, so the second and third vertices swap.
+    for (std::size_t j = j0; j < j1; ++j)
+      for (std::size_t i = i0; i < i1; ++i) {
+        const bool up = g.upper(i, j), low = g.lower(i, j);
+        if (up) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i + 1, j + 1), vertex(i + 1, j)});
+        if (low) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1)});
+        if (!up && !low) continue;
+        ChunkBlock& blk = quad.blocks[((j - j0) * by / (j1 - j0)) * bx + (i - i0) * bx / (i1 - i0)];
+        if (key.level > 0) blk.error = std::max(blk.error, cellError(g, i, j));
+        for (std::size_t jj = j; jj <= j + 1; ++jj)
+          for (std::size_t ii = i; ii <= i + 1; ++ii)
+            if (g.valid(ii, jj)) {
+              const Eigen::Vector3d p(g.cols[ii] * dx, -g.rows[jj] * dy, g.height(ii, jj));
+              blk.min = blk.min.cwiseMin(p);
+              blk.max = blk.max.cwiseMax(p);
+            }
+      }
+    quad.surfaceTriangles = (m.indices.size() - quad.firstIndex) / 3;
+    for (const ChunkBlock& blk : quad.blocks) quad.maxError = std::max(quad.maxError, blk.error);
+    m.maxError = std::max(m.maxError, quad.maxError);
+    // Skirts on the quadrant's edges inside the grid: the chunk's own edges there, and the midlines
+    // it shares with the chunk's other quadrants (drawn at another level when a child replaces one).
+    if (g.rows[j0] > 0) skirt(true, j0, i0, i1, {0, 1}, [&](std::size_t k) { return g.upper(k, j0); });
+    if (g.rows[j1] < rowsEnd) skirt(true, j1, i0, i1, {0, -1}, [&](std::size_t k) { return g.lower(k, j1 - 1); });
+    if (g.cols[i0] > 0) skirt(false, i0, j0, j1, {-1, 0}, [&](std::size_t k) { return g.lower(i0, k); });
+    if (g.cols[i1] < colsEnd) skirt(false, i1, j0, j1, {1, 0}, [&](std::size_t k) { return g.upper(i1 - 1, k); });
+    quad.indexCount = m.indices.size() - quad.firstIndex;
+    quad.skirtTriangles = quad.indexCount / 3 - quad.surfaceTriangles;
+    m.surfaceTriangles += quad.surfaceTriangles;
+    m.skirtTriangles += quad.skirtTriangles;
   }
-  m.skirtTriangles = m.indices.size() / 3 - m.surfaceTriangles;
   if (m.surfaceVertices > 0) {
     m.boxMin = m.boxMin.cwiseMin(m.surfaceMin);
     m.boxMax = m.boxMax.cwiseMax(m.surfaceMax);

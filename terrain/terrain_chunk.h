@@ -18,15 +18,19 @@
 // cells, and there the crossings of that diagonal with the fine edges are evaluated as well (the
 // difference is linear on every piece of the two triangulations' common refinement).
 //
-// Blocks: the chunk's cells are grouped into at most kChunkBlocksPerSide x kChunkBlocksPerSide
-// blocks, each with the maximum error of its own cells and the box of its cells' surface vertices.
-// Every point of the coarse surface lies in a block whose box holds it and whose error bounds its
-// own, so max over blocks of (error / distance from the eye to the box) bounds the projected error
-// of the whole chunk far more tightly than the chunk's one error at its nearest point: a chunk with
-// a rough corner near the eye is refined for that corner, not for its flat far side.
+// Quadrants: a chunk's cells fall into four quadrants, those of its four children. The renderer
+// replaces a chunk quadrant by quadrant (a chunk near the eye on one side only sends one quadrant
+// down a level), so a quadrant's triangles and its own skirts are one range of the index array.
+//
+// Blocks: each quadrant's cells are grouped into at most kChunkBlocksPerSide / 2 blocks a side,
+// each with the maximum error of its own cells and the box of its cells' surface vertices. Every
+// point of the coarse surface lies in a block whose box holds it and whose error bounds its own, so
+// max over blocks of (error / distance from the eye to the box) bounds the projected error of a
+// quadrant far more tightly than one error at its nearest point.
 //
 // Cracks: a chunk's edge and a neighbour's edge of another level meet on the same grid line but not
-// at the same vertices. Every chunk edge inside the grid hangs a skirt: a wall from each edge vertex
+// at the same vertices. Every quadrant edge inside the grid (the chunk's own, and the midlines
+// between its quadrants) hangs a skirt: a wall from each edge vertex
 // down to the lowest fine sample on that grid line within kSkirtReachSteps of the chunk's steps on
 // either side of the vertex's two segments (less kSkirtMarginM). A neighbour's edge is a polyline
 // through fine samples of the same line, every point of it no lower than the lower end of its
@@ -74,8 +78,7 @@ inline constexpr double kSkirtMarginM = 0.01;
 inline constexpr double kAmbientLight = 0.30;
 inline constexpr double kSunLight = 0.85;
 /// Blocks per chunk side for the projected-error bound (see above): 8 x 8 blocks of 8 x 8 cells in a
-/// chunk of 64; 64 distances a visited chunk per cull, a small price for drawing a third fewer
-/// triangles on the bundled flythroughs.
+/// chunk of 64 (4 x 4 a quadrant); 64 distances a visited chunk per cull.
 inline constexpr int kChunkBlocksPerSide = 8;
 
 struct ChunkKey {
@@ -129,18 +132,27 @@ struct ChunkBlock {
   Eigen::Vector3d min, max;
 };
 
+/// A quadrant of a chunk: the cells its child (2x + a, 2y + b) covers (a east, b south; index a + 2b),
+/// drawn on its own while that child is not (see "Quadrants" above).
+struct ChunkQuadrant {
+  std::size_t firstIndex = 0, indexCount = 0;  // into ChunkMesh::indices: its surface, then its skirts
+  std::size_t surfaceTriangles = 0, skirtTriangles = 0;
+  double maxError = 0;                         // metres, exact
+  std::vector<ChunkBlock> blocks;              // its cells' blocks (see "Blocks" above)
+  bool empty() const { return indexCount == 0; }
+};
+
 struct ChunkMesh {
   ChunkKey key;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // mesh frame position of the stored (0, 0, 0)
   std::vector<float> positions;        // x, y, z per vertex, relative to offset
   std::vector<std::uint8_t> colours;   // RGBA per vertex
-  std::vector<std::uint32_t> indices;  // surface triangles, then skirt triangles (counter-clockwise)
-  std::size_t surfaceTriangles = 0, skirtTriangles = 0;
+  std::vector<std::uint32_t> indices;  // triangles (counter-clockwise), quadrant by quadrant
+  std::array<ChunkQuadrant, 4> quadrants;
+  std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // over the quadrants
   std::size_t surfaceVertices = 0;     // vertices [0, surfaceVertices) lie on the surface; the rest
                                        // are skirt bottoms
   double maxError = 0;                 // metres, exact (see above)
-  std::vector<ChunkBlock> blocks;      // see above; row-major, blocksX per row
-  int blocksX = 0, blocksY = 0;
   /// Mesh-frame box of the surface vertices, and of everything (skirts included); empty (min > max)
   /// when the chunk has no triangle.
   Eigen::Vector3d surfaceMin, surfaceMax, boxMin, boxMax;

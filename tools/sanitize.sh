@@ -16,7 +16,8 @@
 #              hour on 2 cores).
 #   tsan       ThreadSanitizer over the threaded parts (the frame writer thread and the ffmpeg pipe
 #              of `run --render`, engine/render/frame_writers.h; the guarded model reader's child
-#              process and the model cache, engine/core/guarded_process.h, engine/scene/), in
+#              process and the model cache, engine/core/guarded_process.h, engine/scene/; the paged
+#              terrain's loader thread, engine/render/paged_terrain.h), in
 #              build-tsan/: core, scene and render tests, with tools/sanitizers/tsan.supp.
 #   ci         asan, then tsan (what .ci/run runs).
 # Usage: tools/sanitize.sh [asan|asan-full|tsan|ci] (default ci). Extra ctest arguments in
@@ -88,7 +89,7 @@ run_tsan() {
   configure build-tsan "$flags_tsan" "$generator"
   cmake --build build-tsan -j "$jobs" --target core_tests scene_tests render_tests bundled_scene
   (cd build-tsan && ctest --output-on-failure -j "$jobs" -L '^(core_tests|scene_tests|render_tests)$' \
-     -R 'FrameWriter|PngSequence|Video|GuardedProcess|ModelFile|ModelCache|Render' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
+     -R 'FrameWriter|PngSequence|Video|GuardedProcess|ModelFile|ModelCache|Render|PagedTerrain' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
   echo "nestwalk: sanitize: tsan passed in $(( $(date +%s) - start )) s"
 }
 

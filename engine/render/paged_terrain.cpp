@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -29,13 +30,19 @@ std::size_t defaultTerrainBudgetBytes() {
   return std::clamp(physical / 16, 256 * kMiB, 1024 * kMiB);
 }
 
-// A resident chunk. node is null for a chunk without triangles (all holes).
+// A resident chunk: per quadrant (terrain_chunk.h) a node (null for a quadrant without triangles),
+// its blocks' errors (m) and surface boxes, its error and triangles.
 struct PagedTerrain::Entry {
-  osg::ref_ptr<osg::Node> node;
-  double error = 0;
-  std::vector<std::pair<float, osg::BoundingBox>> blocks;  // error (m) and surface box of each block
+  struct Quadrant {
+    osg::ref_ptr<osg::Node> node;
+    std::vector<std::pair<float, osg::BoundingBox>> blocks;
+    double error = 0;
+    std::size_t triangles = 0, skirtTriangles = 0;
+  };
+  std::array<Quadrant, 4> quadrants;
+  bool empty = true;     // no triangle at all (holes)
   osg::BoundingBox box;  // surface and skirts, for frustum culling
-  std::size_t bytes = 0, triangles = 0, skirtTriangles = 0;
+  std::size_t bytes = 0;
   std::uint64_t lastUsed = 0;
   int residentChildren = 0;
 };
@@ -67,37 +74,46 @@ double distanceToBox(const osg::Vec3d& p, const osg::BoundingBox& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-/// A chunk's OSG node: its offset as a transform over one geometry (float positions, byte colours,
-/// 16-bit indices where they fit), drawn from vertex buffer objects.
-osg::ref_ptr<osg::Node> chunkNode(const terrain::ChunkMesh& m) {
-  if (m.empty()) return nullptr;
+/// The OSG nodes of a chunk's quadrants: each its offset as a transform over one geometry of its
+/// range of the indices (16-bit where they fit); the four share the float positions and byte colours,
+/// drawn from vertex buffer objects. Null for an empty quadrant.
+std::array<osg::ref_ptr<osg::Node>, 4> quadrantNodes(const terrain::ChunkMesh& m) {
+  std::array<osg::ref_ptr<osg::Node>, 4> nodes;
+  if (m.empty()) return nodes;
   const std::size_t n = m.vertexCount();
   osg::ref_ptr<osg::Vec3Array> positions = new osg::Vec3Array(unsigned(n));
   std::copy(m.positions.begin(), m.positions.end(), &(*positions)[0][0]);
   osg::ref_ptr<osg::Vec4ubArray> colours = new osg::Vec4ubArray(unsigned(n));
   std::copy(m.colours.begin(), m.colours.end(), &(*colours)[0][0]);
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setUseDisplayList(false);
-  g->setUseVertexBufferObjects(true);
-  g->setVertexArray(positions.get());
-  g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
   colours->setNormalize(true);
-  if (n <= 0xFFFF) {
-    osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(m.indices.size()));
-    std::copy(m.indices.begin(), m.indices.end(), e->begin());
-    g->addPrimitiveSet(e.get());
-  } else {
-    osg::ref_ptr<osg::DrawElementsUInt> e =
-        new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(m.indices.size()), m.indices.data());
-    g->addPrimitiveSet(e.get());
+  for (std::size_t q = 0; q < 4; ++q) {
+    const terrain::ChunkQuadrant& quad = m.quadrants[q];
+    if (quad.empty()) continue;
+    osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+    g->setUseDisplayList(false);
+    g->setUseVertexBufferObjects(true);
+    g->setVertexArray(positions.get());
+    g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
+    const auto first = m.indices.begin() + std::ptrdiff_t(quad.firstIndex);
+    if (n <= 0xFFFF) {
+      osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(quad.indexCount));
+      std::copy(first, first + std::ptrdiff_t(quad.indexCount), e->begin());
+      g->addPrimitiveSet(e.get());
+    } else {
+      osg::ref_ptr<osg::DrawElementsUInt> e =
+          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(quad.indexCount), m.indices.data() + quad.firstIndex);
+      g->addPrimitiveSet(e.get());
+    }
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(g.get());
+    osg::ref_ptr<osg::MatrixTransform> t =
+        new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
+    t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y) +
+               " quadrant " + std::to_string(q));
+    t->addChild(geode.get());
+    nodes[q] = t;
   }
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g.get());
-  osg::ref_ptr<osg::MatrixTransform> t =
-      new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
-  t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y));
-  t->addChild(geode.get());
-  return t;
+  return nodes;
 }
 
 }  // namespace
@@ -138,12 +154,14 @@ osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
 
 void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
   for (auto& [key, e] : cache_)
-    if (e.node) e.node->resizeGLObjectBuffers(maxSize);
+    for (auto& q : e.quadrants)
+      if (q.node) q.node->resizeGLObjectBuffers(maxSize);
 }
 
 void PagedTerrain::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, e] : cache_)
-    if (e.node) e.node->releaseGLObjects(state);
+    for (const auto& q : e.quadrants)
+      if (q.node) q.node->releaseGLObjects(state);
 }
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
@@ -151,15 +169,20 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_);
   Built b;
   b.key = key;
-  b.entry.node = chunkNode(m);
-  b.entry.error = m.maxError;
-  for (const terrain::ChunkBlock& block : m.blocks)
-    if (block.min.x() <= block.max.x() && block.error > 0)
-      b.entry.blocks.emplace_back(float(block.error), toBox(block.min, block.max));
+  const std::array<osg::ref_ptr<osg::Node>, 4> nodes = quadrantNodes(m);
+  for (std::size_t q = 0; q < 4; ++q) {
+    Entry::Quadrant& quad = b.entry.quadrants[q];
+    quad.node = nodes[q];
+    quad.error = m.quadrants[q].maxError;
+    quad.triangles = m.quadrants[q].surfaceTriangles + m.quadrants[q].skirtTriangles;
+    quad.skirtTriangles = m.quadrants[q].skirtTriangles;
+    for (const terrain::ChunkBlock& block : m.quadrants[q].blocks)
+      if (block.min.x() <= block.max.x() && block.error > 0)
+        quad.blocks.emplace_back(float(block.error), toBox(block.min, block.max));
+  }
+  b.entry.empty = m.empty();
   b.entry.box = toBox(m.boxMin, m.boxMax);
   b.entry.bytes = 2 * m.bytes();
-  b.entry.triangles = m.surfaceTriangles + m.skirtTriangles;
-  b.entry.skirtTriangles = m.skirtTriangles;
   b.seconds = osg::Timer::instance()->delta_s(t0, osg::Timer::instance()->tick());
   return b;
 }
@@ -196,39 +219,35 @@ void PagedTerrain::select(const ChunkKey& key, osg::NodeVisitor& nv, std::vector
   if (it == cache_.end()) return;
   Entry& e = it->second;
   e.lastUsed = frame_;
-  if (!e.node) return;  // all holes, nothing below either
+  if (e.empty) return;  // all holes, nothing below either
   auto* cv = dynamic_cast<osgUtil::CullVisitor*>(&nv);
   if (cv && cv->isCulled(e.box)) return;
-  // The projected error: the largest of the blocks' (terrain_chunk.h).
   const osg::Vec3d eye = nv.getEyePoint();
-  double pixels = 0;
-  for (const auto& [error, box] : e.blocks)
-    pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
-  if (pixels > options_.maxPixels && key.level > 0) {
-    const std::vector<ChunkKey> children = layout_.children(key);
-    bool all = true;
-    for (const ChunkKey& c : children) {
-      if (auto ci = cache_.find(c); ci != cache_.end())
-        ci->second.lastUsed = frame_;  // waited for: not to be evicted while its siblings load
-      else {
-        all = false;
-        wants.push_back({c, pixels});
+  for (int q = 0; q < 4; ++q) {
+    const Entry::Quadrant& quad = e.quadrants[std::size_t(q)];
+    if (!quad.node) continue;
+    // The projected error: the largest of the quadrant's blocks' (terrain_chunk.h).
+    double pixels = 0;
+    for (const auto& [error, box] : quad.blocks)
+      pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
+    if (pixels > options_.maxPixels && key.level > 0) {
+      const ChunkKey child{key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1)};
+      if (cache_.count(child)) {
+        select(child, nv, wants);
+        continue;
       }
+      wants.push_back({child, pixels});
+      ++stats_.standIns;
     }
-    if (all) {
-      for (const ChunkKey& c : children) select(c, nv, wants);
-      return;
-    }
-    ++stats_.standIns;
+    drawList_.push_back({key, q, quad.node.get()});
+    ++stats_.chunksDrawn;
+    stats_.trianglesDrawn += quad.triangles;
+    stats_.skirtTrianglesDrawn += quad.skirtTriangles;
+    stats_.maxErrorM = std::max(stats_.maxErrorM, quad.error);
+    stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
+    stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
+    stats_.coarsestLevel = std::max(stats_.coarsestLevel, key.level);
   }
-  drawList_.emplace_back(key, e.node.get());
-  ++stats_.chunksDrawn;
-  stats_.trianglesDrawn += e.triangles;
-  stats_.skirtTrianglesDrawn += e.skirtTriangles;
-  stats_.maxErrorM = std::max(stats_.maxErrorM, e.error);
-  stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
-  stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
-  stats_.coarsestLevel = std::max(stats_.coarsestLevel, key.level);
 }
 
 void PagedTerrain::evictUnused(std::size_t target) {
@@ -244,7 +263,8 @@ void PagedTerrain::evictUnused(std::size_t target) {
     }
     if (victim == cache_.end()) return;
     const ChunkKey key = victim->first;
-    if (victim->second.node) victim->second.node->releaseGLObjects(nullptr);
+    for (const auto& q : victim->second.quadrants)
+      if (q.node) q.node->releaseGLObjects(nullptr);
     residentBytes_ -= victim->second.bytes;
     cache_.erase(victim);
     ++stats_.chunksEvicted;
@@ -343,9 +363,9 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
     if (!any) break;
   }
   drawn_.clear();
-  for (const auto& [key, node] : drawList_) {
-    drawn_.push_back(key);
-    node->accept(nv);
+  for (const DrawnPart& part : drawList_) {
+    drawn_.push_back(part);
+    part.node->accept(nv);
   }
   stats_.chunksWanted = wants.size();
   if (options_.loading == TerrainLoading::Background) publish(wants);

@@ -4,12 +4,12 @@
 // the view, not with the DEM.
 //
 // Selection (each cull): from the root down, a chunk outside the view frustum is skipped with all
-// below it; a chunk whose exact error projects to more than maxPixels is replaced by its children
-// once all of them are resident, else it is drawn itself (and its missing children are asked for).
-// A drawn chunk therefore shows at most maxPixels of vertical error, except where it stands in for
-// children still loading (Background) or that the budget cannot hold. Rule: the largest over the
-// chunk's blocks (terrain_chunk.h) of error * pixelsPerRadian / distance, distance from the eye to
-// the block's surface box (at least kMinEyeDistanceM): terrain_mesh.h's LodRule, block by block.
+// below it; each quadrant of a chunk (terrain_chunk.h) whose exact error projects to more than
+// maxPixels is replaced by its child chunk when that is resident, else drawn itself (and the child
+// is asked for). A drawn quadrant therefore shows at most maxPixels of vertical error, except where
+// it stands in for a child still loading (Background) or that the budget cannot hold. Rule: the
+// largest over the quadrant's blocks of error * pixelsPerRadian / distance, distance from the eye
+// to the block's surface box (at least kMinEyeDistanceM): terrain_mesh.h's LodRule, block by block.
 //
 // Loading: Background (the interactive window and timed runs): one loader thread builds the chunks
 // the last cull asked for, most visible error first; a cull never waits for it, it draws what is
@@ -74,12 +74,12 @@ struct PagedTerrainOptions {
 
 /// What the last cull drew and what the cache holds.
 struct PagedTerrainStats {
-  std::size_t chunksDrawn = 0;
+  std::size_t chunksDrawn = 0;       // chunk quadrants drawn
   std::size_t trianglesDrawn = 0;    // surface and skirt triangles of the drawn chunks
   std::size_t skirtTrianglesDrawn = 0;
-  double maxErrorM = 0;              // largest exact error of a drawn chunk, metres
+  double maxErrorM = 0;              // largest exact error of a drawn quadrant, metres
   double maxErrorPx = 0;             // its largest projected error, pixels (the rule above)
-  std::size_t standIns = 0;          // drawn chunks over maxPixels whose children were not resident
+  std::size_t standIns = 0;          // drawn quadrants over maxPixels whose child was not resident
   std::size_t chunksResident = 0;
   std::size_t residentBytes = 0;     // counted as above (twice the arrays)
   std::size_t chunksWanted = 0;      // asked for and not yet resident
@@ -87,6 +87,18 @@ struct PagedTerrainStats {
   std::uint64_t chunksEvicted = 0;
   double loadSeconds = 0;            // time spent building chunks since the node was made
   int finestLevel = -1, coarsestLevel = -1;  // of the drawn chunks
+};
+
+/// A drawn part of the terrain: quadrant `quadrant` (a + 2b: the cells of child (2x + a, 2y + b)) of
+/// chunk `key`.
+struct DrawnPart {
+  terrain::ChunkKey key;
+  int quadrant = 0;
+  osg::Node* node = nullptr;
+  friend bool operator==(const DrawnPart& p, const DrawnPart& o) { return p.key == o.key && p.quadrant == o.quadrant; }
+  friend bool operator<(const DrawnPart& p, const DrawnPart& o) {
+    return p.key < o.key || (p.key == o.key && p.quadrant < o.quadrant);
+  }
 };
 
 class PagedTerrain : public osg::Node {
@@ -117,8 +129,8 @@ class PagedTerrain : public osg::Node {
   /// The first chunk the loader could not build (empty: none), e.g. out of memory; that chunk's
   /// parent stays drawn.
   std::string loadError() const;
-  /// The keys of the chunks the last cull drew.
-  const std::vector<terrain::ChunkKey>& drawnChunks() const { return drawn_; }
+  /// The chunk quadrants the last cull drew.
+  const std::vector<DrawnPart>& drawnParts() const { return drawn_; }
 
  private:
   struct Entry;
@@ -144,8 +156,7 @@ class PagedTerrain : public osg::Node {
   std::size_t residentBytes_ = 0;
   std::uint64_t frame_ = 0;
   PagedTerrainStats stats_;
-  std::vector<terrain::ChunkKey> drawn_;
-  std::vector<std::pair<terrain::ChunkKey, osg::Node*>> drawList_;
+  std::vector<DrawnPart> drawn_, drawList_;
   osg::BoundingSphere bound_;
 
   // The loader: wanted_ and done_ are shared with its thread under mutex_.

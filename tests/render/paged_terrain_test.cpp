@@ -72,16 +72,28 @@ PagedTerrainOptions options(TerrainLoading loading, std::size_t budget = 0) {
   return o;
 }
 
-/// The largest projected error of a chunk's surface from the eye, by brute force: at every fine
-/// sample of the chunk, |fine - coarse| * pixelsPerRadian / distance from the eye to the coarse
-/// surface point there (the surfaces' difference is largest at fine samples on square cells:
-/// terrain_chunk.h; this grid has 512 cells a side, so every level's cells are square).
-double projectedPixels(const terrain::Heightfield& hf, const terrain::ChunkLayout& l, const ChunkKey& k,
-                       const osg::Vec3d& eye) {
+/// The fine sample range [c0, c1] x [r0, r1] of a chunk's quadrant (a + 2b): its child's cells.
+struct PartRange {
+  int c0, c1, r0, r1;
+};
+PartRange partRange(const terrain::ChunkLayout& l, const ChunkKey& k, int q) {
   const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+  const std::size_t half = std::size_t(l.chunkCells() / 2);
+  const int cm = half < cols.size() ? cols[half] : cols.back(), rm = half < rows.size() ? rows[half] : rows.back();
+  return {(q & 1) ? cm : cols.front(), (q & 1) ? cols.back() : cm, (q >> 1) ? rm : rows.front(),
+          (q >> 1) ? rows.back() : rm};
+}
+
+/// The largest projected error of a chunk quadrant's surface from the eye, by brute force: at every
+/// fine sample of it, |fine - coarse| * pixelsPerRadian / distance from the eye to the coarse surface
+/// point there (the surfaces' difference is largest at fine samples on square cells:
+/// terrain_chunk.h; this grid has 512 cells a side, so every level's cells are square).
+double projectedPixels(const terrain::Heightfield& hf, const terrain::ChunkLayout& l, const ChunkKey& k, int quadrant,
+                       const osg::Vec3d& eye) {
+  const PartRange p = partRange(l, k, quadrant);
   double worst = 0;
-  for (int r = rows.front(); r <= rows.back(); ++r)
-    for (int c = cols.front(); c <= cols.back(); ++c) {
+  for (int r = p.r0; r <= p.r1; ++r)
+    for (int c = p.c0; c <= p.c1; ++c) {
       if (!hf.valid(c, r)) continue;
       const double x = c * hf.dx(), y = -r * hf.dy();
       const std::optional<double> coarse = terrain::chunkHeightAt(hf, l, k, x, y);
@@ -92,13 +104,18 @@ double projectedPixels(const terrain::Heightfield& hf, const terrain::ChunkLayou
   return worst;
 }
 
-bool isAncestor(const ChunkKey& a, const ChunkKey& b) {  // a strictly above b
-  if (a.level <= b.level) return false;
-  const int shift = a.level - b.level;
-  return (b.x >> shift) == a.x && (b.y >> shift) == a.y;
+/// Whether part a stands for (covers) part b: the same, or b lies in the child chunk a's quadrant
+/// replaces.
+bool covers(const DrawnPart& a, const DrawnPart& b) {
+  if (a == b) return true;
+  if (a.key.level <= b.key.level) return false;
+  const ChunkKey child{a.key.level - 1, 2 * a.key.x + (a.quadrant & 1), 2 * a.key.y + (a.quadrant >> 1)};
+  const int shift = child.level - b.key.level;
+  return (b.key.x >> shift) == child.x && (b.key.y >> shift) == child.y;
 }
 
-std::vector<ChunkKey> sorted(std::vector<ChunkKey> v) {
+std::vector<DrawnPart> sorted(std::vector<DrawnPart> v) {
+  for (DrawnPart& p : v) p.node = nullptr;
   std::sort(v.begin(), v.end());
   return v;
 }
@@ -109,23 +126,28 @@ TEST(PagedTerrain, ACompleteFrameIsTheCoarsestCutWithinAPixel) {
   const auto hf = hills();
   osg::ref_ptr<PagedTerrain> node = new PagedTerrain(hf, options(TerrainLoading::Complete));
   cullOnce(node.get(), kLowView);
-  const std::vector<ChunkKey> drawn = node->drawnChunks();
+  const std::vector<DrawnPart> drawn = node->drawnParts();
   ASSERT_GT(drawn.size(), 10u);
   EXPECT_EQ(node->lastStats().standIns, 0u);
   EXPECT_LE(node->lastStats().maxErrorPx, 1.0 + 1e-9);
   EXPECT_LT(node->lastStats().finestLevel, node->lastStats().coarsestLevel);
   const terrain::ChunkLayout& l = node->layout();
   std::size_t parentsGoodEnough = 0;
-  for (const ChunkKey& k : drawn) {
-    EXPECT_LE(projectedPixels(*hf, l, k, kLowView.eye), 1.0 + 1e-6) << k.level << " " << k.x << " " << k.y;
+  for (const DrawnPart& p : drawn) {
+    const ChunkKey& k = p.key;
+    EXPECT_LE(projectedPixels(*hf, l, k, p.quadrant, kLowView.eye), 1.0 + 1e-6)
+        << k.level << " " << k.x << " " << k.y << " quadrant " << p.quadrant;
     if (k.level + 1 < l.levels()) {
       const ChunkKey parent{k.level + 1, k.x / 2, k.y / 2};
-      parentsGoodEnough += projectedPixels(*hf, l, parent, kLowView.eye) <= 1.0;
+      parentsGoodEnough += projectedPixels(*hf, l, parent, (k.x & 1) + 2 * (k.y & 1), kLowView.eye) <= 1.0;
     }
-    for (const ChunkKey& o : drawn) EXPECT_FALSE(isAncestor(o, k)) << "a chunk drawn with its ancestor";
+    for (const DrawnPart& o : drawn)
+      if (!(o == p)) {
+        EXPECT_FALSE(covers(o, p)) << "a part drawn with one that stands for it";
+      }
   }
-  // The rule bounds the error block by block, so now and then a parent that would have done is
-  // refined; rarely, or the bound would be loose.
+  // The rule bounds the error block by block, so now and then a parent's quadrant that would have
+  // done is refined; rarely, or the bound would be loose.
   EXPECT_LE(parentsGoodEnough, drawn.size() / 10) << "of " << drawn.size();
 }
 
@@ -135,9 +157,9 @@ TEST(PagedTerrain, BackgroundLoadingSettlesToTheCompleteFrame) {
   cullOnce(complete.get(), kLowView);
   osg::ref_ptr<PagedTerrain> background = new PagedTerrain(hf, options(TerrainLoading::Background));
   cullOnce(background.get(), kLowView);
-  // The first frame has only the root: it stands in for everything.
-  EXPECT_EQ(background->drawnChunks().size(), 1u);
-  EXPECT_EQ(background->lastStats().standIns, 1u);
+  // The first frame has only the root: its quadrants stand in for everything.
+  EXPECT_LE(background->drawnParts().size(), 4u);
+  EXPECT_GE(background->lastStats().standIns, 1u);
   EXPECT_GT(background->lastStats().chunksWanted, 0u);
   int frames = 1;
   while (background->lastStats().chunksWanted > 0 && frames < 50) {
@@ -146,14 +168,14 @@ TEST(PagedTerrain, BackgroundLoadingSettlesToTheCompleteFrame) {
     ++frames;
   }
   EXPECT_LE(frames, background->layout().levels() + 1);  // one level a frame at most
-  EXPECT_EQ(sorted(background->drawnChunks()), sorted(complete->drawnChunks()));
+  EXPECT_EQ(sorted(background->drawnParts()), sorted(complete->drawnParts()));
   EXPECT_EQ(background->lastStats().standIns, 0u);
 }
 
 TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
   const auto hf = hills();
   osg::ref_ptr<PagedTerrain> full = new PagedTerrain(hf, options(TerrainLoading::Complete));
-  const std::size_t budget = 150 * 1024;  // the root and a few more chunks of 16 x 16 cells (about 22 KiB each)
+  const std::size_t budget = 300 * 1024;  // the root and ten more chunks of 16 x 16 cells (about 28 KiB each)
   osg::ref_ptr<PagedTerrain> tiny = new PagedTerrain(hf, options(TerrainLoading::Complete, budget));
   for (int i = 0; i < 12; ++i) {  // low over the ground, from the north-west corner to the south-east
     const osg::Vec3d eye(40 + 36 * i, -40 - 36 * i, 335);
@@ -162,15 +184,15 @@ TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
     cullOnce(tiny.get(), v);
     EXPECT_LE(tiny->lastStats().residentBytes, budget) << "view " << i;
     EXPECT_GE(tiny->lastStats().maxErrorM, full->lastStats().maxErrorM);
-    EXPECT_LT(tiny->drawnChunks().size(), full->drawnChunks().size());
-    // Covered: every chunk the full cut draws is drawn, or stood in for by an ancestor.
-    for (const ChunkKey& k : full->drawnChunks()) {
-      const bool covered = std::any_of(tiny->drawnChunks().begin(), tiny->drawnChunks().end(),
-                                       [&](const ChunkKey& t) { return t == k || isAncestor(t, k); });
-      EXPECT_TRUE(covered) << "view " << i << " chunk " << k.level << " " << k.x << " " << k.y;
+    EXPECT_LT(tiny->drawnParts().size(), full->drawnParts().size());
+    // Covered: every part the full cut draws is drawn, or stood in for by an ancestor's quadrant.
+    for (const DrawnPart& p : full->drawnParts()) {
+      const bool covered = std::any_of(tiny->drawnParts().begin(), tiny->drawnParts().end(),
+                                       [&](const DrawnPart& t) { return covers(t, p); });
+      EXPECT_TRUE(covered) << "view " << i << " chunk " << p.key.level << " " << p.key.x << " " << p.key.y;
     }
   }
-  EXPECT_GT(tiny->lastStats().chunksEvicted, 0u);
+  EXPECT_GT(tiny->lastStats().chunksEvicted, 0u) << tiny->lastStats().chunksLoaded << " loaded, " << tiny->lastStats().residentBytes << " bytes";
   EXPECT_EQ(full->lastStats().chunksEvicted, 0u);
 }
 
@@ -180,16 +202,17 @@ TEST(PagedTerrain, ChunksOfHolesAreNeverDrawnAndHolesDoNotBreakTheCut) {
   const View v = viewFrom({330, -200, 320}, {330, -260, 290});  // above the big hole
   cullOnce(node.get(), v);
   const terrain::ChunkLayout& l = node->layout();
-  ASSERT_GT(node->drawnChunks().size(), 0u);
-  for (const ChunkKey& k : node->drawnChunks()) {
-    const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, k);
-    EXPECT_GT(m.surfaceTriangles, 0u);
-    EXPECT_LE(projectedPixels(*hf, l, k, v.eye), 1.0 + 1e-6);
+  ASSERT_GT(node->drawnParts().size(), 0u);
+  for (const DrawnPart& p : node->drawnParts()) {
+    const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, p.key);
+    EXPECT_GT(m.quadrants[std::size_t(p.quadrant)].surfaceTriangles, 0u);
+    EXPECT_LE(projectedPixels(*hf, l, p.key, p.quadrant, v.eye), 1.0 + 1e-6);
   }
   // A chunk wholly inside the hole (cols 256..400, rows 100..300) has no triangle: never drawn.
   const ChunkKey inHole{0, 17, 8};  // cols 272..288, rows 128..144
   EXPECT_TRUE(terrain::buildChunk(*hf, l, inHole).empty());
-  EXPECT_EQ(std::count(node->drawnChunks().begin(), node->drawnChunks().end(), inHole), 0);
+  EXPECT_FALSE(std::any_of(node->drawnParts().begin(), node->drawnParts().end(),
+                           [&](const DrawnPart& p) { return p.key == inHole; }));
 }
 
 }  // namespace

@@ -54,6 +54,38 @@ std::optional<double> fineAt(const Heightfield& hf, double x, double y) {
   return hf.groundHeight(hf.origin().x() + x, hf.origin().y() + y);
 }
 
+/// The triangles (indices into ChunkMesh::indices / 3) of a quadrant's skirts, or of every quadrant's.
+std::vector<std::size_t> skirtFaces(const ChunkMesh& m, int quadrant = -1) {
+  std::vector<std::size_t> faces;
+  for (int q = 0; q < 4; ++q) {
+    if (quadrant >= 0 && q != quadrant) continue;
+    const ChunkQuadrant& quad = m.quadrants[std::size_t(q)];
+    for (std::size_t f = quad.firstIndex / 3 + quad.surfaceTriangles; f < (quad.firstIndex + quad.indexCount) / 3; ++f)
+      faces.push_back(f);
+  }
+  return faces;
+}
+
+std::vector<std::size_t> surfaceFaces(const ChunkMesh& m) {
+  std::vector<std::size_t> faces;
+  for (const ChunkQuadrant& quad : m.quadrants)
+    for (std::size_t f = quad.firstIndex / 3; f < quad.firstIndex / 3 + quad.surfaceTriangles; ++f) faces.push_back(f);
+  return faces;
+}
+
+/// The fine sample range [c0, c1] x [r0, r1] of a chunk's quadrant (a + 2b): its child's cells.
+struct PartRange {
+  int c0, c1, r0, r1;
+  bool empty() const { return c0 >= c1 || r0 >= r1; }
+};
+PartRange partRange(const ChunkLayout& l, const ChunkKey& k, int q) {
+  const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+  const std::size_t half = std::size_t(l.chunkCells() / 2);
+  const int cm = half < cols.size() ? cols[half] : cols.back(), rm = half < rows.size() ? rows[half] : rows.back();
+  return {(q & 1) ? cm : cols.front(), (q & 1) ? cols.back() : cm, (q >> 1) ? rm : rows.front(),
+          (q >> 1) ? rows.back() : rm};
+}
+
 TEST(ChunkLayout, EveryLevelCoversEachCellOnceAndChildrenTileTheirParent) {
   const ChunkLayout l(203, 150, 16);
   EXPECT_EQ(l.levels(), 5);  // 16 * 2^4 = 256 >= 202 cells > 128
@@ -180,8 +212,8 @@ TEST(TerrainChunk, ErrorIsTheExactMaximumOnNarrowLastCells) {
 }
 
 TEST(TerrainChunk, BlocksHoldEveryPointWithItsError) {
-  // Every point of the coarse surface lies in a block's box whose error is at least its own: the
-  // renderer's projected-error bound (terrain_chunk.h, "Blocks").
+  // Every point of a quadrant's coarse surface lies in one of its blocks' boxes whose error is at
+  // least its own: the renderer's projected-error bound (terrain_chunk.h, "Blocks").
   const Heightfield hf = roughField(78, 54, 41, 0.02, 1.0, 2.0);
   const ChunkLayout l(hf.cols(), hf.rows(), 16);
   std::mt19937 rng(43);
@@ -189,25 +221,31 @@ TEST(TerrainChunk, BlocksHoldEveryPointWithItsError) {
   for (int level = 0; level < l.levels(); ++level)
     for (const ChunkKey& k : chunksOf(l, level)) {
       const ChunkMesh m = buildChunk(hf, l, k);
-      ASSERT_EQ(m.blocks.size(), std::size_t(m.blocksX) * std::size_t(m.blocksY));
-      double blocksMax = 0;
-      for (const ChunkBlock& b : m.blocks) blocksMax = std::max(blocksMax, b.error);
-      EXPECT_EQ(blocksMax, m.maxError);
-      const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
-      std::uniform_real_distribution<double> uc(cols.front(), cols.back()), ur(rows.front(), rows.back());
-      for (int i = 0; i < 3000; ++i) {
-        const double fc = uc(rng), fr = ur(rng), x = fc * hf.dx(), y = -fr * hf.dy();
-        const std::optional<double> coarse = chunkHeightAt(hf, l, k, x, y), fine = fineAt(hf, x, y);
-        if (!coarse || !fine) continue;
-        const double e = std::abs(*coarse - *fine);
-        const Eigen::Vector3d p(x, y, *coarse);
-        const bool held = std::any_of(m.blocks.begin(), m.blocks.end(), [&](const ChunkBlock& b) {
-          return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
-                 b.error >= e - 1e-8;
-        });
-        EXPECT_TRUE(held) << "level " << level << " point " << fc << " " << fr << " error " << e;
-        ++points;
+      double quadrantsMax = 0;
+      for (int q = 0; q < 4; ++q) {
+        const ChunkQuadrant& quad = m.quadrants[std::size_t(q)];
+        quadrantsMax = std::max(quadrantsMax, quad.maxError);
+        const PartRange part = partRange(l, k, q);
+        if (part.empty()) {
+          EXPECT_TRUE(quad.empty());
+          continue;
+        }
+        std::uniform_real_distribution<double> uc(part.c0, part.c1), ur(part.r0, part.r1);
+        for (int i = 0; i < 1000; ++i) {
+          const double fc = uc(rng), fr = ur(rng), x = fc * hf.dx(), y = -fr * hf.dy();
+          const std::optional<double> coarse = chunkHeightAt(hf, l, k, x, y), fine = fineAt(hf, x, y);
+          if (!coarse || !fine) continue;
+          const double e = std::abs(*coarse - *fine);
+          const Eigen::Vector3d p(x, y, *coarse);
+          const bool held = std::any_of(quad.blocks.begin(), quad.blocks.end(), [&](const ChunkBlock& b) {
+            return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
+                   b.error >= e - 1e-8;
+          });
+          EXPECT_TRUE(held) << "level " << level << " quadrant " << q << " point " << fc << " " << fr << " error " << e;
+          ++points;
+        }
       }
+      EXPECT_EQ(quadrantsMax, m.maxError);
     }
   EXPECT_GT(points, 30000u);
 }
@@ -217,9 +255,9 @@ TEST(TerrainChunk, BlocksHoldEveryPointWithItsError) {
 struct Cover {
   double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
 };
-Cover skirtCover(const ChunkMesh& m, bool alongRow, double line, double t) {
+Cover skirtCover(const ChunkMesh& m, int quadrant, bool alongRow, double line, double t) {
   Cover c;
-  for (std::size_t f = m.surfaceTriangles; f < m.surfaceTriangles + m.skirtTriangles; ++f) {
+  for (std::size_t f : skirtFaces(m, quadrant)) {
     double s[3], z[3];
     bool inPlane = true;
     for (int k = 0; k < 3; ++k) {
@@ -245,42 +283,52 @@ Cover skirtCover(const ChunkMesh& m, bool alongRow, double line, double t) {
 }
 
 TEST(TerrainChunk, SkirtsCloseTheGapToNeighboursUpToThreeLevelsAway) {
+  // Any two quadrants (of any chunks) up to three levels apart that share a stretch of grid line:
+  // the higher edge's skirt reaches the lower edge all along it.
   const Heightfield hf = roughField(129, 129, 23, 0.0, 1.0, 1.0);
   const ChunkLayout l(hf.cols(), hf.rows(), 8);
   ASSERT_EQ(l.levels(), 5);
+  struct Part {
+    ChunkKey key;
+    int quadrant;
+    PartRange range;
+    const ChunkMesh* mesh;
+  };
+  std::vector<ChunkMesh> meshes;
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) meshes.push_back(buildChunk(hf, l, k));
+  std::vector<Part> parts;
+  for (const ChunkMesh& m : meshes)
+    for (int q = 0; q < 4; ++q)
+      if (!partRange(l, m.key, q).empty()) parts.push_back({m.key, q, partRange(l, m.key, q), &m});
   std::size_t checked = 0, gaps = 0;
-  for (int a = 0; a < l.levels(); ++a)
-    for (const ChunkKey& ka : chunksOf(l, a)) {
-      const ChunkMesh ma = buildChunk(hf, l, ka);
-      const std::vector<int> ca = l.columns(ka), ra = l.rowsOf(ka);
-      for (int b = std::max(0, a - 3); b <= std::min(l.levels() - 1, a + 3); ++b)
-        for (const ChunkKey& kb : chunksOf(l, b)) {
-          const std::vector<int> cb = l.columns(kb), rb = l.rowsOf(kb);
-          // kb east of ka, sharing the column ca.back(); or south of it, sharing the row ra.back().
-          for (bool alongRow : {false, true}) {
-            const bool touches = alongRow ? rb.front() == ra.back() : cb.front() == ca.back();
-            if (!touches) continue;
-            const int from = alongRow ? std::max(ca.front(), cb.front()) : std::max(ra.front(), rb.front());
-            const int to = alongRow ? std::min(ca.back(), cb.back()) : std::min(ra.back(), rb.back());
-            if (from >= to) continue;
-            const ChunkMesh mb = buildChunk(hf, l, kb);
-            const double line = alongRow ? -ra.back() * hf.dy() : ca.back() * hf.dx();
-            for (int q = from * 4; q <= to * 4; ++q) {
-              const double t = alongRow ? q / 4.0 * hf.dx() : -q / 4.0 * hf.dy();
-              const double x = alongRow ? t : line, y = alongRow ? line : t;
-              const std::optional<double> ha = chunkHeightAt(hf, l, ka, x, y), hb = chunkHeightAt(hf, l, kb, x, y);
-              ASSERT_TRUE(ha && hb);
-              const bool aHigher = *ha >= *hb;
-              const Cover c = skirtCover(aHigher ? ma : mb, alongRow, line, t);
-              const double low = std::min(*ha, *hb), high = std::max(*ha, *hb);
-              ++checked;
-              // Float vertices: 1e-4 m is far below a pixel and above their rounding at 100 m.
-              if (!(c.lo <= low + 1e-4 && c.hi >= high - 1e-4)) ++gaps;
-            }
-          }
+  for (const Part& pa : parts)
+    for (const Part& pb : parts) {
+      if (std::abs(pa.key.level - pb.key.level) > 3) continue;
+      // pb east of pa, sharing the column pa.c1; or south of it, sharing the row pa.r1.
+      for (bool alongRow : {false, true}) {
+        const bool touches = alongRow ? pb.range.r0 == pa.range.r1 : pb.range.c0 == pa.range.c1;
+        if (!touches) continue;
+        const int from = alongRow ? std::max(pa.range.c0, pb.range.c0) : std::max(pa.range.r0, pb.range.r0);
+        const int to = alongRow ? std::min(pa.range.c1, pb.range.c1) : std::min(pa.range.r1, pb.range.r1);
+        if (from >= to) continue;
+        const double line = alongRow ? -pa.range.r1 * hf.dy() : pa.range.c1 * hf.dx();
+        for (int q = from * 4; q <= to * 4; ++q) {
+          const double t = alongRow ? q / 4.0 * hf.dx() : -q / 4.0 * hf.dy();
+          const double x = alongRow ? t : line, y = alongRow ? line : t;
+          const std::optional<double> ha = chunkHeightAt(hf, l, pa.key, x, y), hb = chunkHeightAt(hf, l, pb.key, x, y);
+          ASSERT_TRUE(ha && hb);
+          const bool aHigher = *ha >= *hb;
+          const Part& higher = aHigher ? pa : pb;
+          const Cover c = skirtCover(*higher.mesh, higher.quadrant, alongRow, line, t);
+          const double low = std::min(*ha, *hb), high = std::max(*ha, *hb);
+          ++checked;
+          // Float vertices: 1e-4 m is far below a pixel and above their rounding at 100 m.
+          if (!(c.lo <= low + 1e-4 && c.hi >= high - 1e-4)) ++gaps;
         }
+      }
     }
-  EXPECT_GT(checked, 20000u);
+  EXPECT_GT(checked, 50000u);
   EXPECT_EQ(gaps, 0u);
 }
 
@@ -290,8 +338,11 @@ TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {
   for (int level = 0; level < l.levels(); ++level)
     for (const ChunkKey& k : chunksOf(l, level)) {
       const ChunkMesh m = buildChunk(hf, l, k);
-      const Eigen::Vector3d centre = 0.5 * (m.surfaceMin + m.surfaceMax);
-      for (std::size_t f = m.surfaceTriangles; f < m.surfaceTriangles + m.skirtTriangles; ++f) {
+      for (int quadrant = 0; quadrant < 4; ++quadrant) {
+      const PartRange part = partRange(l, k, quadrant);
+      // Outward: away from the quadrant's centre (its skirts on the chunk's midlines too).
+      const Eigen::Vector3d centre(0.5 * (part.c0 + part.c1) * hf.dx(), -0.5 * (part.r0 + part.r1) * hf.dy(), 0);
+      for (std::size_t f : skirtFaces(m, quadrant)) {
         Eigen::Vector3d p[3];
         for (int i = 0; i < 3; ++i) {
           const std::uint32_t v = m.indices[3 * f + std::size_t(i)];
@@ -308,8 +359,9 @@ TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {
         const bool onSouth = p[0].y() == -69 && p[1].y() == -69 && p[2].y() == -69;
         EXPECT_FALSE(onWest || onEast || onNorth || onSouth);
       }
+      }
       // Surface triangles face up (counter-clockwise seen from above).
-      for (std::size_t f = 0; f < m.surfaceTriangles; ++f) {
+      for (std::size_t f : surfaceFaces(m)) {
         Eigen::Vector3d p[3];
         for (int i = 0; i < 3; ++i) {
           const std::uint32_t v = m.indices[3 * f + std::size_t(i)];

@@ -74,11 +74,37 @@ void declareOptions(CLI::App& cmd, WalkerBenchOptions& o) {
 }
 
 void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
-  declareCommon(cmd, o, "320x180, 8 frames per flythrough, two configurations");
+  declareCommon(cmd, o,
+                "320x180, 8 frames per flythrough, two configurations (the terrain-size sweep: sizes 250 and 500 "
+                "unless given)");
   cmd.add_option("--width", o.width, "Frame width (default 1280)")->check(CLI::Range(16, 8192));
   cmd.add_option("--height", o.height, "Frame height (default 720)")->check(CLI::Range(16, 8192));
   cmd.add_option("--frames", o.framesPerScript, "Frames per flythrough (default 120)")->check(CLI::Range(1, 100000));
   declareScene(cmd, o.scene, o.scripts, "the flythroughs");
+  // Given bare, CLI11 hands the callback one empty value: the sweep with its default sizes.
+  cmd.add_option_function<std::vector<std::string>>(
+         "--terrain-sizes",
+         [&o](const std::vector<std::string>& values) {
+           o.terrainSweep = true;
+           o.terrainSizes.clear();
+           for (const std::string& v : values) {
+             if (v.empty()) continue;
+             double size = 0;
+             if (!CLI::detail::lexical_cast(v, size))
+               throw InputError("--terrain-sizes: '" + v + "' is not a size in metres");
+             o.terrainSizes.push_back(size);
+           }
+         },
+         "Instead of the configurations, the terrain-size sweep: generated mining dumps of these sides in "
+         "metres at 1 m cells, each measured in a child process (given bare: 1000 4000 10000, 1 M, 16 M and "
+         "100 M samples)")
+      ->expected(0, CLI::detail::expected_max_vector_size)
+      ->delimiter(',')
+      ->type_name("METRES");
+  cmd.add_option("--terrain-cache", o.terrainCache,
+                 "Folder of the sweep's generated DEMs, reused while they exist (default: "
+                 "nestwalk-terrain-cache in the system's temporary folder)");
+  cmd.add_option("--terrain-sweep-child", o.sweepChild, "The sweep's measuring child (internal)")->group("");
 }
 
 void declareOptions(CLI::App& cmd, ModelReadBenchOptions& o) {
@@ -98,6 +124,9 @@ void completeOptions(WalkerBenchOptions& o) {
   }
 }
 
-void completeOptions(RenderBenchOptions& o) { assets::defaultSceneAndScripts(o.scene, o.scripts); }
+void completeOptions(RenderBenchOptions& o) {
+  if (!o.sweepChild.empty()) return;  // the sweep's child measures a terrain of its request's
+  assets::defaultSceneAndScripts(o.scene, o.scripts);
+}
 
 }  // namespace nestwalk::bench

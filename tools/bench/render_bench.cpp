@@ -2,6 +2,7 @@
 #include "tools/bench/render_bench.h"
 
 #include "tools/bench/bench_document.h"
+#include "tools/bench/render_terrain_sweep.h"
 
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/render/view_renderer.h"
@@ -120,7 +121,14 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
 
 }  // namespace
 
+std::vector<ViewPose> sampleFlythroughPoses(const Scene& scene, const RenderBenchOptions& o, int perScript,
+                                            Json& flythroughs) {
+  return samplePoses(scene, o, perScript, flythroughs);
+}
+
 int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
+  if (!o.sweepChild.empty()) return runTerrainSweepChild(o.sweepChild);
+  if (o.terrainSweep) return runTerrainSweep(o, out);
   const Scene scene = loadScene(o.scene);
   const int width = o.quick ? 320 : o.width, height = o.quick ? 180 : o.height;
   Document doc("nestwalk bench render: " + o.scene);

@@ -9,10 +9,16 @@
 #pragma once
 
 #include "tools/bench/bench_runner.h"
+#include "tools/bench/result_table.h"
 
 #include <iosfwd>
 #include <string>
 #include <vector>
+
+namespace nestwalk {
+struct Scene;
+struct ViewPose;
+}  // namespace nestwalk
 
 namespace nestwalk::bench {
 
@@ -21,10 +27,22 @@ struct RenderBenchOptions : BenchOptions {
   int framesPerScript = 120;         // poses sampled evenly along each flythrough; quick: 8
   std::string scene;                 // scene file
   std::vector<std::string> scripts;  // its flythroughs
+  // The terrain-size sweep (render_terrain_sweep.h) instead of the configurations: on when
+  // --terrain-sizes is given.
+  bool terrainSweep = false;
+  std::vector<double> terrainSizes;  // metres; empty: the sweep's defaults
+  std::string terrainCache;          // folder of the generated DEMs; empty: the default
+  std::string sweepChild;            // hidden: a sweep child's request file (it measures one size)
 };
 
 /// Renders the configurations (quick: the first two) and prints their table, the culling
-/// comparison and the target (or one JSON document) to `out`. Returns 0.
+/// comparison and the target (or one JSON document) to `out`. Returns 0. With terrainSweep (or
+/// sweepChild) set, runs the terrain-size sweep (or its child) instead (render_terrain_sweep.h).
 int runBenchmark(const RenderBenchOptions& opts, std::ostream& out);
+
+/// The benchmark's poses: each of opts.scripts walked once on `scene` (no rendering), `perScript`
+/// of its frames sampled evenly; appends {"script", "frames"} per flythrough to `flythroughs`.
+std::vector<ViewPose> sampleFlythroughPoses(const Scene& scene, const RenderBenchOptions& opts, int perScript,
+                                            Json& flythroughs);
 
 }  // namespace nestwalk::bench

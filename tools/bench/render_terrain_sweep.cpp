@@ -1,0 +1,454 @@
+// The terrain-size sweep of the rendering benchmark (see render_terrain_sweep.h).
+#include "tools/bench/render_terrain_sweep.h"
+
+#include "tools/bench/bench_document.h"
+
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
+#include "nestwalk/render/view_renderer.h"
+#include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/mining_dump.h"
+#include "nestwalk/terrain/terrain_import.h"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <ostream>
+#include <sstream>
+
+extern char** environ;
+
+namespace nestwalk::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The generated dumps' seed and cell: make-terrain's defaults (the bundled scene's terrain is seed
+/// 1 at 1 m), so the sizes' sample counts are the (size / 1 m)^2.
+constexpr std::uint64_t kSweepSeed = 1;
+constexpr double kCellM = 1.0;
+/// The generator's limits (mining_dump.h): at least 16 cells a side, at most 4e8 samples.
+constexpr long kMinCellsPerSide = 16;
+constexpr double kMaxSamples = 4.0e8;
+
+/// --quick: the frame size and poses per flythrough of the rest of `bench render --quick`.
+constexpr int kQuickWidth = 320, kQuickHeight = 180, kQuickFramesPerScript = 8;
+
+/// Settling a pose: frames rendered at most (each after waiting for the loader) before its error
+/// is taken as it stands. The loader answers each frame's wants in full, so a view settles within a
+/// few frames (one per quadtree level it refines); this only bounds a view the budget keeps from
+/// settling.
+constexpr int kMaxSettleFrames = 64;
+
+/// The targets, for the largest size against the smallest.
+constexpr double kTargetP50Ratio = 1.25;          // ms per frame p50, largest / smallest
+constexpr double kTargetP95Ratio = 1.5;           // ms per frame p95, largest / smallest
+constexpr double kTargetPeakRssBytes = 2.5e9;     // bytes: the "2.5 GB" (decimal)
+constexpr double kTargetFirstFrameMs = 3000.0;    // ms from the scene loaded to the first frame
+
+constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+
+/// A size whose timed frames were mostly (more than this fraction) still loading gets a note under
+/// the table: most of its frames drew stand-ins, so its frame times are not the settled view's.
+constexpr double kLoadingNoteFraction = 0.5;
+
+/// The hidden option that makes `nestwalk bench render` a sweep child (bench_cli.cpp declares it).
+constexpr const char* kChildOption = "--terrain-sweep-child";
+
+/// A number as the text shows it (sizes, targets): up to 10 significant digits, no trailing zeros.
+std::string numberText(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", m);
+  return buf;
+}
+
+/// Cells a side of a size (the generator rounds size / cell the same way).
+long cellsPerSide(double sizeM) { return std::lround(sizeM / kCellM); }
+
+/// The sizes to measure, checked and sorted (InputError naming --terrain-sizes).
+std::vector<double> checkedSizes(const RenderBenchOptions& o) {
+  std::vector<double> sizes = o.terrainSizes.empty() ? (o.quick ? kSweepQuickSizesM : kSweepDefaultSizesM)
+                                                     : o.terrainSizes;
+  const double maxSizeM = std::floor(std::sqrt(kMaxSamples)) * kCellM;
+  for (double s : sizes) {
+    if (!std::isfinite(s) || s < double(kMinCellsPerSide) * kCellM || cellsPerSide(s) < kMinCellsPerSide)
+      throw InputError("--terrain-sizes: " + numberText(s) + " m is below the generator's " +
+                       std::to_string(kMinCellsPerSide) + " cells of " + numberText(kCellM) + " m a side");
+    if (double(cellsPerSide(s)) * double(cellsPerSide(s)) > kMaxSamples)
+      throw InputError("--terrain-sizes: " + numberText(s) + " m is above the generator's 4e8 samples (" +
+                       numberText(maxSizeM) + " m at " + numberText(kCellM) + " m cells)");
+  }
+  std::sort(sizes.begin(), sizes.end());
+  for (std::size_t i = 1; i < sizes.size(); ++i)
+    if (cellsPerSide(sizes[i]) == cellsPerSide(sizes[i - 1]))
+      throw InputError("--terrain-sizes: " + numberText(sizes[i]) + " m is given twice (sizes round to whole " +
+                       numberText(kCellM) + " m cells)");
+  return sizes;
+}
+
+/// The ground at the nearest point of the heightfield's sample extent to (x, y): the pose's own
+/// ground where it lies on the terrain. A hole there (the generated dumps have none) gives 0.
+double groundNear(const terrain::Heightfield& hf, double x, double y) {
+  const Eigen::Vector2d first = hf.samplePosition(0, 0), last = hf.samplePosition(hf.cols() - 1, hf.rows() - 1);
+  const double cx = std::clamp(x, first.x(), last.x()), cy = std::clamp(y, last.y(), first.y());
+  return hf.groundHeight(cx, cy).value_or(0.0);
+}
+
+Json readJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot be read");
+  try {
+    return Json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not JSON: " + e.what());
+  }
+}
+
+/// The process's peak resident memory (VmHWM), bytes; 0 where /proc cannot tell.
+double peakResidentBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::strtod(line.c_str() + 6, nullptr) * 1024.0;  // kB
+  return 0;
+}
+
+/// A folder of this run's own under the system's temporary folder, removed with its contents.
+class RunFolder {
+ public:
+  RunFolder() : path_(fs::temp_directory_path() / ("nestwalk-terrain-sweep-" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~RunFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  RunFolder(const RunFolder&) = delete;
+  RunFolder& operator=(const RunFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+/// Runs this program as a sweep child on `request`, its stdout sent to stderr (the parent's stdout
+/// is the benchmark's document). Returns "" when it ended with status 0, else why not.
+std::string runChild(const std::string& request) {
+  std::error_code ec;
+  const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
+  if (ec) return "cannot find this program (/proc/self/exe): " + ec.message();
+  std::vector<std::string> args = {self, "bench", "render", kChildOption, request};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  pid_t pid = 0;
+  const int rc = ::posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return "cannot start the measuring process: " + std::string(std::strerror(rc));
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return "lost the measuring process: " + std::string(std::strerror(errno));
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFSIGNALED(status))
+    return "the measuring process crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
+           ::strsignal(WTERMSIG(status)) + ")";
+  return "the measuring process ended with status " + std::to_string(WEXITSTATUS(status)) +
+         " (its message is above, on stderr)";
+}
+
+/// The DEM of a size in the cache, generated when absent. Returns whether it was generated, and
+/// the seconds that took.
+std::pair<bool, double> ensureDem(const std::string& path, double sizeM) {
+  if (fs::exists(path)) return {false, 0.0};
+  std::cerr << "nestwalk: note: generating the " << numberText(sizeM) << " m mining dump into " << path << "\n";
+  const auto start = std::chrono::steady_clock::now();
+  terrain::MiningDumpParams params;
+  params.seed = kSweepSeed;
+  params.size = sizeM;
+  params.cell = kCellM;
+  const terrain::MiningDump dump = terrain::generateMiningDump(params);
+  terrain::writeTerrainCog(path, dump.cols, dump.rows, dump.heights, dump.originX, dump.originY, dump.cell, dump.cell,
+                           terrain::kMiningDumpCrs, false);
+  return {true, secondsSince(start)};
+}
+
+std::string demFileName(double sizeM) {
+  return "mining_dump_seed" + std::to_string(kSweepSeed) + "_cell" + numberText(kCellM) + "_size" +
+         numberText(double(cellsPerSide(sizeM)) * kCellM) + ".tif";
+}
+
+}  // namespace
+
+std::string defaultTerrainCacheFolder() { return (fs::temp_directory_path() / "nestwalk-terrain-cache").string(); }
+
+int runTerrainSweepChild(const std::string& requestFile) {
+  const Json req = readJsonFile(requestFile);
+  SceneSpec spec;
+  spec.path = req["terrain"].get<std::string>();
+  spec.terrain = spec.path;
+  const auto loadStart = std::chrono::steady_clock::now();
+  const Scene scene = loadScene(spec);
+  const double demLoadS = secondsSince(loadStart);
+  const double loadPeakBytes = peakResidentBytes();
+  const terrain::Heightfield& hf = *scene.terrain;
+
+  std::vector<ViewPose> poses;
+  for (const Json& p : req["poses"]) {
+    const double x = p[0].get<double>(), y = p[1].get<double>();
+    ViewPose pose;
+    pose.eye = {x, y, groundNear(hf, x, y) + p[2].get<double>()};
+    pose.headingDeg = p[3].get<double>();
+    pose.pitchDeg = p[4].get<double>();
+    poses.push_back(pose);
+  }
+  if (poses.empty()) throw InputError(requestFile + ": no poses");
+
+  RenderOptions ro;
+  ro.width = req["width"].get<int>();
+  ro.height = req["height"].get<int>();
+  ro.terrainLoading = TerrainLoading::Background;  // frames never wait for the loader
+  const auto firstStart = std::chrono::steady_clock::now();
+  ViewRenderer renderer(scene, ro);
+  renderer.render(poses.front());
+  const double firstFrameMs = secondsSince(firstStart) * 1000.0;
+  PagedTerrain& paged = renderer.graph().pagedTerrain();
+  const std::uint64_t loadedBefore = renderer.lastStats().terrain.chunksLoaded;
+
+  std::vector<double> frameMs;
+  double worstLoadingMs = -1;
+  std::size_t framesLoading = 0, chunksMax = 0, bytesMax = 0;
+  const auto runStart = std::chrono::steady_clock::now();
+  for (const ViewPose& pose : poses) {
+    const RenderFrameStats& s = renderer.render(pose);
+    frameMs.push_back(s.totalMs);
+    if (s.terrain.chunksWanted > 0) {
+      ++framesLoading;
+      worstLoadingMs = std::max(worstLoadingMs, s.totalMs);
+    }
+    chunksMax = std::max(chunksMax, s.terrain.chunksResident);
+    bytesMax = std::max(bytesMax, s.terrain.residentBytes);
+  }
+  const double runS = secondsSince(runStart);
+  const std::uint64_t loaded = renderer.lastStats().terrain.chunksLoaded - loadedBefore;
+
+  // Settled: the last pose of each flythrough, rendered until nothing is wanted.
+  double settledErrorPx = 0;
+  bool settled = true;
+  std::vector<double> settledMs;
+  const auto settleStart = std::chrono::steady_clock::now();
+  for (const Json& index : req["settle"]) {
+    const ViewPose& pose = poses.at(index.get<std::size_t>());
+    for (int k = 0; k < kMaxSettleFrames; ++k) {
+      const RenderFrameStats& s = renderer.render(pose);
+      if (s.terrain.chunksWanted == 0 || k + 1 == kMaxSettleFrames) {
+        settledErrorPx = std::max(settledErrorPx, s.terrain.maxErrorPx);
+        settledMs.push_back(s.totalMs);
+        settled = settled && s.terrain.chunksWanted == 0;
+        break;
+      }
+      paged.waitUntilIdle();
+    }
+  }
+  const double settleS = secondsSince(settleStart);
+
+  Json result = {{"samples", std::uint64_t(hf.cols()) * std::uint64_t(hf.rows())},
+                 {"dem_load_s", demLoadS},
+                 {"first_frame_ms", firstFrameMs},
+                 {"frames", frameMs.size()},
+                 {"ms_p50", percentile(frameMs, 50)},
+                 {"ms_p95", percentile(frameMs, 95)},
+                 {"frames_loading", framesLoading},
+                 {"worst_loading_ms", framesLoading > 0 ? Json(worstLoadingMs) : Json(nullptr)},
+                 {"chunks_resident_max", chunksMax},
+                 {"resident_mib_max", double(bytesMax) / kBytesPerMiB},
+                 {"chunks_loaded", loaded},
+                 {"run_s", runS},
+                 {"chunks_loaded_per_s", double(loaded) / runS},
+                 {"settled_error_px", settledErrorPx},
+                 {"settled", settled},
+                 {"settled_ms_p50", percentile(settledMs, 50)},
+                 {"settle_s", settleS},
+                 {"budget_mib", double(paged.budgetBytes()) / kBytesPerMiB},
+                 {"load_error", paged.loadError()},
+                 {"load_rss_mib", loadPeakBytes / kBytesPerMiB},
+                 {"peak_rss_mib", peakResidentBytes() / kBytesPerMiB},
+                 {"route", offscreenRouteName(renderer.route())},
+                 {"gl_renderer", renderer.glRenderer()}};
+  writeFileAtomically(req["result"].get<std::string>(), result.dump());
+  return 0;
+}
+
+int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
+  const std::vector<double> sizes = checkedSizes(o);
+  const std::string cache = o.terrainCache.empty() ? defaultTerrainCacheFolder() : o.terrainCache;
+  std::error_code ec;
+  fs::create_directories(cache, ec);
+  if (ec || !fs::is_directory(cache))
+    throw InputError("--terrain-cache: " + cache + ": cannot be made a folder" + (ec ? ": " + ec.message() : ""));
+  const int width = o.quick ? kQuickWidth : o.width, height = o.quick ? kQuickHeight : o.height;
+  const int perScript = o.quick ? kQuickFramesPerScript : o.framesPerScript;
+
+  Document doc("nestwalk bench render --terrain-sizes: the flythroughs of " + o.scene +
+               " over generated terrains of several sizes");
+  Json& j = doc.json;
+  j["benchmark"] = "render terrain sweep";
+  j["cpu"] = j["machine"]["cpu_model"];
+  j["size"] = {width, height};
+  j["scene"] = o.scene;
+  j["terrain_cache"] = cache;
+  j["flythroughs"] = Json::array();
+
+  // The poses, as heights above the bundled ground: [x, y, height, heading, pitch].
+  Json poses = Json::array(), settle = Json::array();
+  {
+    const Scene bundled = loadScene(o.scene);
+    for (const ViewPose& p : sampleFlythroughPoses(bundled, o, perScript, j["flythroughs"])) {
+      const double ground = groundNear(*bundled.terrain, p.eye.x(), p.eye.y());
+      poses.push_back({p.eye.x(), p.eye.y(), p.eye.z() - ground, p.headingDeg, p.pitchDeg});
+    }
+  }
+  std::size_t end = 0;
+  for (const Json& f : j["flythroughs"]) {
+    end += f["frames"].get<std::size_t>();
+    if (end > 0) settle.push_back(end - 1);
+  }
+  j["poses"] = poses.size();
+
+  const RunFolder run;
+  std::vector<Json> rows;
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    const double sizeM = double(cellsPerSide(sizes[i])) * kCellM;
+    const std::string dem = (fs::path(cache) / demFileName(sizeM)).string();
+    const auto [generated, generateS] = ensureDem(dem, sizeM);
+    const std::string request = (run.path() / ("request_" + std::to_string(i) + ".json")).string();
+    const std::string result = (run.path() / ("result_" + std::to_string(i) + ".json")).string();
+    writeFileAtomically(request, Json{{"terrain", dem},
+                                      {"width", width},
+                                      {"height", height},
+                                      {"poses", poses},
+                                      {"settle", settle},
+                                      {"result", result}}
+                                     .dump());
+    std::cerr << "nestwalk: note: measuring the " << numberText(sizeM) << " m terrain (" << poses.size()
+              << " frames at " << width << "x" << height << ")\n";
+    const std::string problem = runChild(request);
+    if (!problem.empty()) {
+      doc.errors["size " + numberText(sizeM) + " m"] = problem;
+      continue;
+    }
+    Json r = readJsonFile(result);
+    Json row = {{"size_m", sizeM},
+                {"cell_m", kCellM},
+                {"samples", r["samples"]},
+                {"dem_file", dem},
+                {"dem_generated", generated},
+                {"generate_s", generated ? Json(generateS) : Json(nullptr)}};
+    for (const auto& item : r.items())
+      if (item.key() != "samples" && item.key() != "route" && item.key() != "gl_renderer")
+        row[item.key()] = item.value();
+    j["route"] = r["route"];
+    j["gl_renderer"] = r["gl_renderer"];
+    rows.push_back(std::move(row));
+  }
+
+  // Ratios against the smallest size measured (the rows are in ascending size).
+  for (Json& row : rows) {
+    const Json& base = rows.front();
+    row["ratio"] = {{"p50", row["ms_p50"].get<double>() / base["ms_p50"].get<double>()},
+                    {"p95", row["ms_p95"].get<double>() / base["ms_p95"].get<double>()}};
+  }
+
+  Table table;
+  table.column({"size m", "/size_m", 7, 0})
+      .column({"samples", "/samples", 11, 0})
+      .column({"load s", "/dem_load_s", 7, 2})
+      .column({"first ms", "/first_frame_ms", 9, 0})
+      .column({"ms p50", "/ms_p50", 8, 1})
+      .column({"ms p95", "/ms_p95", 8, 1})
+      .column({"loading", "/frames_loading", 8, 0})
+      .column({"worst load", "/worst_loading_ms", 11, 1})
+      .column({"chunks", "/chunks_resident_max", 7, 0})
+      .column({"MiB", "/resident_mib_max", 7, 0})
+      .column({"loads/s", "/chunks_loaded_per_s", 8, 1})
+      .column({"err px", "/settled_error_px", 7, 2})
+      .column({"settle s", "/settle_s", 9, 1})
+      .column({"settled ms", "/settled_ms_p50", 11, 1})
+      .column({"load RSS", "/load_rss_mib", 9, 0})
+      .column({"RSS MiB", "/peak_rss_mib", 8, 0})
+      .column({"p50 x", "/ratio/p50", 6, 2})
+      .column({"p95 x", "/ratio/p95", 6, 2});
+  for (Json& row : rows) table.add(std::move(row));
+
+  doc.text << width << "x" << height;
+  if (j.contains("gl_renderer"))
+    doc.text << ", " << j["gl_renderer"].get<std::string>() << " (" << j["route"].get<std::string>() << ")";
+  doc.text << "\nframes:";
+  for (const Json& f : j["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
+  doc.text << " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
+              "loading)\nterrains: generated mining dumps, seed "
+           << kSweepSeed << ", " << numberText(kCellM) << " m cells, cached in " << cache << "\n\n";
+  doc.table("sizes", table);
+  doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
+              "set up,\n root chunk built, first render); ms p50 / p95: over all poses; loading: frames with chunks "
+              "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
+              "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
+              "of each flythrough,\n rendered until nothing is wanted: settle s in all, settled ms the median last "
+              "frame); load RSS, RSS MiB:\n the measuring process's peak resident memory once the scene was "
+              "loaded, and in all; p50 x, p95 x:\n against the smallest size)\n";
+  for (const Json& row : table.rows()) {
+    const std::string at = "note: at " + numberText(row["size_m"].get<double>()) + " m, ";
+    if (row["frames_loading"].get<double>() > kLoadingNoteFraction * row["frames"].get<double>())
+      doc.text << at << row["frames_loading"] << " of " << row["frames"]
+               << " timed frames still had chunks wanted (chunks built during them: " << row["chunks_loaded"]
+               << "): they drew a coarser terrain than the settled view, and their times understate its cost\n";
+    if (!row["settled"].get<bool>())
+      doc.text << at << "a settle pose still had chunks wanted after " << kMaxSettleFrames
+               << " frames: its err px is not the settled view's\n";
+  }
+
+  const std::vector<Json>& measured = table.rows();
+  if (!measured.empty() && measured.back()["size_m"].get<double>() == double(cellsPerSide(sizes.back())) * kCellM) {
+    const Json& big = measured.back();
+    const std::string vs = numberText(big["size_m"].get<double>()) + " m / " +
+                           numberText(measured.front()["size_m"].get<double>()) + " m";
+    const std::string at = " at " + numberText(big["size_m"].get<double>()) + " m";
+    const double p50 = big["ratio"]["p50"].get<double>(), p95 = big["ratio"]["p95"].get<double>();
+    const double rss = big["peak_rss_mib"].get<double>(), first = big["first_frame_ms"].get<double>();
+    doc.targets.push_back({"ms per frame p50, " + vs, "<= " + numberText(kTargetP50Ratio) + "x", p50,
+                           p50 <= kTargetP50Ratio});
+    doc.targets.push_back({"ms per frame p95, " + vs, "<= " + numberText(kTargetP95Ratio) + "x", p95,
+                           p95 <= kTargetP95Ratio});
+    doc.targets.push_back({"peak RSS MiB" + at,
+                           "<= " + numberText(std::floor(kTargetPeakRssBytes / kBytesPerMiB)) + " (" +
+                               numberText(kTargetPeakRssBytes / 1e9) + " GB)",
+                           rss, rss * kBytesPerMiB <= kTargetPeakRssBytes});
+    doc.targets.push_back({"first frame ms" + at,
+                           "<= " + numberText(kTargetFirstFrameMs) + " after the scene is loaded", first,
+                           first <= kTargetFirstFrameMs});
+  }
+  return doc.write(out, o.json);
+}
+
+}  // namespace nestwalk::bench
