@@ -1,4 +1,5 @@
 #include "nestwalk/terrain/mining_dump.h"
+#include "nestwalk/terrain/value_noise.h"
 
 #include "nestwalk/core/angles.h"
 
@@ -26,16 +27,10 @@ double latticeValue(std::uint64_t seed, std::int64_t i, std::int64_t j) {
   return double(h >> 11) * 0x1.0p-52 - 1.0;
 }
 
-/// Smooth value noise in [-1, 1] on a lattice of spacing `wavelength`.
+/// Smooth value noise in [-1, 1] on a lattice of spacing `wavelength` (value_noise.h).
 double valueNoise(std::uint64_t seed, double x, double y, double wavelength) {
-  const double fx = x / wavelength, fy = y / wavelength;
-  const double ix = std::floor(fx), iy = std::floor(fy);
-  auto smooth = [](double t) { return t * t * (3.0 - 2.0 * t); };
-  const double tx = smooth(fx - ix), ty = smooth(fy - iy);
-  const auto i = std::int64_t(ix), j = std::int64_t(iy);
-  const double a = latticeValue(seed, i, j), b = latticeValue(seed, i + 1, j);
-  const double c = latticeValue(seed, i, j + 1), d = latticeValue(seed, i + 1, j + 1);
-  return (a + tx * (b - a)) + ty * ((c + tx * (d - c)) - (a + tx * (b - a)));
+  return terrain::valueNoise([seed](std::int64_t i, std::int64_t j) { return latticeValue(seed, i, j); }, x, y,
+                             wavelength);
 }
 
 /// Signed horizontal distance to a rounded rectangle (negative inside), exact.

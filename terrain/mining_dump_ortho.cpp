@@ -1,4 +1,5 @@
 #include "nestwalk/terrain/mining_dump_ortho.h"
+#include "nestwalk/terrain/value_noise.h"
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/terrain/terrain_imagery.h"
@@ -19,17 +20,10 @@ double latticeValue(std::uint64_t seed, std::int64_t i, std::int64_t j) {
   return rng.uniform(-1.0, 1.0);
 }
 
-/// Smooth value noise in [-1, 1]: the lattice values interpolated with a smoothstep.
+/// Smooth value noise in [-1, 1] on a lattice of spacing `wavelength` (value_noise.h).
 double valueNoise(std::uint64_t seed, double x, double y, double wavelength) {
-  const double fx = x / wavelength, fy = y / wavelength;
-  const double ix = std::floor(fx), iy = std::floor(fy);
-  auto smooth = [](double t) { return t * t * (3.0 - 2.0 * t); };
-  const double tx = smooth(fx - ix), ty = smooth(fy - iy);
-  const auto i = std::int64_t(ix), j = std::int64_t(iy);
-  const double a = latticeValue(seed, i, j), b = latticeValue(seed, i + 1, j);
-  const double c = latticeValue(seed, i, j + 1), d = latticeValue(seed, i + 1, j + 1);
-  const double south = a + tx * (b - a), north = c + tx * (d - c);
-  return south + ty * (north - south);
+  return terrain::valueNoise([seed](std::int64_t i, std::int64_t j) { return latticeValue(seed, i, j); }, x, y,
+                             wavelength);
 }
 
 }  // namespace

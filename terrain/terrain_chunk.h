@@ -87,6 +87,9 @@ struct ChunkKey {
   friend auto operator<=>(const ChunkKey&, const ChunkKey&) = default;
 };
 
+/// The chunk one level up that holds `k` (whether it exists is the layout's question).
+inline ChunkKey parentOf(const ChunkKey& k) { return {k.level + 1, k.x / 2, k.y / 2}; }
+
 struct ChunkKeyHash {
   std::size_t operator()(const ChunkKey& k) const {
     return (std::size_t(k.level) << 56) ^ (std::size_t(std::uint32_t(k.x)) << 28) ^ std::size_t(std::uint32_t(k.y));

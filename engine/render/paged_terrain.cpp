@@ -194,7 +194,7 @@ void PagedTerrain::insert(Built&& built) {
   ++stats_.chunksLoaded;
   stats_.loadSeconds += built.seconds;
   if (built.key.level + 1 < layout_.levels()) {
-    const ChunkKey parent{built.key.level + 1, built.key.x / 2, built.key.y / 2};
+    const ChunkKey parent = terrain::parentOf(built.key);
     if (auto p = cache_.find(parent); p != cache_.end()) ++p->second.residentChildren;
   }
   cache_.emplace(built.key, std::move(built.entry));
@@ -208,21 +208,31 @@ void PagedTerrain::mergeLoaded() {
   }
   for (Built& b : done) {
     // A chunk whose parent went while it was loading cannot be reached: drop it.
-    const ChunkKey parent{b.key.level + 1, b.key.x / 2, b.key.y / 2};
+    const ChunkKey parent = terrain::parentOf(b.key);
     if (b.key.level + 1 < layout_.levels() && !cache_.count(parent)) continue;
     insert(std::move(b));
   }
 }
 
-void PagedTerrain::select(const ChunkKey& key, osg::NodeVisitor& nv, std::vector<Want>& wants) {
+std::size_t PagedTerrain::estimatedBytes(const ChunkKey& key) const {
+  // A chunk not built yet costs about its parent's bytes (the chunks of one tree have about the
+  // same number of vertices).
+  const auto p = cache_.find(terrain::parentOf(key));
+  return p != cache_.end() ? p->second.bytes : 0;
+}
+
+void PagedTerrain::sortByPriority(std::vector<Want>& wants) {
+  std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+}
+
+void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants) {
   auto it = cache_.find(key);
   if (it == cache_.end()) return;
   Entry& e = it->second;
   e.lastUsed = frame_;
   if (e.empty) return;  // all holes, nothing below either
-  auto* cv = dynamic_cast<osgUtil::CullVisitor*>(&nv);
-  if (cv && cv->isCulled(e.box)) return;
-  const osg::Vec3d eye = nv.getEyePoint();
+  if (cv.isCulled(e.box)) return;
+  const osg::Vec3d eye = cv.getEyePoint();
   for (int q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = e.quadrants[std::size_t(q)];
     if (!quad.node) continue;
@@ -233,7 +243,7 @@ void PagedTerrain::select(const ChunkKey& key, osg::NodeVisitor& nv, std::vector
     if (pixels > options_.maxPixels && key.level > 0) {
       const ChunkKey child{key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1)};
       if (cache_.count(child)) {
-        select(child, nv, wants);
+        select(child, cv, wants);
         continue;
       }
       wants.push_back({child, pixels});
@@ -268,23 +278,20 @@ void PagedTerrain::evictUnused(std::size_t target) {
     residentBytes_ -= victim->second.bytes;
     cache_.erase(victim);
     ++stats_.chunksEvicted;
-    const ChunkKey parent{key.level + 1, key.x / 2, key.y / 2};
+    const ChunkKey parent = terrain::parentOf(key);
     if (auto p = cache_.find(parent); p != cache_.end()) --p->second.residentChildren;
   }
 }
 
 void PagedTerrain::publish(std::vector<Want> wants) {
-  std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+  sortByPriority(wants);
   {
     std::lock_guard lock(mutex_);
-    // Only what fits: each wanted chunk is counted at its parent's size (chunks of one tree have
-    // about the same number of vertices), in-flight ones included.
+    // Only what fits, in-flight chunks included.
     std::size_t planned = residentBytes_;
     std::vector<Want> fitting;
     for (const Want& w : wants) {
-      const ChunkKey parent{w.key.level + 1, w.key.x / 2, w.key.y / 2};
-      const auto p = cache_.find(parent);
-      const std::size_t estimate = p != cache_.end() ? p->second.bytes : 0;
+      const std::size_t estimate = estimatedBytes(w.key);
       if (planned + estimate > budget_) break;
       planned += estimate;
       fitting.push_back(w);
@@ -332,7 +339,8 @@ void PagedTerrain::waitUntilIdle() {
 }
 
 void PagedTerrain::traverse(osg::NodeVisitor& nv) {
-  if (nv.getVisitorType() != osg::NodeVisitor::CULL_VISITOR) return;
+  osgUtil::CullVisitor* cv = nv.asCullVisitor();
+  if (!cv) return;
   ++frame_;
   mergeLoaded();
   std::vector<Want> wants;
@@ -345,16 +353,14 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
     stats_.loadSeconds = loadSeconds;
     drawList_.clear();
     wants.clear();
-    select(layout_.root(), nv, wants);
+    select(layout_.root(), *cv, wants);
     if (options_.loading != TerrainLoading::Complete || wants.empty()) break;
     // Complete: build what fits (making room from what this selection did not touch), select again.
-    std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+    sortByPriority(wants);
     bool any = false;
     for (const Want& w : wants) {
       if (cache_.count(w.key)) continue;
-      const ChunkKey parent{w.key.level + 1, w.key.x / 2, w.key.y / 2};
-      const auto p = cache_.find(parent);
-      const std::size_t estimate = p != cache_.end() ? p->second.bytes : 0;
+      const std::size_t estimate = estimatedBytes(w.key);
       if (residentBytes_ + estimate > budget_ && estimate <= budget_) evictUnused(budget_ - estimate);
       if (residentBytes_ + estimate > budget_) break;
       insert(build(w.key));

@@ -49,6 +49,10 @@
 #include <unordered_map>
 #include <vector>
 
+namespace osgUtil {
+class CullVisitor;
+}
+
 namespace nestwalk {
 
 /// The eye's distance to a chunk is taken as at least this: metres, below any eye height above the
@@ -142,7 +146,9 @@ class PagedTerrain : public osg::Node {
   Built build(const terrain::ChunkKey& key) const;
   void insert(Built&& built);
   void mergeLoaded();
-  void select(const terrain::ChunkKey& key, osg::NodeVisitor& nv, std::vector<Want>& wants);
+  void select(const terrain::ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants);
+  std::size_t estimatedBytes(const terrain::ChunkKey& key) const;
+  static void sortByPriority(std::vector<Want>& wants);
   void evictUnused(std::size_t target);
   void publish(std::vector<Want> wants);
   void loaderLoop();

@@ -4,6 +4,7 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "tests/common/input_error_of.h"
 #include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
 #include "tests/terrain/gdal_test_util.h"
@@ -62,18 +63,6 @@ inline void writePlaneTiff(const fs::path& path, const PlaneTerrain& t) {
   GDALSetGeoTransform(ds, gt);
   writeBands(ds, t.cols, t.rows, values, std::nullopt, 1);
   GDALClose(ds);
-}
-
-/// The message of the InputError `f` throws ("" and a test failure when it throws none).
-template <class F>
-std::string inputError(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return {};
 }
 
 }  // namespace nestwalk::test

@@ -4,6 +4,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "tests/terrain/gdal_test_util.h"
+#include "tests/common/input_error_of.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
@@ -143,16 +144,6 @@ void writeTiff(const fs::path& path, int cols, int rows, const std::vector<doubl
   writeBands(ds, cols, rows, values, noData, bands);
   if (::testing::Test::HasFatalFailure()) return;
   GDALClose(ds);
-}
-
-template <class F>
-std::string inputError(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
 }
 
 TEST(DemReader, FlippedRastersComeOutNorthUp) {

@@ -7,6 +7,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/terrain_imagery.h"
+#include "tests/common/input_error_of.h"
 #include "tests/common/temp_folder.h"
 
 #include <gdal.h>
@@ -166,17 +167,6 @@ std::vector<std::uint8_t> readGrid(TerrainImagery& imagery, const Grid& g) {
 std::array<int, 4> pixelAt(const std::vector<std::uint8_t>& rgba, const Grid& g, int i, int j) {
   const std::size_t p = (std::size_t(j) * std::size_t(g.w) + std::size_t(i)) * 4u;
   return {rgba[p], rgba[p + 1], rgba[p + 2], rgba[p + 3]};
-}
-
-template <typename F>
-std::string inputErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return {};
 }
 
 // ---- The geographic imagery over the UTM site -------------------------------------------------
@@ -656,7 +646,7 @@ TEST(TerrainImagery, BadRequestsAreRefused) {
 TEST(TerrainImagery, BadFilesAreRefusedWithTheirNames) {
   const TempFolder folder;
   const std::string utm = wktOf(32633);
-  auto errorOf = [&](const fs::path& p) { return inputErrorOf([&] { TerrainImagery(p.string(), utm); }); };
+  auto errorOf = [&](const fs::path& p) { return inputError([&] { TerrainImagery(p.string(), utm); }); };
   auto expectNamed = [](const std::string& message, const fs::path& p, const std::string& problem) {
     EXPECT_EQ(message.rfind(p.string() + ": ", 0), 0u) << message;
     EXPECT_NE(message.find(problem), std::string::npos) << message;
@@ -687,7 +677,7 @@ TEST(TerrainImagery, BadFilesAreRefusedWithTheirNames) {
 
   // A terrain CRS GDAL cannot read: named with the imagery file.
   writeRaster(folder / "fine.tif", utmSpec(8, 8, 1.0, 3), hashed);
-  const std::string message = inputErrorOf([&] { TerrainImagery((folder / "fine.tif").string(), "NOT A CRS"); });
+  const std::string message = inputError([&] { TerrainImagery((folder / "fine.tif").string(), "NOT A CRS"); });
   expectNamed(message, folder / "fine.tif", "the terrain's CRS is not one GDAL can read");
 }
 
@@ -727,7 +717,7 @@ TEST(TerrainImagery, WrittenImageryIsACogGdalReadsBack) {
   EXPECT_EQ(wrong, 0) << "lossless";
   GDALClose(ds);
   // An existing file is kept without overwrite.
-  const std::string message = inputErrorOf([&] {
+  const std::string message = inputError([&] {
     terrain::writeImageryCog(out.string(), cols, rows, rgb, 0, 0, 1, 1, "EPSG:32651", false);
   });
   EXPECT_EQ(message, out.string() + ": already exists (use --overwrite to replace it)");

@@ -4,6 +4,8 @@
 #include "nestwalk/terrain/terrain_mesh.h"
 #include "nestwalk/terrain/heightfield.h"
 
+#include "tests/terrain/rough_heights.h"
+
 #include <gtest/gtest.h>
 
 #include <osg/Geode>
@@ -23,19 +25,7 @@ namespace {
 
 constexpr double kOriginX = 500000.0, kOriginY = 5200000.0;
 
-/// A rough deterministic grid: smooth hills plus per-sample noise, optionally with holes.
-std::vector<float> roughHeights(int cols, int rows, unsigned seed, double holeFraction = 0.0) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> noise(-1.5, 1.5), unit(0.0, 1.0);
-  std::vector<float> h(std::size_t(cols) * std::size_t(rows));
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      double v = 100 + 20 * std::sin(0.11 * c) * std::cos(0.07 * r) + 0.3 * c - 0.2 * r + noise(rng);
-      if (holeFraction > 0 && unit(rng) < holeFraction) v = std::numeric_limits<double>::quiet_NaN();
-      h[std::size_t(r) * std::size_t(cols) + std::size_t(c)] = float(v);
-    }
-  return h;
-}
+using test::roughHeights;
 
 /// The tile containing local (x, y) (the first one when on a shared border).
 const TerrainTile* tileAt(const TerrainMesh& m, double x, double y) {
