@@ -4,8 +4,11 @@
 
 #include "nestwalk/terrain/hillshade.h"
 
+#include <meshoptimizer.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <map>
 #include <tuple>
@@ -140,9 +143,62 @@ double cellError(const ChunkGrid& g, std::size_t i, std::size_t j) {
   return err;
 }
 
+
+/// A surface triangle of a simplified quadrant, by fine sample (column, row) of each vertex.
+struct FineTriangle {
+  std::array<std::array<int, 2>, 3> v;  // (column, row)
+  std::array<double, 3> h;              // heights
+};
+
+/// Max |fine - plane| over one triangle whose corners are fine samples: the difference is linear on
+/// every piece of the triangle cut by the fine triangulation, so its largest value lies at a fine
+/// sample inside the triangle (found with exact integer edge tests) or where one of its edges crosses
+/// a fine column, row or diagonal (terrain_chunk.h, "Simplification").
+double triangleError(const Heightfield& hf, const FineTriangle& t) {
+  const auto& [a, b, c] = t.v;
+  // The plane in fine (column, row) coordinates: h = h0 + gc (col - a0) + gr (row - a1).
+  const double e1c = b[0] - a[0], e1r = b[1] - a[1], e2c = c[0] - a[0], e2r = c[1] - a[1];
+  const double det = e1c * e2r - e2c * e1r;
+  if (det == 0) return 0.0;
+  const double d1 = t.h[1] - t.h[0], d2 = t.h[2] - t.h[0];
+  const double gc = (d1 * e2r - d2 * e1r) / det, gr = (e1c * d2 - e2c * d1) / det;
+  auto plane = [&](double col, double row) { return t.h[0] + gc * (col - a[0]) + gr * (row - a[1]); };
+  double err = 0;
+  // Fine samples inside (closed): the three edge functions share the sign of the orientation.
+  const std::int64_t orient = det > 0 ? 1 : -1;
+  auto edge = [](const std::array<int, 2>& p, const std::array<int, 2>& q, int col, int row) {
+    return std::int64_t(q[0] - p[0]) * (row - p[1]) - std::int64_t(q[1] - p[1]) * (col - p[0]);
+  };
+  const int cMin = std::min({a[0], b[0], c[0]}), cMax = std::max({a[0], b[0], c[0]});
+  const int rMin = std::min({a[1], b[1], c[1]}), rMax = std::max({a[1], b[1], c[1]});
+  for (int row = rMin; row <= rMax; ++row)
+    for (int col = cMin; col <= cMax; ++col) {
+      if (orient * edge(a, b, col, row) < 0 || orient * edge(b, c, col, row) < 0 || orient * edge(c, a, col, row) < 0)
+        continue;
+      if (hf.valid(col, row)) err = std::max(err, std::abs(double(hf.sample(col, row)) - plane(col, row)));
+    }
+  // Edge crossings with fine columns (col = k), rows (row = k) and diagonals (col - row = k).
+  const Eigen::Vector2d o = hf.origin();
+  auto at = [&](const std::array<int, 2>& p, const std::array<int, 2>& q, double s) {
+    const double col = p[0] + s * (q[0] - p[0]), row = p[1] + s * (q[1] - p[1]);
+    if (const std::optional<double> fine = hf.groundHeight(o.x() + col * hf.dx(), o.y() - row * hf.dy()))
+      err = std::max(err, std::abs(*fine - plane(col, row)));
+  };
+  auto crossings = [&](const std::array<int, 2>& p, const std::array<int, 2>& q, int from, int to) {
+    for (int k = std::min(from, to) + 1; k < std::max(from, to); ++k) at(p, q, double(k - from) / (to - from));
+  };
+  for (const auto& [p, q] : {std::pair(a, b), std::pair(b, c), std::pair(c, a)}) {
+    crossings(p, q, p[0], q[0]);
+    crossings(p, q, p[1], q[1]);
+    crossings(p, q, p[0] - p[1], q[0] - q[1]);
+  }
+  return err;
+}
+
 }  // namespace
 
-ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading) {
+ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading,
+                     double simplifyFraction) {
   if (layout.cols() != hf.cols() || layout.rows() != hf.rows() || !layout.exists(key))
     throw std::invalid_argument("buildChunk: the chunk is not in the heightfield's layout");
   ChunkMesh m;
@@ -188,12 +244,14 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   const double lo = shading.heightLo, hi = shading.heightHi;
 
   std::vector<std::int32_t> index(nc * nr, -1);
+  std::vector<std::array<int, 2>> fineOf;  // surface vertex -> its fine (column, row)
   for (std::size_t j = 0; j < nr; ++j)
     for (std::size_t i = 0; i < nc; ++i) {
       if (!g.valid(i, j)) continue;
       const int c = g.cols[i], r = g.rows[j];
       const Eigen::Vector3d p(c * dx, -r * dy, g.height(i, j));
       index[j * nc + i] = std::int32_t(m.positions.size() / 3);
+      fineOf.push_back({c, r});
       for (int k = 0; k < 3; ++k) m.positions.push_back(float(p[k] - m.offset[k]));
       m.surfaceMin = m.surfaceMin.cwiseMin(p);
       m.surfaceMax = m.surfaceMax.cwiseMax(p);
@@ -266,6 +324,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   // Quadrants: the cells of child (2x + a, 2y + b), split at the kept sample chunkCells / 2.
   const std::size_t cellsX = nc - 1, cellsY = nr - 1, half = std::size_t(layout.chunkCells() / 2);
   const int rowsEnd = hf.rows() - 1, colsEnd = hf.cols() - 1;
+  std::array<std::vector<std::uint32_t>, 4> exactSurfaces;  // level 0: the grid a simplified quadrant replaced
   for (int q = 0; q < 4; ++q) {
     const int a = q & 1, b = q >> 1;
     const std::size_t i0 = a ? half : 0, i1 = a ? cellsX : std::min(half, cellsX);
@@ -295,8 +354,74 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
               blk.max = blk.max.cwiseMax(p);
             }
       }
-    quad.surfaceTriangles = (m.indices.size() - quad.firstIndex) / 3;
     for (const ChunkBlock& blk : quad.blocks) quad.maxError = std::max(quad.maxError, blk.error);
+    // The simplification's target: a fraction of the level grid's error, at level 0 of the error the
+    // next level's grid would have here (level 0's own is 0).
+    double target = simplifyFraction * quad.maxError;
+    if (key.level == 0 && simplifyFraction > 0) {
+      auto everyOther = [](int first, int last) {
+        std::vector<int> v;
+        for (int i = first; i < last; i += 2) v.push_back(i);
+        v.push_back(last);
+        return v;
+      };
+      const ChunkGrid coarser{hf, everyOther(g.cols[i0], g.cols[i1]), everyOther(g.rows[j0], g.rows[j1])};
+      double coarserError = 0;
+      for (std::size_t j = 0; j + 1 < coarser.nr(); ++j)
+        for (std::size_t i = 0; i + 1 < coarser.nc(); ++i) coarserError = std::max(coarserError, cellError(coarser, i, j));
+      target = simplifyFraction * coarserError;
+    }
+    if (target > 0) {
+      // Simplification (terrain_chunk.h): kept only when every triangle still faces up and the
+      // quadrant loses triangles; then its errors and blocks are those of the simplified triangles.
+      const std::size_t count = m.indices.size() - quad.firstIndex;
+      const std::size_t vertices = m.positions.size() / 3;
+      const float scale = meshopt_simplifyScale(m.positions.data(), vertices, 3 * sizeof(float));
+      std::vector<std::uint32_t> simplified(count);
+      float resultError = 0;
+      simplified.resize(meshopt_simplify(simplified.data(), m.indices.data() + quad.firstIndex, count,
+                                         m.positions.data(), vertices, 3 * sizeof(float), 0,
+                                         float(target / scale),
+                                         meshopt_SimplifyLockBorder, &resultError));
+      const bool upward = [&] {
+        for (std::size_t t = 0; t < simplified.size(); t += 3) {
+          const auto& p = fineOf[simplified[t]];
+          const auto& q = fineOf[simplified[t + 1]];
+          const auto& r = fineOf[simplified[t + 2]];
+          // Counter-clockwise seen from above is clockwise in (column, row), rows running south.
+          if (std::int64_t(q[0] - p[0]) * (r[1] - p[1]) - std::int64_t(q[1] - p[1]) * (r[0] - p[0]) > 0) return false;
+        }
+        return true;
+      }();
+      if (upward && simplified.size() < count) {
+        if (key.level == 0) exactSurfaces[std::size_t(q)].assign(m.indices.begin() + std::ptrdiff_t(quad.firstIndex), m.indices.end());
+        m.indices.resize(quad.firstIndex);
+        m.indices.insert(m.indices.end(), simplified.begin(), simplified.end());
+        for (ChunkBlock& blk : quad.blocks) blk = ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)};
+        for (std::size_t t = 0; t < simplified.size(); t += 3) {
+          FineTriangle tri;
+          Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+          for (int k = 0; k < 3; ++k) {
+            tri.v[std::size_t(k)] = fineOf[simplified[t + std::size_t(k)]];
+            tri.h[std::size_t(k)] = hf.sample(tri.v[std::size_t(k)][0], tri.v[std::size_t(k)][1]);
+            centroid += Eigen::Vector2d(tri.v[std::size_t(k)][0], tri.v[std::size_t(k)][1]) / 3.0;
+          }
+          // The block of the cell holding the centroid.
+          const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
+          const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
+          ChunkBlock& blk = quad.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
+          blk.error = std::max(blk.error, triangleError(hf, tri));
+          for (int k = 0; k < 3; ++k) {
+            const Eigen::Vector3d p(tri.v[std::size_t(k)][0] * dx, -tri.v[std::size_t(k)][1] * dy, tri.h[std::size_t(k)]);
+            blk.min = blk.min.cwiseMin(p);
+            blk.max = blk.max.cwiseMax(p);
+          }
+        }
+        quad.maxError = 0;
+        for (const ChunkBlock& blk : quad.blocks) quad.maxError = std::max(quad.maxError, blk.error);
+      }
+    }
+    quad.surfaceTriangles = (m.indices.size() - quad.firstIndex) / 3;
     m.maxError = std::max(m.maxError, quad.maxError);
     // Skirts on the quadrant's edges inside the grid: the chunk's own edges there, and the midlines
     // it shares with the chunk's other quadrants (drawn at another level when a child replaces one).
@@ -308,6 +433,18 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     quad.skirtTriangles = quad.indexCount / 3 - quad.surfaceTriangles;
     m.surfaceTriangles += quad.surfaceTriangles;
     m.skirtTriangles += quad.skirtTriangles;
+  }
+  // Level 0's exact grids, for the quadrants simplified there: the grid's surface, then a copy of the
+  // quadrant's skirts (the same border vertices).
+  for (std::size_t q = 0; q < 4; ++q) {
+    if (exactSurfaces[q].empty()) continue;
+    ChunkQuadrant& quad = m.quadrants[q];
+    quad.exactFirstIndex = m.indices.size();
+    m.indices.insert(m.indices.end(), exactSurfaces[q].begin(), exactSurfaces[q].end());
+    const auto skirts = m.indices.begin() + std::ptrdiff_t(quad.firstIndex + 3 * quad.surfaceTriangles);
+    m.indices.insert(m.indices.end(), skirts, skirts + std::ptrdiff_t(3 * quad.skirtTriangles));
+    quad.exactIndexCount = m.indices.size() - quad.exactFirstIndex;
+    quad.exactSurfaceTriangles = exactSurfaces[q].size() / 3;
   }
   if (m.surfaceVertices > 0) {
     m.boxMin = m.boxMin.cwiseMin(m.surfaceMin);

@@ -17,6 +17,7 @@ packages=(
   ffmpeg                                         # the rendered flythrough as a video (MP4)
   libcgal-dev libgmp-dev libmpfr-dev             # optimal OBB reference, exact arithmetic
   libqhull-dev                                   # convex hulls
+  libmeshoptimizer-dev                           # terrain chunks simplified within their error
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
   libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)
   clang libclang-rt-14-dev                       # libFuzzer and its sanitizers (tools/fuzz.sh)

@@ -35,9 +35,10 @@ std::size_t defaultTerrainBudgetBytes() {
 struct PagedTerrain::Entry {
   struct Quadrant {
     osg::ref_ptr<osg::Node> node;
+    osg::ref_ptr<osg::Node> exactNode;  // level 0, simplified: the exact grid (terrain_chunk.h)
     std::vector<std::pair<float, osg::BoundingBox>> blocks;
     double error = 0;
-    std::size_t triangles = 0, skirtTriangles = 0;
+    std::size_t triangles = 0, skirtTriangles = 0, exactTriangles = 0;
   };
   std::array<Quadrant, 4> quadrants;
   bool empty = true;     // no triangle at all (holes)
@@ -76,9 +77,13 @@ double distanceToBox(const osg::Vec3d& p, const osg::BoundingBox& b) {
 
 /// The OSG nodes of a chunk's quadrants: each its offset as a transform over one geometry of its
 /// range of the indices (16-bit where they fit); the four share the float positions and byte colours,
-/// drawn from vertex buffer objects. Null for an empty quadrant.
-std::array<osg::ref_ptr<osg::Node>, 4> quadrantNodes(const terrain::ChunkMesh& m) {
-  std::array<osg::ref_ptr<osg::Node>, 4> nodes;
+/// drawn from vertex buffer objects. Null for an empty quadrant. The second array: level 0's exact
+/// grids of simplified quadrants (terrain_chunk.h), null where there is none.
+struct ChunkNodes {
+  std::array<std::array<osg::ref_ptr<osg::Node>, 4>, 2> quadrants;  // simplified (or grid), exact
+};
+ChunkNodes quadrantNodes(const terrain::ChunkMesh& m) {
+  ChunkNodes nodes;
   if (m.empty()) return nodes;
   const std::size_t n = m.vertexCount();
   osg::ref_ptr<osg::Vec3Array> positions = new osg::Vec3Array(unsigned(n));
@@ -86,22 +91,20 @@ std::array<osg::ref_ptr<osg::Node>, 4> quadrantNodes(const terrain::ChunkMesh& m
   osg::ref_ptr<osg::Vec4ubArray> colours = new osg::Vec4ubArray(unsigned(n));
   std::copy(m.colours.begin(), m.colours.end(), &(*colours)[0][0]);
   colours->setNormalize(true);
-  for (std::size_t q = 0; q < 4; ++q) {
-    const terrain::ChunkQuadrant& quad = m.quadrants[q];
-    if (quad.empty()) continue;
+  auto node = [&](std::size_t firstIndex, std::size_t indexCount, const std::string& name) -> osg::ref_ptr<osg::Node> {
     osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
     g->setUseDisplayList(false);
     g->setUseVertexBufferObjects(true);
     g->setVertexArray(positions.get());
     g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
-    const auto first = m.indices.begin() + std::ptrdiff_t(quad.firstIndex);
+    const auto first = m.indices.begin() + std::ptrdiff_t(firstIndex);
     if (n <= 0xFFFF) {
-      osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(quad.indexCount));
-      std::copy(first, first + std::ptrdiff_t(quad.indexCount), e->begin());
+      osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(indexCount));
+      std::copy(first, first + std::ptrdiff_t(indexCount), e->begin());
       g->addPrimitiveSet(e.get());
     } else {
       osg::ref_ptr<osg::DrawElementsUInt> e =
-          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(quad.indexCount), m.indices.data() + quad.firstIndex);
+          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(indexCount), m.indices.data() + firstIndex);
       g->addPrimitiveSet(e.get());
     }
     osg::ref_ptr<osg::Geode> geode = new osg::Geode;
@@ -109,9 +112,16 @@ std::array<osg::ref_ptr<osg::Node>, 4> quadrantNodes(const terrain::ChunkMesh& m
     osg::ref_ptr<osg::MatrixTransform> t =
         new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
     t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y) +
-               " quadrant " + std::to_string(q));
+               name);
     t->addChild(geode.get());
-    nodes[q] = t;
+    return t;
+  };
+  for (std::size_t q = 0; q < 4; ++q) {
+    const terrain::ChunkQuadrant& quad = m.quadrants[q];
+    if (quad.empty()) continue;
+    nodes.quadrants[0][q] = node(quad.firstIndex, quad.indexCount, " quadrant " + std::to_string(q));
+    if (quad.exactIndexCount > 0)
+      nodes.quadrants[1][q] = node(quad.exactFirstIndex, quad.exactIndexCount, " quadrant " + std::to_string(q) + " exact");
   }
   return nodes;
 }
@@ -155,24 +165,28 @@ osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
 void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
   for (auto& [key, e] : cache_)
     for (auto& q : e.quadrants)
-      if (q.node) q.node->resizeGLObjectBuffers(maxSize);
+      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
+        if (n) n->resizeGLObjectBuffers(maxSize);
 }
 
 void PagedTerrain::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, e] : cache_)
     for (const auto& q : e.quadrants)
-      if (q.node) q.node->releaseGLObjects(state);
+      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
+        if (n) n->releaseGLObjects(state);
 }
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
-  const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_);
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_, options_.simplifyFraction);
   Built b;
   b.key = key;
-  const std::array<osg::ref_ptr<osg::Node>, 4> nodes = quadrantNodes(m);
+  const ChunkNodes nodes = quadrantNodes(m);
   for (std::size_t q = 0; q < 4; ++q) {
     Entry::Quadrant& quad = b.entry.quadrants[q];
-    quad.node = nodes[q];
+    quad.node = nodes.quadrants[0][q];
+    quad.exactNode = nodes.quadrants[1][q];
+    quad.exactTriangles = m.quadrants[q].exactSurfaceTriangles + m.quadrants[q].skirtTriangles;
     quad.error = m.quadrants[q].maxError;
     quad.triangles = m.quadrants[q].surfaceTriangles + m.quadrants[q].skirtTriangles;
     quad.skirtTriangles = m.quadrants[q].skirtTriangles;
@@ -249,12 +263,15 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
       wants.push_back({child, pixels});
       ++stats_.standIns;
     }
-    drawList_.push_back({key, q, quad.node.get()});
+    const bool exact = pixels > options_.maxPixels && quad.exactNode;  // level 0 near the eye
+    drawList_.push_back({key, q, exact ? quad.exactNode.get() : quad.node.get()});
     ++stats_.chunksDrawn;
-    stats_.trianglesDrawn += quad.triangles;
+    stats_.trianglesDrawn += exact ? quad.exactTriangles : quad.triangles;
     stats_.skirtTrianglesDrawn += quad.skirtTriangles;
-    stats_.maxErrorM = std::max(stats_.maxErrorM, quad.error);
-    stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
+    if (!exact) {
+      stats_.maxErrorM = std::max(stats_.maxErrorM, quad.error);
+      stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
+    }
     stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
     stats_.coarsestLevel = std::max(stats_.coarsestLevel, key.level);
   }
@@ -274,7 +291,8 @@ void PagedTerrain::evictUnused(std::size_t target) {
     if (victim == cache_.end()) return;
     const ChunkKey key = victim->first;
     for (const auto& q : victim->second.quadrants)
-      if (q.node) q.node->releaseGLObjects(nullptr);
+      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
+        if (n) n->releaseGLObjects(nullptr);
     residentBytes_ -= victim->second.bytes;
     cache_.erase(victim);
     ++stats_.chunksEvicted;

@@ -10,6 +10,8 @@
 // it stands in for a child still loading (Background) or that the budget cannot hold. Rule: the
 // largest over the quadrant's blocks of error * pixelsPerRadian / distance, distance from the eye
 // to the block's surface box (at least kMinEyeDistanceM): terrain_mesh.h's LodRule, block by block.
+// Chunks are simplified within their exact error (simplifyFraction, terrain_chunk.h); at level 0 a
+// quadrant whose simplified surface would show more than maxPixels draws its exact grid instead.
 //
 // Loading: Background (the interactive window and timed runs): one loader thread builds the chunks
 // the last cull asked for, most visible error first; a cull never waits for it, it draws what is
@@ -59,6 +61,10 @@ namespace nestwalk {
 /// ground the walker allows, and keeps the projected error finite inside a chunk's box.
 inline constexpr double kMinEyeDistanceM = 0.01;
 
+/// The default simplification of chunk quadrants, a fraction of the level grid's own error: fewer
+/// triangles where the terrain is flatter than its worst cell (berms, faces), measured in bench render.
+inline constexpr double kTerrainSimplifyFraction = 0.5;
+
 enum class TerrainLoading { Background, Complete };
 const char* terrainLoadingName(TerrainLoading l);  // "background", "complete"
 
@@ -72,6 +78,9 @@ struct PagedTerrainOptions {
   std::size_t budgetBytes = 0;      // 0: defaultTerrainBudgetBytes()
   TerrainLoading loading = TerrainLoading::Background;
   bool shade = true;                // bake Horn's hillshade into the colours
+  /// Each chunk quadrant simplified to about this fraction of its level grid's error (exact error
+  /// kept, terrain_chunk.h); 0: the level grids as they are.
+  double simplifyFraction = kTerrainSimplifyFraction;
   terrain::ColourGridReader imagery;  // draped imagery (empty: colours by height)
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
 };

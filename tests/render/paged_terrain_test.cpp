@@ -2,7 +2,8 @@
 // needed): a complete frame draws the coarsest cut of the chunk tree whose every chunk shows at most
 // a pixel of error (checked against the chunks' own errors and boxes, recomputed here); background
 // loading settles to the same cut; a tiny budget is kept while the view stays covered, coarser;
-// chunks that are all holes are never drawn.
+// chunks that are all holes are never drawn; simplified chunks keep every drawn part within a pixel
+// of the fine surface (brute force over the drawn triangles) with fewer triangles.
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
@@ -69,6 +70,7 @@ PagedTerrainOptions options(TerrainLoading loading, std::size_t budget = 0) {
   o.maxPixels = 1.0;
   o.loading = loading;
   o.budgetBytes = budget;
+  o.simplifyFraction = 0;  // the level grids, whose surface chunkHeightAt gives (simplified: below)
   return o;
 }
 
@@ -194,6 +196,58 @@ TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
   }
   EXPECT_GT(tiny->lastStats().chunksEvicted, 0u) << tiny->lastStats().chunksLoaded << " loaded, " << tiny->lastStats().residentBytes << " bytes";
   EXPECT_EQ(full->lastStats().chunksEvicted, 0u);
+}
+
+TEST(PagedTerrain, SimplifiedChunksStayWithinAPixelWithFewerTriangles) {
+  const auto hf = hills();
+  PagedTerrainOptions o = options(TerrainLoading::Complete);
+  o.simplifyFraction = kTerrainSimplifyFraction;
+  osg::ref_ptr<PagedTerrain> grid = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  osg::ref_ptr<PagedTerrain> simple = new PagedTerrain(hf, o);
+  cullOnce(grid.get(), kLowView);
+  cullOnce(simple.get(), kLowView);
+  EXPECT_LT(simple->lastStats().trianglesDrawn, grid->lastStats().trianglesDrawn);
+  EXPECT_LE(simple->lastStats().maxErrorPx, 1.0 + 1e-9);
+  // Every drawn part against the fine surface at every fine sample under it: the drawn triangles are
+  // the part's range of the chunk built again here (level 0's exact grid where its node says so).
+  const terrain::ChunkLayout& l = simple->layout();
+  std::size_t exactParts = 0, samples = 0;
+  for (const DrawnPart& part : simple->drawnParts()) {
+    const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, part.key, {}, o.simplifyFraction);
+    const terrain::ChunkQuadrant& quad = m.quadrants[std::size_t(part.quadrant)];
+    const bool exact = part.node->getName().find("exact") != std::string::npos;
+    exactParts += exact ? 1 : 0;
+    const std::size_t first = exact ? quad.exactFirstIndex : quad.firstIndex;
+    const std::size_t count = exact ? quad.exactSurfaceTriangles : quad.surfaceTriangles;
+    for (std::size_t t = 0; t < count; ++t) {
+      Eigen::Vector3d v[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t i = m.indices[first + 3 * t + k];
+        v[k] = Eigen::Vector3d(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]) + m.offset;
+      }
+      const double area = (v[1].x() - v[0].x()) * (v[2].y() - v[0].y()) - (v[1].y() - v[0].y()) * (v[2].x() - v[0].x());
+      if (std::abs(area) < 1e-9) continue;
+      const int c0 = int(std::floor(std::min({v[0].x(), v[1].x(), v[2].x()}))),
+                c1 = int(std::ceil(std::max({v[0].x(), v[1].x(), v[2].x()})));
+      const int r0 = int(std::floor(-std::max({v[0].y(), v[1].y(), v[2].y()}))),
+                r1 = int(std::ceil(-std::min({v[0].y(), v[1].y(), v[2].y()})));
+      for (int r = r0; r <= r1; ++r)
+        for (int c = c0; c <= c1; ++c) {
+          if (!hf->valid(c, r)) continue;
+          const double x = c, y = -r;
+          const double w1 = ((x - v[0].x()) * (v[2].y() - v[0].y()) - (y - v[0].y()) * (v[2].x() - v[0].x())) / area;
+          const double w2 = ((v[1].x() - v[0].x()) * (y - v[0].y()) - (v[1].y() - v[0].y()) * (x - v[0].x())) / area;
+          if (w1 < -1e-9 || w2 < -1e-9 || w1 + w2 > 1 + 1e-9) continue;
+          const double z = (1 - w1 - w2) * v[0].z() + w1 * v[1].z() + w2 * v[2].z();
+          const double d = std::max((osg::Vec3d(x, y, z) - kLowView.eye).length(), kMinEyeDistanceM);
+          EXPECT_LE(std::abs(double(hf->sample(c, r)) - z) * kPixelsPerRadian / d, 1.0 + 1e-6)
+              << "chunk " << part.key.level << "/" << part.key.x << "/" << part.key.y << " at " << c << " " << r;
+          ++samples;
+        }
+    }
+  }
+  EXPECT_GT(exactParts, 0u);  // the view reaches level 0's exact grids near the eye
+  EXPECT_GT(samples, 100000u);
 }
 
 TEST(PagedTerrain, ChunksOfHolesAreNeverDrawnAndHolesDoNotBreakTheCut) {
