@@ -40,7 +40,7 @@
 // the block holding its centroid (the block's box grows to hold it), so the blocks' bound still
 // holds. Level 0 keeps its exact grid beside the simplified one (ChunkQuadrant::exact*), drawn where
 // the simplified one's error would show; coarser levels have their children for that. On the bundled
-// dump this draws about 40 % of the triangles of the grids at the same 1 px (bench render).
+// dump the renderer draws about two thirds of the grids' triangles at the same 1 px (bench render).
 //
 // Cracks: a chunk's edge and a neighbour's edge of another level meet on the same grid line but not
 // at the same vertices. Every quadrant edge inside the grid (the chunk's own, and the midlines

@@ -138,11 +138,25 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
       }
     };
   }
-  terrain_ = new PagedTerrain(scene_.terrain, std::move(terrainOptions));
   osg::ref_ptr<osg::MatrixTransform> terrain =
       new osg::MatrixTransform(osg::Matrixd::translate(hf.origin().x(), hf.origin().y(), 0.0));
+  if (options_.terrainPaging == TerrainPaging::OsgPagedLod) {
+    PagedLodTerrainOptions lod;
+    lod.chunkCells = terrainOptions.chunkCells;
+    lod.pixelsPerRadian = terrainOptions.pixelsPerRadian;
+    lod.maxPixels = terrainOptions.maxPixels;
+    lod.budgetBytes = terrainOptions.budgetBytes;
+    lod.shade = terrainOptions.shade;
+    lod.simplifyFraction = terrainOptions.simplifyFraction;  // the same meshes as the own quadtree's
+    lod.imagery = std::move(terrainOptions.imagery);
+    lod.mapOrigin = terrainOptions.mapOrigin;
+    lodTerrain_ = new PagedLodTerrain(scene_.terrain, std::move(lod));
+    terrain->addChild(lodTerrain_.get());
+  } else {
+    terrain_ = new PagedTerrain(scene_.terrain, std::move(terrainOptions));
+    terrain->addChild(terrain_.get());
+  }
   terrain->setName("terrain");
-  terrain->addChild(terrain_.get());
   root_->addChild(terrain);
   parts_.terrain = terrain;
   setUpStates();
@@ -162,7 +176,21 @@ void ViewGraph::setViewportSize(int width, int height) {
   rule.fovYDegrees = options_.fovYDegrees;
   rule.screenHeightPx = height;
   pixelsPerRadian_ = rule.pixelsPerRadian();
-  terrain_->setPixelsPerRadian(pixelsPerRadian_);
+  if (terrain_) terrain_->setPixelsPerRadian(pixelsPerRadian_);
+  if (lodTerrain_) lodTerrain_->setPixelsPerRadian(pixelsPerRadian_);
+}
+
+const char* terrainPagingName(TerrainPaging p) {
+  return p == TerrainPaging::OsgPagedLod ? "osg-paged-lod" : "own-quadtree";
+}
+
+PagedTerrain& ViewGraph::pagedTerrain() const {
+  if (!terrain_) throw std::logic_error("ViewGraph::pagedTerrain: the terrain is paged by osg::PagedLOD");
+  return *terrain_;
+}
+
+PagedTerrainStats ViewGraph::terrainStats() const {
+  return terrain_ ? terrain_->lastStats() : lodTerrain_->asPagedTerrainStats();
 }
 
 void ViewGraph::attachTo(osg::View& view) const {

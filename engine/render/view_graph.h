@@ -17,6 +17,10 @@
 // smaller horizontal half extent (equipment can never be nearer to the eye than the body lets it
 // come), far reaches past the terrain's farthest corner.
 //
+// Terrain paging: the engine's own quadtree (paged_terrain.h, the default and the window's), or
+// for comparison OpenSceneGraph's osg::PagedLOD tree paged by the viewer's DatabasePager
+// (paged_lod_terrain.h; options.terrainPaging), under the same "terrain" transform.
+//
 // Culling: equipment is culled with the nested volumes (nested_cull.h) unless
 // options.nestedCulling is off (then OSG's bounding spheres decide).
 //
@@ -25,6 +29,7 @@
 #pragma once
 
 #include "nestwalk/render/nested_cull.h"
+#include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_graph.h"
@@ -46,13 +51,19 @@ class Text;
 
 namespace nestwalk {
 
+// Which view-bounded terrain draws the chunks (see above).
+enum class TerrainPaging { OwnQuadtree, OsgPagedLod };
+const char* terrainPagingName(TerrainPaging p);  // "own-quadtree", "osg-paged-lod"
+
 struct RenderOptions {
   int width = 1280, height = 720;
   double fovYDegrees = 60.0;
   double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
   int terrainTileCells = 64;     // cells per terrain chunk side (power of two, paged_terrain.h)
   std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
-  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h
+  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h (own quadtree only;
+                                                              // the DatabasePager always loads in the background)
+  TerrainPaging terrainPaging = TerrainPaging::OwnQuadtree;
   bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
   bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
   bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
@@ -110,7 +121,13 @@ class ViewGraph {
   // parts().terrain is the paged terrain's transform (mesh frame -> map); the scene graph's own
   // static terrain tiles are not built (terrainMesh and terrainTiles stay empty).
   const SceneGraphParts& parts() const { return parts_; }
-  PagedTerrain& pagedTerrain() const { return *terrain_; }
+  // The own quadtree (TerrainPaging::OwnQuadtree); throws std::logic_error with OsgPagedLod.
+  PagedTerrain& pagedTerrain() const;
+  // The terrain that draws, whichever it is: exactly one of the two is non-null.
+  PagedTerrain* ownQuadtreeTerrain() const { return terrain_.get(); }
+  PagedLodTerrain* pagedLodTerrain() const { return lodTerrain_.get(); }
+  // The last cull's terrain figures, in PagedTerrain's terms for either paging.
+  PagedTerrainStats terrainStats() const;
   const RenderOptions& options() const { return options_; }
   const Scene& scene() const { return scene_; }
   // Pixels per radian of the vertical field of view (the terrain LOD rule's).
@@ -132,7 +149,8 @@ class ViewGraph {
   osg::ref_ptr<osg::Node> blockedFrame_;
   osg::ref_ptr<osgText::Text> blockedText_;
   std::unique_ptr<NestedFrustumCuller> culler_;
-  osg::ref_ptr<PagedTerrain> terrain_;
+  osg::ref_ptr<PagedTerrain> terrain_;       // OwnQuadtree
+  osg::ref_ptr<PagedLodTerrain> lodTerrain_;  // OsgPagedLod
   osg::Matrixd projection_, view_;
   osg::Matrixd localToMap_;  // translation by the scene's origin
   double pixelsPerRadian_ = 0;

@@ -133,7 +133,7 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     stats_.drawMs = millis(t.drawStart, t.drawEnd);
     stats_.readbackMs = millis(t.drawEnd, t.readEnd);
   }
-  const PagedTerrainStats& terrain = graph_->pagedTerrain().lastStats();
+  const PagedTerrainStats terrain = graph_->terrainStats();  // either paging (view_graph.h)
   stats_.terrain = terrain;
   stats_.terrainTiles = terrain.chunksDrawn;
   stats_.triangles += terrain.trianglesDrawn;

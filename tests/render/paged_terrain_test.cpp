@@ -7,6 +7,7 @@
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "tests/render/hills_terrain.h"
 
 #include <osgUtil/SceneView>
 
@@ -24,22 +25,9 @@ namespace {
 
 using terrain::ChunkKey;
 
-constexpr int kSize = 513;  // samples per side, 1 m apart
 constexpr double kPixelsPerRadian = 623.5;
 
-std::shared_ptr<const terrain::Heightfield> hills(double holeFraction = 0.0, bool bigHole = false) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> noise(-0.4, 0.4), unit(0, 1);
-  std::vector<float> h(std::size_t(kSize) * kSize);
-  for (int r = 0; r < kSize; ++r)
-    for (int c = 0; c < kSize; ++c) {
-      double v = 300 + 25 * std::sin(0.031 * c) * std::cos(0.023 * r) + 0.05 * c + noise(rng);
-      if (unit(rng) < holeFraction || (bigHole && c >= 256 && c <= 400 && r >= 100 && r <= 300))
-        v = std::numeric_limits<double>::quiet_NaN();
-      h[std::size_t(r) * kSize + std::size_t(c)] = float(v);
-    }
-  return std::make_shared<const terrain::Heightfield>(kSize, kSize, std::move(h), 500000.0, 6900000.0, 1.0, 1.0);
-}
+using test::hills;
 
 struct View {
   osg::Matrixd view, projection;

@@ -12,21 +12,39 @@
 
 #include <osg/Timer>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <ostream>
+#include <string>
 
 namespace nestwalk::bench {
 namespace {
 
 constexpr double kTargetFps = 30.0;  // frames per second, median, at the default configuration
+/// A settled configuration renders a pose at most this many times before its timed frame (the
+/// PagedLOD tree refines a level a frame: 5 levels on the bundled 1 km DEM at 64 cells a chunk).
+constexpr int kMaxSettleFrames = 64;
+/// ... and waits at most this long for the pager between two of them: seconds.
+constexpr double kSettleWaitSeconds = 10.0;
+/// The time to the first complete frame gives up after this long: milliseconds.
+constexpr double kFirstCompleteCapMs = 60000.0;
 
 struct Config {
   std::string name;
   double lodPixels;
   bool nestedCulling;
   int chunkCells = RenderOptions{}.terrainTileCells;
+  TerrainPaging paging = TerrainPaging::OwnQuadtree;
+  // Before each timed frame, render the pose until the terrain is the rule's full answer (the own
+  // quadtree: once, it builds in the cull; PagedLOD: until the pager has loaded what the cull wants),
+  // so the timed frame draws and loads nothing new. Also measures the time to the first complete
+  // frame with background loading.
+  bool settle = false;
 };
 
 /// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
@@ -68,6 +86,40 @@ std::vector<ViewPose> samplePoses(const Scene& scene, const RenderBenchOptions& 
   return poses;
 }
 
+/// A line "KEY: N kB" of /proc/self/status, in MiB (nullopt where there is none).
+std::optional<double> statusMiB(const std::string& key) {
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(key + ":", 0) == 0) return std::stod(line.substr(key.size() + 1)) / 1024.0;
+  return std::nullopt;
+}
+
+/// Frees what the allocator keeps and restarts the process's peak resident memory (Linux 4.0+:
+/// "5" to clear_refs resets VmHWM); the resident memory now, MiB (nullopt where it cannot).
+std::optional<double> restartPeakResident() {
+  malloc_trim(0);
+  std::ofstream clear("/proc/self/clear_refs");
+  if (!(clear << "5" << std::flush)) return std::nullopt;
+  return statusMiB("VmRSS");
+}
+
+/// Whether the last frame drew the terrain's full answer (nothing wanted, no stand-in).
+bool complete(const RenderFrameStats& s) { return s.terrain.chunksWanted == 0 && s.terrain.standIns == 0; }
+
+/// From a renderer just made (background loading, as in the window), frames of one pose until one is
+/// complete: milliseconds and frames (-1 ms when it gave up).
+std::pair<double, int> firstCompleteFrame(const Scene& scene, RenderOptions ro, const ViewPose& pose) {
+  ro.terrainLoading = TerrainLoading::Background;
+  ViewRenderer renderer(scene, ro);
+  const osg::Timer_t t0 = osg::Timer::instance()->tick();
+  for (int frames = 1;; ++frames) {
+    const bool done = complete(renderer.render(pose));
+    const double ms = osg::Timer::instance()->delta_m(t0, osg::Timer::instance()->tick());
+    if (done) return {ms, frames};
+    if (ms > kFirstCompleteCapMs) return {-1.0, frames};
+  }
+}
+
 /// Renders every pose with configuration c: the configuration's row of the table.
 Json renderConfig(const Scene& scene, const Config& c, int width, int height, const std::vector<ViewPose>& poses,
                   CullComparison* cull, Json& doc) {
@@ -77,8 +129,15 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   ro.lodMaxPixels = c.lodPixels;
   ro.nestedCulling = c.nestedCulling;
   ro.terrainTileCells = c.chunkCells;
-  // Every frame the error rule's full answer: the steady state, whatever the loader's timing.
+  ro.terrainPaging = c.paging;
+  // Every frame the error rule's full answer: the steady state, whatever the loader's timing (the
+  // own quadtree's Complete loading; the PagedLOD tree is settled before each frame instead).
   ro.terrainLoading = TerrainLoading::Complete;
+  std::pair<double, int> firstComplete{0.0, 0};
+  if (c.settle) firstComplete = firstCompleteFrame(scene, ro, poses.front());
+  // Settled rows: the process's peak resident memory while this configuration renders, over what it
+  // held before (the scene; earlier renderers gone and their memory given back).
+  const std::optional<double> residentBefore = c.settle ? restartPeakResident() : std::nullopt;
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   ViewRenderer renderer(scene, ro);
   const double setupMs = osg::Timer::instance()->delta_m(t0, osg::Timer::instance()->tick());
@@ -88,7 +147,19 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   std::vector<double> total, cullMs, draw, readback, triangles;
   double maxErrorPx = 0, maxErrorM = 0;
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
+  const PagedLodTerrain* lod = renderer.graph().pagedLodTerrain();
+  std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
+    if (c.settle) {
+      int n = 1;
+      bool done = complete(renderer.render(pose));
+      for (; !done && lod && n < kMaxSettleFrames; ++n) {
+        lod->waitUntilIdle(kSettleWaitSeconds);
+        done = complete(renderer.render(pose));
+      }
+      settleFrames += std::size_t(n);
+      unsettled += !done;
+    }
     const RenderFrameStats& s = renderer.render(pose);
     total.push_back(s.totalMs);
     cullMs.push_back(s.cullMs);
@@ -99,11 +170,12 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
     maxErrorM = std::max(maxErrorM, s.terrainErrorM);
     if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
   }
-  return {{"config", c.name},
+  Json row = {{"config", c.name},
+          {"paging", terrainPagingName(c.paging)},
           {"lod_max_px", c.lodPixels},
           {"nested_culling", c.nestedCulling},
           {"chunk_cells", c.chunkCells},
-          {"terrain_resident_mib", double(renderer.graph().pagedTerrain().lastStats().residentBytes) / (1 << 20)},
+          {"terrain_resident_mib", double(renderer.graph().terrainStats().residentBytes) / (1 << 20)},
           {"frames", poses.size()},
           {"ms_p50", percentile(total, 50)},
           {"ms_p95", percentile(total, 95)},
@@ -117,6 +189,15 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
           {"max_terrain_error_m", maxErrorM},
           {"first_frame_ms", firstFrameMs},
           {"setup_ms", setupMs}};
+  if (c.settle) {
+    row["settle_frames_mean"] = double(settleFrames) / double(std::max<std::size_t>(poses.size(), 1));
+    row["poses_unsettled"] = unsettled;
+    row["first_complete_ms"] = firstComplete.first < 0 ? Json() : Json(firstComplete.first);
+    row["first_complete_frames"] = firstComplete.second;
+    const std::optional<double> peak = statusMiB("VmHWM");
+    row["peak_rss_growth_mib"] = residentBefore && peak ? Json(*peak - *residentBefore) : Json();
+  }
+  return row;
 }
 
 }  // namespace
@@ -142,6 +223,12 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
 
   std::vector<Config> configs = {{"LOD 1 px, nested culling", 1.0, true}, {"LOD 1 px, OSG sphere culling", 1.0, false}};
   if (!o.quick) {
+    // The two ways of paging the terrain (issue 13), each pose settled before its timed frame.
+    configs.push_back({"LOD 1 px, own quadtree, settled", 1.0, true, 64, TerrainPaging::OwnQuadtree, true});
+    configs.push_back({"LOD 1 px, osg::PagedLOD + DatabasePager", 1.0, true, 64, TerrainPaging::OsgPagedLod, true});
+    // ... and with smaller chunks, where PagedLOD's whole-chunk refinement costs less.
+    configs.push_back({"LOD 1 px, own quadtree, 32 cells, settled", 1.0, true, 32, TerrainPaging::OwnQuadtree, true});
+    configs.push_back({"LOD 1 px, PagedLOD + pager, 32 cells", 1.0, true, 32, TerrainPaging::OsgPagedLod, true});
     configs.push_back({"full resolution (no LOD), nested", 0.0, true});
     configs.push_back({"LOD 0.5 px, nested", 0.5, true});
     configs.push_back({"LOD 2 px, nested", 2.0, true});
@@ -150,7 +237,7 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
     configs.push_back({"LOD 1 px, chunks of 128 cells", 1.0, true, 128});
   }
   Table table;
-  table.column({"configuration", "/config", 34, 0, true})
+  table.column({"configuration", "/config", 40, 0, true})
       .column({"ms p50", "/ms_p50", 8, 1})
       .column({"ms p95", "/ms_p95", 8, 1})
       .column({"cull", "/cull_ms_p50", 7, 2})
@@ -162,7 +249,9 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
       .column({"err px", "/max_terrain_error_px", 10, 3})
       .column({"err m", "/max_terrain_error_m", 10, 3})
       .column({"MiB", "/terrain_resident_mib", 7, 0})
-      .column({"first", "/first_frame_ms", 9, 0});
+      .column({"first", "/first_frame_ms", 9, 0})
+      .column({"complete", "/first_complete_ms", 9, 0})
+      .column({"+RSS MiB", "/peak_rss_growth_mib", 9, 0});
   CullComparison cull;
   for (const Config& c : configs)
     table.add(renderConfig(scene, c, width, height, poses, table.rows().empty() ? &cull : nullptr, j));
@@ -173,11 +262,16 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   doc.text << " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n";
   doc.table("configs", table);
   const double n = double(std::max<std::size_t>(cull.frames, 1));
-  char line[512];
+  char line[1024];
   std::snprintf(line, sizeof line,
                 "(cull: event, update and cull traversals; draw: until glFinish; readback: glReadPixels; "
                 "err px / err m:\n"
-                " the largest vertical error of a drawn terrain level, projected on screen / in metres)\n\n"
+                " the largest vertical error of a drawn terrain level, projected on screen / in metres; "
+                "first: the warm-up frame, ms;\n"
+                " settled rows render each pose until the terrain is complete before timing it; complete: "
+                "ms from a new\n renderer to the first complete frame of the first pose, loading in the "
+                "background; +RSS MiB: the process's\n peak resident memory while the row renders, over what it "
+                "held before)\n\n"
                 "view culling of %zu instances, mean per frame over %zu frames:\n"
                 "  nested volumes: keep %.1f (outer AABB culls %.1f; %.1f undecided go to the inner OBB, which culls "
                 "%.2f), %.2f us\n"

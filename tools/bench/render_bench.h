@@ -4,7 +4,11 @@
 // readback, triangles drawn and the terrain's vertical error on screen. Configurations: the
 // default (terrain LOD at 1 px of error, nested culling), the same with OSG's bounding-sphere
 // culling, the terrain at full resolution (no LOD: error 0) and LOD at 0.5, 2 and 4 px (speed
-// against error). The view culling itself is compared on the same frames: instances kept and µs
+// against error), and the two ways of paging the terrain (issue 13) on the same poses, each pose
+// settled (rendered until the terrain is the error rule's full answer) before its timed frame: the
+// own quadtree (paged_terrain.h) and osg::PagedLOD with the viewer's DatabasePager
+// (paged_lod_terrain.h), each with the time from a new renderer to its first complete frame
+// (background loading). The view culling itself is compared on the same frames: instances kept and µs
 // per frame for the nested volumes and for OSG's spheres. Target: 30 frames per second.
 #pragma once
 
