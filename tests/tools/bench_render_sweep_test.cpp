@@ -81,13 +81,15 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
     EXPECT_DOUBLE_EQ(s["ratio"]["p95"].get<double>(), s["ms_p95"].get<double>() / base["ms_p95"].get<double>());
   }
   EXPECT_DOUBLE_EQ(base["ratio"]["p50"].get<double>(), 1.0);
-  // The targets: the largest size's p50 and p95 ratios, peak RSS and first frame.
+  // The targets: the largest size's p50 and p95 ratios, peak RSS, first frame and settled view ratio.
   const nlohmann::json& big = j["sizes"].back();
-  ASSERT_EQ(j["targets"].size(), 4u);
+  ASSERT_EQ(j["targets"].size(), 5u);
   EXPECT_DOUBLE_EQ(j["targets"][0]["value"].get<double>(), big["ratio"]["p50"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][1]["value"].get<double>(), big["ratio"]["p95"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][2]["value"].get<double>(), big["peak_rss_mib"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][3]["value"].get<double>(), big["first_frame_ms"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(),
+                   big["settled_ms_p50"].get<double>() / j["sizes"][0]["settled_ms_p50"].get<double>());
 
   // Again with one of the sizes given: its DEM comes from the cache.
   const CommandResult again = runNestwalk("bench render --terrain-sizes 250 --quick --json --terrain-cache " +

@@ -436,10 +436,14 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     const std::string at = " at " + numberText(big["size_m"].get<double>()) + " m";
     const double p50 = big["ratio"]["p50"].get<double>(), p95 = big["ratio"]["p95"].get<double>();
     const double rss = big["peak_rss_mib"].get<double>(), first = big["first_frame_ms"].get<double>();
-    doc.targets.push_back({"ms per frame p50, " + vs, "<= " + numberText(kTargetP50Ratio) + "x", p50,
-                           p50 <= kTargetP50Ratio});
-    doc.targets.push_back({"ms per frame p95, " + vs, "<= " + numberText(kTargetP95Ratio) + "x", p95,
-                           p95 <= kTargetP95Ratio});
+    // Timed frames that drew a terrain still loading are cheaper than the view they stand for: their
+    // ratios cannot meet a target; the settled view's ratio is the comparable one.
+    const bool loading = big["frames_loading"].get<double>() > 0 || measured.front()["frames_loading"].get<double>() > 0;
+    const std::string caveat = loading ? " (timed frames still loading: not comparable)" : "";
+    doc.targets.push_back({"ms per frame p50, " + vs + caveat, "<= " + numberText(kTargetP50Ratio) + "x", p50,
+                           !loading && p50 <= kTargetP50Ratio});
+    doc.targets.push_back({"ms per frame p95, " + vs + caveat, "<= " + numberText(kTargetP95Ratio) + "x", p95,
+                           !loading && p95 <= kTargetP95Ratio});
     doc.targets.push_back({"peak RSS MiB" + at,
                            "<= " + numberText(std::floor(kTargetPeakRssBytes / kBytesPerMiB)) + " (" +
                                numberText(kTargetPeakRssBytes / 1e9) + " GB)",
@@ -447,6 +451,9 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     doc.targets.push_back({"first frame ms" + at,
                            "<= " + numberText(kTargetFirstFrameMs) + " after the scene is loaded", first,
                            first <= kTargetFirstFrameMs});
+    const double settled = big["settled_ms_p50"].get<double>() / measured.front()["settled_ms_p50"].get<double>();
+    doc.targets.push_back({"settled view ms, " + vs, "<= " + numberText(kTargetP50Ratio) + "x", settled,
+                           settled <= kTargetP50Ratio});
   }
   return doc.write(out, o.json);
 }
