@@ -155,7 +155,10 @@ struct FineTriangle {
 /// sample inside the triangle (found with exact integer edge tests) or where one of its edges crosses
 /// a fine column, row or diagonal (terrain_chunk.h, "Simplification").
 double triangleError(const Heightfield& hf, const FineTriangle& t) {
-  const auto& [a, b, c] = t.v;
+  // Named corners, not a structured binding: clang 14 (the sanitizer builds) cannot capture those.
+  const std::array<int, 2>& a = t.v[0];
+  const std::array<int, 2>& b = t.v[1];
+  const std::array<int, 2>& c = t.v[2];
   // The plane in fine (column, row) coordinates: h = h0 + gc (col - a0) + gr (row - a1).
   const double e1c = b[0] - a[0], e1r = b[1] - a[1], e2c = c[0] - a[0], e2r = c[1] - a[1];
   const double det = e1c * e2r - e2c * e1r;
