@@ -16,6 +16,7 @@
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
 #include "tests/render/hills_terrain.h"
+#include "tests/render/terrain_checks.h"
 #include "nestwalk/walker/flythrough.h"
 
 #include "tests/common/test_data.h"
@@ -118,23 +119,11 @@ PagedLodTerrainOptions options() {
   return o;
 }
 
-/// The largest projected error of a whole chunk's surface from the eye, by brute force: at every
-/// fine sample inside it, |fine - coarse| * pixelsPerRadian / distance from the eye to the coarse
-/// surface point there (where the surfaces' difference is largest on square cells, terrain_chunk.h).
+/// The largest projected error of a whole chunk's surface from the eye (terrain_checks.h).
 double projectedPixels(const terrain::Heightfield& hf, const terrain::ChunkLayout& l, const ChunkKey& k,
                        const osg::Vec3d& eye) {
   const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
-  double worst = 0;
-  for (int r = rows.front(); r <= rows.back(); ++r)
-    for (int c = cols.front(); c <= cols.back(); ++c) {
-      if (!hf.valid(c, r)) continue;
-      const double x = c * hf.dx(), y = -r * hf.dy();
-      const std::optional<double> coarse = terrain::chunkHeightAt(hf, l, k, x, y);
-      if (!coarse) continue;
-      const double d = std::max((osg::Vec3d(x, y, *coarse) - eye).length(), kMinEyeDistanceM);
-      worst = std::max(worst, std::abs(double(hf.sample(c, r)) - *coarse) * kPixelsPerRadian / d);
-    }
-  return worst;
+  return test::projectedPixels(hf, l, k, cols.front(), cols.back(), rows.front(), rows.back(), eye, kPixelsPerRadian);
 }
 
 /// Whether chunk a holds chunk b (the same, or an ancestor of it).
@@ -278,19 +267,6 @@ TEST(PagedLodTerrain, ChunksOfHolesAreNeverDrawnAndHolesDoNotBreakTheRule) {
                            [&](const ChunkKey& k) { return k == inHole; }));
 }
 
-// Sky pixels below the first terrain pixel of their column (terrain_cracks_test.cpp).
-std::size_t skyBelowSilhouette(const osg::Image& image) {
-  std::size_t n = 0;
-  for (int x = 0; x < image.s(); ++x) {
-    bool seen = false;
-    for (int y = 0; y < image.t(); ++y) {
-      const std::uint32_t id = ViewRenderer::idAt(image, x, y);
-      if (id == 1) seen = true;
-      else if (id == 0 && seen) ++n;
-    }
-  }
-  return n;
-}
 
 TEST(PagedLodTerrain, NoSkyBelowTheTerrainAlongTheBundledFlythroughsInTheRenderer) {
   if (!std::filesystem::exists(test::bundledSceneFile())) GTEST_SKIP() << test::bundledSceneFile() << " is absent";
@@ -322,7 +298,7 @@ TEST(PagedLodTerrain, NoSkyBelowTheTerrainAlongTheBundledFlythroughsInTheRendere
       }
       EXPECT_EQ(renderer.lastStats().terrain.chunksWanted, 0u) << name << " frame " << r.frame;
       EXPECT_GT(renderer.lastStats().terrain.trianglesDrawn, 0u);
-      const std::size_t sky = skyBelowSilhouette(renderer.image());
+      const std::size_t sky = test::skyBelowSilhouette(renderer.image());
       ++frames;
       crackPixels += sky;
       EXPECT_EQ(sky, 0u) << name << " frame " << r.frame;

@@ -8,6 +8,7 @@
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
 #include "tests/render/hills_terrain.h"
+#include "tests/render/terrain_checks.h"
 
 #include <osgUtil/SceneView>
 
@@ -74,24 +75,12 @@ PartRange partRange(const terrain::ChunkLayout& l, const ChunkKey& k, int q) {
           (q >> 1) ? rows.back() : rm};
 }
 
-/// The largest projected error of a chunk quadrant's surface from the eye, by brute force: at every
-/// fine sample of it, |fine - coarse| * pixelsPerRadian / distance from the eye to the coarse surface
-/// point there (the surfaces' difference is largest at fine samples on square cells:
-/// terrain_chunk.h; this grid has 512 cells a side, so every level's cells are square).
+/// The largest projected error of a chunk quadrant's grid surface from the eye (terrain_checks.h;
+/// this grid has 512 cells a side, so every level's cells are square).
 double projectedPixels(const terrain::Heightfield& hf, const terrain::ChunkLayout& l, const ChunkKey& k, int quadrant,
                        const osg::Vec3d& eye) {
   const PartRange p = partRange(l, k, quadrant);
-  double worst = 0;
-  for (int r = p.r0; r <= p.r1; ++r)
-    for (int c = p.c0; c <= p.c1; ++c) {
-      if (!hf.valid(c, r)) continue;
-      const double x = c * hf.dx(), y = -r * hf.dy();
-      const std::optional<double> coarse = terrain::chunkHeightAt(hf, l, k, x, y);
-      if (!coarse) continue;
-      const double d = std::max((osg::Vec3d(x, y, *coarse) - eye).length(), kMinEyeDistanceM);
-      worst = std::max(worst, std::abs(double(hf.sample(c, r)) - *coarse) * kPixelsPerRadian / d);
-    }
-  return worst;
+  return test::projectedPixels(hf, l, k, p.c0, p.c1, p.r0, p.r1, eye, kPixelsPerRadian);
 }
 
 /// Whether part a stands for (covers) part b: the same, or b lies in the child chunk a's quadrant

@@ -13,6 +13,8 @@
 
 #include <osgDB/WriteFile>
 
+#include "tests/render/terrain_checks.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -25,20 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kEvery = 60;  // one frame a second of each flythrough
 
-// Sky pixels below the first terrain pixel of their column (rows from the top). Equipment does not
-// count as a silhouette: sky under a lamp's arm is no crack.
-std::size_t skyBelowSilhouette(const osg::Image& image) {
-  std::size_t n = 0;
-  for (int x = 0; x < image.s(); ++x) {
-    bool seen = false;
-    for (int y = 0; y < image.t(); ++y) {
-      const std::uint32_t id = ViewRenderer::idAt(image, x, y);
-      if (id == 1) seen = true;
-      else if (id == 0 && seen) ++n;
-    }
-  }
-  return n;
-}
+using test::skyBelowSilhouette;
 
 void expectNoCracks(std::size_t budgetBytes) {
   const Scene scene = loadScene(test::bundledSceneFile().string());
