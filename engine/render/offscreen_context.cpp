@@ -135,7 +135,8 @@ OffscreenContext::~OffscreenContext() {
     EGLDisplay display = static_cast<EGLDisplay>(display_);
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(display, static_cast<EGLContext>(context_));
-    eglTerminate(display);
+    // No eglTerminate: the display is the process's one surfaceless display, shared by every
+    // context (offscreen_context.h says why it stays initialised).
   }
   if (pbuffer_) pbuffer_->close();
 }

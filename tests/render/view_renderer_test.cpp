@@ -10,16 +10,20 @@
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/terrain_imagery.h"
 
+#include <GL/gl.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <set>
+#include <string>
+#include <thread>
 
 namespace nestwalk {
 namespace {
@@ -146,6 +150,51 @@ TEST_F(RenderTest, ContextNeedsNoDisplay) {
   EXPECT_FALSE(context->glRenderer().empty());
   std::printf("offscreen context: %s, %s, GL %s\n", offscreenRouteName(context->route()),
               context->glRenderer().c_str(), context->glVersion().c_str());
+}
+
+namespace {
+
+/// Threads of this process whose name starts with "llvmpipe-": Mesa's software rasteriser threads.
+int llvmpipeThreads() {
+  int n = 0;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    std::getline(comm, name);
+    n += name.rfind("llvmpipe-", 0) == 0;
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_F(RenderTest, ContextsOutliveEachOther) {
+  auto first = OffscreenContext::create(64, 64);
+  if (first->route() != OffscreenRoute::EglSurfaceless) GTEST_SKIP() << "the EGL route is not in use";
+  auto second = OffscreenContext::create(64, 64);
+  first.reset();
+  second->makeCurrent();
+  EXPECT_NE(glGetString(GL_RENDERER), nullptr) << "the second context is no longer usable once the first is destroyed";
+}
+
+TEST_F(RenderTest, RendererMadeAfterAnotherKeepsItsRasteriserThreads) {
+  const Scene& scene = bundledScene();
+  const auto views = viewsOf(scene, "container", 25.0, 1);
+  ASSERT_FALSE(views.empty()) << "no container with a clear view in the bundled scene";
+  auto first = std::make_unique<ViewRenderer>(scene, smallOptions(false));
+  if (first->route() != OffscreenRoute::EglSurfaceless) GTEST_SKIP() << "the EGL route is not in use";
+  if (first->glRenderer().rfind("llvmpipe", 0) != 0 || std::thread::hardware_concurrency() < 2)
+    GTEST_SKIP() << "not Mesa's llvmpipe on several cores: " << first->glRenderer();
+  first->render(views.front().second);
+  const int threadsOfFirst = llvmpipeThreads();
+  EXPECT_GT(threadsOfFirst, 0);
+  first.reset();
+  // After an eglTerminate of the shared display, Mesa 22.3's llvmpipe started none for the next
+  // renderer's context, which then drew on the calling thread alone.
+  ViewRenderer second(scene, smallOptions(false));
+  second.render(views.front().second);
+  const int threadsOfSecond = llvmpipeThreads();
+  EXPECT_GE(threadsOfSecond, threadsOfFirst);
 }
 
 TEST_F(RenderTest, IdPassShowsWhatExactRaysHit) {
