@@ -144,6 +144,14 @@ double cellError(const ChunkGrid& g, std::size_t i, std::size_t j) {
 }
 
 
+/// A quadrant's surface simplified within some error: its triangles (indices into the chunk's
+/// vertices), its blocks and their largest error, metres.
+struct SimplifiedSurface {
+  std::vector<std::uint32_t> indices;
+  std::vector<ChunkBlock> blocks;
+  double maxError = 0;
+};
+
 /// A surface triangle of a simplified quadrant, by fine sample (column, row) of each vertex.
 struct FineTriangle {
   std::array<std::array<int, 2>, 3> v;  // (column, row)
@@ -328,6 +336,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   const std::size_t cellsX = nc - 1, cellsY = nr - 1, half = std::size_t(layout.chunkCells() / 2);
   const int rowsEnd = hf.rows() - 1, colsEnd = hf.cols() - 1;
   std::array<std::vector<std::uint32_t>, 4> exactSurfaces;  // level 0: the grid a simplified quadrant replaced
+  std::array<std::vector<SimplifiedSurface>, 4> refinedSurfaces;  // level 0: finer simplifications, coarsest first
   for (int q = 0; q < 4; ++q) {
     const int a = q & 1, b = q >> 1;
     const std::size_t i0 = a ? half : 0, i1 = a ? cellsX : std::min(half, cellsX);
@@ -374,54 +383,75 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         for (std::size_t i = 0; i + 1 < coarser.nc(); ++i) coarserError = std::max(coarserError, cellError(coarser, i, j));
       target = simplifyFraction * coarserError;
     }
-    if (target > 0) {
-      // Simplification (terrain_chunk.h): kept only when every triangle still faces up and the
-      // quadrant loses triangles; then its errors and blocks are those of the simplified triangles.
-      const std::size_t count = m.indices.size() - quad.firstIndex;
+    // Simplification (terrain_chunk.h): a surface is kept only when every triangle still faces up
+    // and it has fewer triangles than the grid; its errors and blocks are then those of its own
+    // triangles.
+    const std::size_t gridCount = m.indices.size() - quad.firstIndex;
+    auto simplify = [&](double targetM) -> std::optional<SimplifiedSurface> {
+      const std::uint32_t* grid = m.indices.data() + quad.firstIndex;
       const std::size_t vertices = m.positions.size() / 3;
       const float scale = meshopt_simplifyScale(m.positions.data(), vertices, 3 * sizeof(float));
-      std::vector<std::uint32_t> simplified(count);
+      SimplifiedSurface out;
+      out.indices.resize(gridCount);
       float resultError = 0;
-      simplified.resize(meshopt_simplify(simplified.data(), m.indices.data() + quad.firstIndex, count,
-                                         m.positions.data(), vertices, 3 * sizeof(float), 0,
-                                         float(target / scale),
-                                         meshopt_SimplifyLockBorder, &resultError));
-      const bool upward = [&] {
-        for (std::size_t t = 0; t < simplified.size(); t += 3) {
-          const auto& p = fineOf[simplified[t]];
-          const auto& q = fineOf[simplified[t + 1]];
-          const auto& r = fineOf[simplified[t + 2]];
-          // Counter-clockwise seen from above is clockwise in (column, row), rows running south.
-          if (std::int64_t(q[0] - p[0]) * (r[1] - p[1]) - std::int64_t(q[1] - p[1]) * (r[0] - p[0]) > 0) return false;
+      out.indices.resize(meshopt_simplify(out.indices.data(), grid, gridCount, m.positions.data(), vertices,
+                                          3 * sizeof(float), 0, float(targetM / scale), meshopt_SimplifyLockBorder,
+                                          &resultError));
+      if (out.indices.size() >= gridCount) return std::nullopt;
+      for (std::size_t t = 0; t < out.indices.size(); t += 3) {
+        const auto& p = fineOf[out.indices[t]];
+        const auto& q = fineOf[out.indices[t + 1]];
+        const auto& r = fineOf[out.indices[t + 2]];
+        // Counter-clockwise seen from above is clockwise in (column, row), rows running south.
+        if (std::int64_t(q[0] - p[0]) * (r[1] - p[1]) - std::int64_t(q[1] - p[1]) * (r[0] - p[0]) > 0)
+          return std::nullopt;
+      }
+      out.blocks.assign(bx * by, ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
+      for (std::size_t t = 0; t < out.indices.size(); t += 3) {
+        FineTriangle tri;
+        Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+        for (std::size_t k = 0; k < 3; ++k) {
+          tri.v[k] = fineOf[out.indices[t + k]];
+          tri.h[k] = hf.sample(tri.v[k][0], tri.v[k][1]);
+          centroid += Eigen::Vector2d(tri.v[k][0], tri.v[k][1]) / 3.0;
         }
-        return true;
-      }();
-      if (upward && simplified.size() < count) {
-        if (key.level == 0) exactSurfaces[std::size_t(q)].assign(m.indices.begin() + std::ptrdiff_t(quad.firstIndex), m.indices.end());
+        // The block of the cell holding the centroid.
+        const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
+        const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
+        ChunkBlock& blk = out.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
+        blk.error = std::max(blk.error, triangleError(hf, tri));
+        for (std::size_t k = 0; k < 3; ++k) {
+          const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
+          blk.min = blk.min.cwiseMin(p);
+          blk.max = blk.max.cwiseMax(p);
+        }
+      }
+      for (const ChunkBlock& blk : out.blocks) out.maxError = std::max(out.maxError, blk.error);
+      return out;
+    };
+    if (target > 0) {
+      if (std::optional<SimplifiedSurface> primary = simplify(target)) {
+        if (key.level == 0) {
+          // Level 0: finer simplifications of the same grid, then the grid itself (exact), for the
+          // eye's neighbourhood (terrain_chunk.h, "Refinements").
+          exactSurfaces[std::size_t(q)].assign(m.indices.begin() + std::ptrdiff_t(quad.firstIndex), m.indices.end());
+          double coarserError = primary->maxError;
+          std::size_t coarserTriangles = primary->indices.size();
+          for (double t = target / kRefinementTargetDivisor;
+               refinedSurfaces[std::size_t(q)].size() < std::size_t(kMaxRefinements) && t >= kMinRefinementTargetM;
+               t /= kRefinementTargetDivisor) {
+            std::optional<SimplifiedSurface> finer = simplify(t);
+            if (!finer || double(finer->indices.size()) > kRefinementMaxGridShare * double(gridCount)) break;
+            if (finer->maxError >= coarserError || finer->indices.size() <= coarserTriangles) continue;
+            coarserError = finer->maxError;
+            coarserTriangles = finer->indices.size();
+            refinedSurfaces[std::size_t(q)].push_back(std::move(*finer));
+          }
+        }
         m.indices.resize(quad.firstIndex);
-        m.indices.insert(m.indices.end(), simplified.begin(), simplified.end());
-        for (ChunkBlock& blk : quad.blocks) blk = ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)};
-        for (std::size_t t = 0; t < simplified.size(); t += 3) {
-          FineTriangle tri;
-          Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-          for (int k = 0; k < 3; ++k) {
-            tri.v[std::size_t(k)] = fineOf[simplified[t + std::size_t(k)]];
-            tri.h[std::size_t(k)] = hf.sample(tri.v[std::size_t(k)][0], tri.v[std::size_t(k)][1]);
-            centroid += Eigen::Vector2d(tri.v[std::size_t(k)][0], tri.v[std::size_t(k)][1]) / 3.0;
-          }
-          // The block of the cell holding the centroid.
-          const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
-          const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
-          ChunkBlock& blk = quad.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
-          blk.error = std::max(blk.error, triangleError(hf, tri));
-          for (int k = 0; k < 3; ++k) {
-            const Eigen::Vector3d p(tri.v[std::size_t(k)][0] * dx, -tri.v[std::size_t(k)][1] * dy, tri.h[std::size_t(k)]);
-            blk.min = blk.min.cwiseMin(p);
-            blk.max = blk.max.cwiseMax(p);
-          }
-        }
-        quad.maxError = 0;
-        for (const ChunkBlock& blk : quad.blocks) quad.maxError = std::max(quad.maxError, blk.error);
+        m.indices.insert(m.indices.end(), primary->indices.begin(), primary->indices.end());
+        quad.blocks = std::move(primary->blocks);
+        quad.maxError = primary->maxError;
       }
     }
     quad.surfaceTriangles = (m.indices.size() - quad.firstIndex) / 3;
@@ -448,6 +478,16 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     m.indices.insert(m.indices.end(), skirts, skirts + std::ptrdiff_t(3 * quad.skirtTriangles));
     quad.exactIndexCount = m.indices.size() - quad.exactFirstIndex;
     quad.exactSurfaceTriangles = exactSurfaces[q].size() / 3;
+    for (SimplifiedSurface& r : refinedSurfaces[q]) {
+      ChunkRefinement& refinement = quad.refinements.emplace_back();
+      refinement.firstIndex = m.indices.size();
+      m.indices.insert(m.indices.end(), r.indices.begin(), r.indices.end());
+      m.indices.insert(m.indices.end(), skirts, skirts + std::ptrdiff_t(3 * quad.skirtTriangles));
+      refinement.indexCount = m.indices.size() - refinement.firstIndex;
+      refinement.surfaceTriangles = r.indices.size() / 3;
+      refinement.maxError = r.maxError;
+      refinement.blocks = std::move(r.blocks);
+    }
   }
   if (m.surfaceVertices > 0) {
     m.boxMin = m.boxMin.cwiseMin(m.surfaceMin);

@@ -42,6 +42,14 @@
 // the simplified one's error would show; coarser levels have their children for that. On the bundled
 // dump the renderer draws about two thirds of the grids' triangles at the same 1 px (bench render).
 //
+// Refinements: near the eye a level-0 quadrant's simplified surface can show more than the allowed
+// error while the exact grid would draw far more triangles than needed. Level 0 therefore also keeps
+// up to kMaxRefinements simplifications at smaller targets (each kRefinementTargetDivisor below the
+// last, while it saves enough triangles), every one with its own exact error and blocks; the renderer
+// draws the coarsest of the quadrant's surfaces whose projected error is within the rule. They share
+// the chunk's vertices (an index range each) and keep every border vertex, so they meet their
+// neighbours as the quadrant's own surface does.
+//
 // Cracks: a chunk's edge and a neighbour's edge of another level meet on the same grid line but not
 // at the same vertices. Every quadrant edge inside the grid (the chunk's own, and the midlines
 // between its quadrants) hangs a skirt: a wall from each edge vertex
@@ -91,6 +99,17 @@ inline constexpr double kSkirtMarginM = 0.01;
 /// ambient 0.30, diffuse 0.85), so a shaded chunk looks as the lit tiles did.
 inline constexpr double kAmbientLight = 0.30;
 inline constexpr double kSunLight = 0.85;
+/// Refinements (level 0, see above): each one's target error is the last one's divided by this.
+inline constexpr double kRefinementTargetDivisor = 3.0;
+/// At most this many refinements a quadrant: each costs a simplification and an exact error pass
+/// when the chunk is built.
+inline constexpr int kMaxRefinements = 3;
+/// No refinement aims below this many metres: the synthetic dump's roughness is centimetres, and so
+/// close to the eye the exact grid is drawn anyway.
+inline constexpr double kMinRefinementTargetM = 0.005;
+/// A refinement with more than this share of the grid's triangles is not kept: the exact grid costs
+/// little more.
+inline constexpr double kRefinementMaxGridShare = 0.7;
 /// Blocks per chunk side for the projected-error bound (see above): 8 x 8 blocks of 8 x 8 cells in a
 /// chunk of 64 (4 x 4 a quadrant); 64 distances a visited chunk per cull.
 inline constexpr int kChunkBlocksPerSide = 8;
@@ -149,6 +168,15 @@ struct ChunkBlock {
   Eigen::Vector3d min, max;
 };
 
+/// Level 0: a quadrant's surface simplified within less error than its own, for nearer views (see
+/// "Refinements" above); drawn with the quadrant's skirts, which its range repeats.
+struct ChunkRefinement {
+  std::size_t firstIndex = 0, indexCount = 0;  // into ChunkMesh::indices: its surface, then the skirts
+  std::size_t surfaceTriangles = 0;
+  double maxError = 0;                         // metres, exact
+  std::vector<ChunkBlock> blocks;              // as the quadrant's
+};
+
 /// A quadrant of a chunk: the cells its child (2x + a, 2y + b) covers (a east, b south; index a + 2b),
 /// drawn on its own while that child is not (see "Quadrants" above).
 struct ChunkQuadrant {
@@ -159,6 +187,9 @@ struct ChunkQuadrant {
   /// Level 0, simplified: the exact grid's surface and the same skirts, drawn where the simplified
   /// one's error shows (exactIndexCount 0 otherwise).
   std::size_t exactFirstIndex = 0, exactIndexCount = 0, exactSurfaceTriangles = 0;
+  /// Level 0, simplified: finer simplifications between the quadrant's own and the exact grid,
+  /// coarsest first (errors falling, triangles rising).
+  std::vector<ChunkRefinement> refinements;
   bool empty() const { return indexCount == 0; }
 };
 

@@ -30,15 +30,20 @@ std::size_t defaultTerrainBudgetBytes() {
   return std::clamp(physical / 16, 256 * kMiB, 1024 * kMiB);
 }
 
-// A resident chunk: per quadrant (terrain_chunk.h) a node (null for a quadrant without triangles),
-// its blocks' errors (m) and surface boxes, its error and triangles.
+// A resident chunk: per quadrant (terrain_chunk.h) its surfaces, coarsest first: its own (simplified
+// or grid), then at level 0 its refinements and its exact grid; each a node, its blocks' errors (m)
+// and surface boxes, its error and triangles (skirts included). No surface: a quadrant without
+// triangles.
 struct PagedTerrain::Entry {
-  struct Quadrant {
+  struct Surface {
     osg::ref_ptr<osg::Node> node;
-    osg::ref_ptr<osg::Node> exactNode;  // level 0, simplified: the exact grid (terrain_chunk.h)
-    std::vector<std::pair<float, osg::BoundingBox>> blocks;
+    std::vector<std::pair<float, osg::BoundingBox>> blocks;  // none for the exact grid (error 0)
     double error = 0;
-    std::size_t triangles = 0, skirtTriangles = 0, exactTriangles = 0;
+    std::size_t triangles = 0;
+  };
+  struct Quadrant {
+    std::vector<Surface> surfaces;
+    std::size_t skirtTriangles = 0;
   };
   std::array<Quadrant, 4> quadrants;
   bool empty = true;     // no triangle at all (holes)
@@ -75,55 +80,54 @@ double distanceToBox(const osg::Vec3d& p, const osg::BoundingBox& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-/// The OSG nodes of a chunk's quadrants: each its offset as a transform over one geometry of its
-/// range of the indices (16-bit where they fit); the four share the float positions and byte colours,
-/// drawn from vertex buffer objects. Null for an empty quadrant. The second array: level 0's exact
-/// grids of simplified quadrants (terrain_chunk.h), null where there is none.
-struct ChunkNodes {
-  std::array<std::array<osg::ref_ptr<osg::Node>, 4>, 2> quadrants;  // simplified (or grid), exact
-};
-ChunkNodes quadrantNodes(const terrain::ChunkMesh& m) {
-  ChunkNodes nodes;
-  if (m.empty()) return nodes;
-  const std::size_t n = m.vertexCount();
-  osg::ref_ptr<osg::Vec3Array> positions = new osg::Vec3Array(unsigned(n));
-  std::copy(m.positions.begin(), m.positions.end(), &(*positions)[0][0]);
-  osg::ref_ptr<osg::Vec4ubArray> colours = new osg::Vec4ubArray(unsigned(n));
-  std::copy(m.colours.begin(), m.colours.end(), &(*colours)[0][0]);
-  colours->setNormalize(true);
-  auto node = [&](std::size_t firstIndex, std::size_t indexCount, const std::string& name) -> osg::ref_ptr<osg::Node> {
+/// The OSG node of one index range of a chunk (a quadrant's surface and skirts): the chunk's offset
+/// as a transform over one geometry of that range (16-bit indices where they fit). All the nodes of
+/// one chunk share its float positions and byte colours, drawn from vertex buffer objects.
+class ChunkNodeMaker {
+ public:
+  explicit ChunkNodeMaker(const terrain::ChunkMesh& m)
+      : m_(m), positions_(new osg::Vec3Array(unsigned(m.vertexCount()))), colours_(new osg::Vec4ubArray(unsigned(m.vertexCount()))) {
+    std::copy(m.positions.begin(), m.positions.end(), &(*positions_)[0][0]);
+    std::copy(m.colours.begin(), m.colours.end(), &(*colours_)[0][0]);
+    colours_->setNormalize(true);
+  }
+  osg::ref_ptr<osg::Node> operator()(std::size_t firstIndex, std::size_t indexCount, const std::string& name) const {
     osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
     g->setUseDisplayList(false);
     g->setUseVertexBufferObjects(true);
-    g->setVertexArray(positions.get());
-    g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
-    const auto first = m.indices.begin() + std::ptrdiff_t(firstIndex);
-    if (n <= 0xFFFF) {
+    g->setVertexArray(positions_.get());
+    g->setColorArray(colours_.get(), osg::Array::BIND_PER_VERTEX);
+    const auto first = m_.indices.begin() + std::ptrdiff_t(firstIndex);
+    if (m_.vertexCount() <= 0xFFFF) {
       osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(indexCount));
       std::copy(first, first + std::ptrdiff_t(indexCount), e->begin());
       g->addPrimitiveSet(e.get());
     } else {
       osg::ref_ptr<osg::DrawElementsUInt> e =
-          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(indexCount), m.indices.data() + firstIndex);
+          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(indexCount), m_.indices.data() + firstIndex);
       g->addPrimitiveSet(e.get());
     }
     osg::ref_ptr<osg::Geode> geode = new osg::Geode;
     geode->addDrawable(g.get());
     osg::ref_ptr<osg::MatrixTransform> t =
-        new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
-    t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y) +
-               name);
+        new osg::MatrixTransform(osg::Matrixd::translate(m_.offset.x(), m_.offset.y(), m_.offset.z()));
+    t->setName("chunk " + std::to_string(m_.key.level) + "/" + std::to_string(m_.key.x) + "/" +
+               std::to_string(m_.key.y) + name);
     t->addChild(geode.get());
     return t;
-  };
-  for (std::size_t q = 0; q < 4; ++q) {
-    const terrain::ChunkQuadrant& quad = m.quadrants[q];
-    if (quad.empty()) continue;
-    nodes.quadrants[0][q] = node(quad.firstIndex, quad.indexCount, " quadrant " + std::to_string(q));
-    if (quad.exactIndexCount > 0)
-      nodes.quadrants[1][q] = node(quad.exactFirstIndex, quad.exactIndexCount, " quadrant " + std::to_string(q) + " exact");
   }
-  return nodes;
+
+ private:
+  const terrain::ChunkMesh& m_;
+  osg::ref_ptr<osg::Vec3Array> positions_;
+  osg::ref_ptr<osg::Vec4ubArray> colours_;
+};
+
+std::vector<std::pair<float, osg::BoundingBox>> blocksOf(const std::vector<terrain::ChunkBlock>& blocks) {
+  std::vector<std::pair<float, osg::BoundingBox>> out;
+  for (const terrain::ChunkBlock& block : blocks)
+    if (block.min.x() <= block.max.x() && block.error > 0) out.emplace_back(float(block.error), toBox(block.min, block.max));
+  return out;
 }
 
 }  // namespace
@@ -165,15 +169,13 @@ osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
 void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
   for (auto& [key, e] : cache_)
     for (auto& q : e.quadrants)
-      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
-        if (n) n->resizeGLObjectBuffers(maxSize);
+      for (const Entry::Surface& s : q.surfaces) s.node->resizeGLObjectBuffers(maxSize);
 }
 
 void PagedTerrain::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, e] : cache_)
     for (const auto& q : e.quadrants)
-      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
-        if (n) n->releaseGLObjects(state);
+      for (const Entry::Surface& s : q.surfaces) s.node->releaseGLObjects(state);
 }
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
@@ -181,18 +183,26 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_, options_.simplifyFraction);
   Built b;
   b.key = key;
-  const ChunkNodes nodes = quadrantNodes(m);
-  for (std::size_t q = 0; q < 4; ++q) {
-    Entry::Quadrant& quad = b.entry.quadrants[q];
-    quad.node = nodes.quadrants[0][q];
-    quad.exactNode = nodes.quadrants[1][q];
-    quad.exactTriangles = m.quadrants[q].exactSurfaceTriangles + m.quadrants[q].skirtTriangles;
-    quad.error = m.quadrants[q].maxError;
-    quad.triangles = m.quadrants[q].surfaceTriangles + m.quadrants[q].skirtTriangles;
-    quad.skirtTriangles = m.quadrants[q].skirtTriangles;
-    for (const terrain::ChunkBlock& block : m.quadrants[q].blocks)
-      if (block.min.x() <= block.max.x() && block.error > 0)
-        quad.blocks.emplace_back(float(block.error), toBox(block.min, block.max));
+  if (!m.empty()) {
+    const ChunkNodeMaker node(m);
+    for (std::size_t q = 0; q < 4; ++q) {
+      const terrain::ChunkQuadrant& mq = m.quadrants[q];
+      if (mq.empty()) continue;
+      Entry::Quadrant& quad = b.entry.quadrants[q];
+      const std::string name = " quadrant " + std::to_string(q);
+      quad.skirtTriangles = mq.skirtTriangles;
+      quad.surfaces.push_back({node(mq.firstIndex, mq.indexCount, name), blocksOf(mq.blocks), mq.maxError,
+                               mq.surfaceTriangles + mq.skirtTriangles});
+      for (std::size_t r = 0; r < mq.refinements.size(); ++r) {
+        const terrain::ChunkRefinement& refined = mq.refinements[r];
+        quad.surfaces.push_back({node(refined.firstIndex, refined.indexCount, name + " refinement " + std::to_string(r)),
+                                 blocksOf(refined.blocks), refined.maxError,
+                                 refined.surfaceTriangles + mq.skirtTriangles});
+      }
+      if (mq.exactIndexCount > 0)
+        quad.surfaces.push_back({node(mq.exactFirstIndex, mq.exactIndexCount, name + " exact"), {}, 0.0,
+                                 mq.exactSurfaceTriangles + mq.skirtTriangles});
+    }
   }
   b.entry.empty = m.empty();
   b.entry.box = toBox(m.boxMin, m.boxMax);
@@ -249,11 +259,16 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
   const osg::Vec3d eye = cv.getEyePoint();
   for (int q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = e.quadrants[std::size_t(q)];
-    if (!quad.node) continue;
-    // The projected error: the largest of the quadrant's blocks' (terrain_chunk.h).
-    double pixels = 0;
-    for (const auto& [error, box] : quad.blocks)
-      pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
+    if (quad.surfaces.empty()) continue;
+    // The projected error of a surface: the largest of its blocks' (terrain_chunk.h).
+    auto projected = [&](const Entry::Surface& s) {
+      double pixels = 0;
+      for (const auto& [error, box] : s.blocks)
+        pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
+      return pixels;
+    };
+    std::size_t drawn = 0;
+    double pixels = projected(quad.surfaces[0]);
     if (pixels > options_.maxPixels && key.level > 0) {
       const ChunkKey child{key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1)};
       if (cache_.count(child)) {
@@ -263,13 +278,16 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
       wants.push_back({child, pixels});
       ++stats_.standIns;
     }
-    const bool exact = pixels > options_.maxPixels && quad.exactNode;  // level 0 near the eye
-    drawList_.push_back({key, q, exact ? quad.exactNode.get() : quad.node.get()});
+    // Level 0 near the eye: the coarsest of its finer surfaces within the rule (the exact grid last).
+    while (pixels > options_.maxPixels && drawn + 1 < quad.surfaces.size()) pixels = projected(quad.surfaces[++drawn]);
+    const Entry::Surface& surface = quad.surfaces[drawn];
+    drawList_.push_back({key, q, surface.node.get()});
     ++stats_.chunksDrawn;
-    stats_.trianglesDrawn += exact ? quad.exactTriangles : quad.triangles;
+    stats_.trianglesDrawn += surface.triangles;
     stats_.skirtTrianglesDrawn += quad.skirtTriangles;
-    if (!exact) {
-      stats_.maxErrorM = std::max(stats_.maxErrorM, quad.error);
+    if (drawn > 0) (surface.error > 0 ? stats_.refinedTrianglesDrawn : stats_.exactTrianglesDrawn) += surface.triangles;
+    if (surface.error > 0) {
+      stats_.maxErrorM = std::max(stats_.maxErrorM, surface.error);
       stats_.maxErrorPx = std::max(stats_.maxErrorPx, pixels);
     }
     stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
@@ -291,8 +309,7 @@ void PagedTerrain::evictUnused(std::size_t target) {
     if (victim == cache_.end()) return;
     const ChunkKey key = victim->first;
     for (const auto& q : victim->second.quadrants)
-      for (const osg::ref_ptr<osg::Node>& n : {q.node, q.exactNode})
-        if (n) n->releaseGLObjects(nullptr);
+      for (const Entry::Surface& s : q.surfaces) s.node->releaseGLObjects(nullptr);
     residentBytes_ -= victim->second.bytes;
     cache_.erase(victim);
     ++stats_.chunksEvicted;

@@ -90,6 +90,8 @@ struct PagedTerrainStats {
   std::size_t chunksDrawn = 0;       // chunk quadrants drawn
   std::size_t trianglesDrawn = 0;    // surface and skirt triangles of the drawn chunks
   std::size_t skirtTrianglesDrawn = 0;
+  std::size_t refinedTrianglesDrawn = 0;  // of level-0 quadrants drawn as a refinement (terrain_chunk.h)
+  std::size_t exactTrianglesDrawn = 0;    // of level-0 quadrants drawn as their exact grid
   double maxErrorM = 0;              // largest exact error of a drawn quadrant, metres
   double maxErrorPx = 0;             // its largest projected error, pixels (the rule above)
   std::size_t standIns = 0;          // drawn quadrants over maxPixels whose child was not resident

@@ -29,6 +29,7 @@ using terrain::ChunkKey;
 constexpr double kPixelsPerRadian = 623.5;
 
 using test::hills;
+using test::terraces;
 
 struct View {
   osg::Matrixd view, projection;
@@ -175,27 +176,38 @@ TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
   EXPECT_EQ(full->lastStats().chunksEvicted, 0u);
 }
 
-TEST(PagedTerrain, SimplifiedChunksStayWithinAPixelWithFewerTriangles) {
-  const auto hf = hills();
+/// Simplified chunks of `hf` seen from `view`: every drawn part against the fine surface; how many
+/// parts were level 0's exact grids and how many its refinements.
+std::pair<std::size_t, std::size_t> checkSimplifiedWithinAPixel(std::shared_ptr<const terrain::Heightfield> hf,
+                                                                const View& view) {
   PagedTerrainOptions o = options(TerrainLoading::Complete);
   o.simplifyFraction = kTerrainSimplifyFraction;
   osg::ref_ptr<PagedTerrain> grid = new PagedTerrain(hf, options(TerrainLoading::Complete));
   osg::ref_ptr<PagedTerrain> simple = new PagedTerrain(hf, o);
-  cullOnce(grid.get(), kLowView);
-  cullOnce(simple.get(), kLowView);
+  cullOnce(grid.get(), view);
+  cullOnce(simple.get(), view);
   EXPECT_LT(simple->lastStats().trianglesDrawn, grid->lastStats().trianglesDrawn);
   EXPECT_LE(simple->lastStats().maxErrorPx, 1.0 + 1e-9);
   // Every drawn part against the fine surface at every fine sample under it: the drawn triangles are
-  // the part's range of the chunk built again here (level 0's exact grid where its node says so).
+  // the part's range of the chunk built again here (level 0's refinement or exact grid where its node
+  // says so).
   const terrain::ChunkLayout& l = simple->layout();
-  std::size_t exactParts = 0, samples = 0;
+  std::size_t exactParts = 0, refinedParts = 0, samples = 0;
   for (const DrawnPart& part : simple->drawnParts()) {
     const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, part.key, {}, o.simplifyFraction);
     const terrain::ChunkQuadrant& quad = m.quadrants[std::size_t(part.quadrant)];
-    const bool exact = part.node->getName().find("exact") != std::string::npos;
+    const std::string& name = part.node->getName();
+    const bool exact = name.find(" exact") != std::string::npos;
+    const std::size_t refined = name.find(" refinement ");
+    std::size_t first = exact ? quad.exactFirstIndex : quad.firstIndex;
+    std::size_t count = exact ? quad.exactSurfaceTriangles : quad.surfaceTriangles;
+    if (refined != std::string::npos) {
+      const terrain::ChunkRefinement& r = quad.refinements.at(std::stoul(name.substr(refined + 12)));
+      first = r.firstIndex;
+      count = r.surfaceTriangles;
+      ++refinedParts;
+    }
     exactParts += exact ? 1 : 0;
-    const std::size_t first = exact ? quad.exactFirstIndex : quad.firstIndex;
-    const std::size_t count = exact ? quad.exactSurfaceTriangles : quad.surfaceTriangles;
     for (std::size_t t = 0; t < count; ++t) {
       Eigen::Vector3d v[3];
       for (std::size_t k = 0; k < 3; ++k) {
@@ -216,15 +228,26 @@ TEST(PagedTerrain, SimplifiedChunksStayWithinAPixelWithFewerTriangles) {
           const double w2 = ((v[1].x() - v[0].x()) * (y - v[0].y()) - (v[1].y() - v[0].y()) * (x - v[0].x())) / area;
           if (w1 < -1e-9 || w2 < -1e-9 || w1 + w2 > 1 + 1e-9) continue;
           const double z = (1 - w1 - w2) * v[0].z() + w1 * v[1].z() + w2 * v[2].z();
-          const double d = std::max((osg::Vec3d(x, y, z) - kLowView.eye).length(), kMinEyeDistanceM);
+          const double d = std::max((osg::Vec3d(x, y, z) - view.eye).length(), kMinEyeDistanceM);
           EXPECT_LE(std::abs(double(hf->sample(c, r)) - z) * kPixelsPerRadian / d, 1.0 + 1e-6)
               << "chunk " << part.key.level << "/" << part.key.x << "/" << part.key.y << " at " << c << " " << r;
           ++samples;
         }
     }
   }
-  EXPECT_GT(exactParts, 0u);  // the view reaches level 0's exact grids near the eye
   EXPECT_GT(samples, 100000u);
+  return {exactParts, refinedParts};
+}
+
+TEST(PagedTerrain, SimplifiedChunksStayWithinAPixelWithFewerTriangles) {
+  const auto [exactParts, refinedParts] = checkSimplifiedWithinAPixel(hills(), kLowView);
+  EXPECT_GT(exactParts, 0u);  // the view reaches level 0's exact grids near the eye
+}
+
+TEST(PagedTerrain, LevelZeroRefinementsAreDrawnWithinAPixelOnTerraces) {
+  const auto [exactParts, refinedParts] =
+      checkSimplifiedWithinAPixel(terraces(), viewFrom({200, -250, 306}, {330, -380, 285}));
+  EXPECT_GT(refinedParts, 0u);  // between the exact grids at the eye and the simplified further out
 }
 
 TEST(PagedTerrain, ChunksOfHolesAreNeverDrawnAndHolesDoNotBreakTheCut) {

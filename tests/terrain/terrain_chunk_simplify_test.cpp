@@ -2,6 +2,8 @@
 // tiles its grid's footprint and keeps every border vertex, its recorded errors are the exact
 // maximum of a dense brute force over the simplified triangles, its blocks hold every point with its
 // error, level 0 keeps the exact grid beside it, and a terraced surface loses most of its triangles.
+// Level 0's refinements ("Refinements") are held to the same checks, and fall in error while they
+// rise in triangles, below the grid's.
 #include "nestwalk/terrain/terrain_chunk.h"
 #include "nestwalk/terrain/heightfield.h"
 
@@ -16,6 +18,7 @@
 #include <optional>
 #include <random>
 #include <set>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -103,6 +106,21 @@ Footprint footprintOf(const std::vector<std::array<Eigen::Vector3d, 3>>& tris) {
   return f;
 }
 
+/// A simplified surface of a quadrant: its own, or one of its refinements.
+struct SurfaceRange {
+  std::size_t firstIndex, surfaceTriangles;
+  double maxError;
+  const std::vector<ChunkBlock>* blocks;
+  std::string name;
+};
+std::vector<SurfaceRange> surfacesOf(const ChunkQuadrant& q) {
+  std::vector<SurfaceRange> v{{q.firstIndex, q.surfaceTriangles, q.maxError, &q.blocks, "own"}};
+  for (std::size_t r = 0; r < q.refinements.size(); ++r)
+    v.push_back({q.refinements[r].firstIndex, q.refinements[r].surfaceTriangles, q.refinements[r].maxError,
+                 &q.refinements[r].blocks, "refinement " + std::to_string(r)});
+  return v;
+}
+
 TEST(TerrainChunkSimplify, QuadrantsTileTheirGridAndKeepEveryBorderVertex) {
   for (const double holes : {0.0, 0.01}) {
     const Heightfield hf = terraces(131, 97, holes);
@@ -114,36 +132,39 @@ TEST(TerrainChunkSimplify, QuadrantsTileTheirGridAndKeepEveryBorderVertex) {
         const ChunkQuadrant &gq = grid.quadrants[q], &sq = simple.quadrants[q];
         gridTriangles += gq.surfaceTriangles;
         simplifiedTriangles += sq.surfaceTriangles;
-        EXPECT_LE(sq.surfaceTriangles, gq.surfaceTriangles);
         const auto gt = triangles(grid, gq.firstIndex, gq.surfaceTriangles);
-        const auto st = triangles(simple, sq.firstIndex, sq.surfaceTriangles);
-        // Same footprint: every triangle faces up (counter-clockwise from above, or a border sliver)
-        // and the areas add up to the grid's.
-        double ga = 0, sa = 0;
-        for (const auto& t : gt) ga += area2(t);
-        for (const auto& t : st) {
-          EXPECT_GE(area2(t), -1e-9) << "level " << k.level;
-          sa += area2(t);
+        for (const SurfaceRange& range : surfacesOf(sq)) {
+          SCOPED_TRACE(range.name);
+          EXPECT_LE(range.surfaceTriangles, gq.surfaceTriangles);
+          const auto st = triangles(simple, range.firstIndex, range.surfaceTriangles);
+          // Same footprint: every triangle faces up (counter-clockwise from above, or a border sliver)
+          // and the areas add up to the grid's.
+          double ga = 0, sa = 0;
+          for (const auto& t : gt) ga += area2(t);
+          for (const auto& t : st) {
+            EXPECT_GE(area2(t), -1e-9) << "level " << k.level;
+            sa += area2(t);
+          }
+          EXPECT_NEAR(sa, ga, 1e-6 * std::max(1.0, ga));
+          // Every grid vertex on the quadrant's outline or next to a hole (a vertex of a grid edge
+          // with one triangle) is still a vertex.
+          std::map<std::pair<std::tuple<double, double>, std::tuple<double, double>>, int> edgeUse;
+          auto keyOf = [](const Eigen::Vector3d& p) { return std::tuple(p.x(), p.y()); };
+          for (const auto& t : gt)
+            for (int e = 0; e < 3; ++e) {
+              auto a = keyOf(t[std::size_t(e)]), b = keyOf(t[std::size_t((e + 1) % 3)]);
+              if (b < a) std::swap(a, b);
+              ++edgeUse[{a, b}];
+            }
+          std::set<std::tuple<double, double>> kept;
+          for (const auto& t : st)
+            for (const auto& p : t) kept.insert(keyOf(p));
+          for (const auto& [edge, uses] : edgeUse)
+            if (uses == 1) {
+              EXPECT_TRUE(kept.count(edge.first)) << "level " << k.level << " quadrant " << q;
+              EXPECT_TRUE(kept.count(edge.second)) << "level " << k.level << " quadrant " << q;
+            }
         }
-        EXPECT_NEAR(sa, ga, 1e-6 * std::max(1.0, ga));
-        // Every grid vertex on the quadrant's outline or next to a hole (a vertex of a grid edge
-        // with one triangle) is still a vertex.
-        std::map<std::pair<std::tuple<double, double>, std::tuple<double, double>>, int> edgeUse;
-        auto keyOf = [](const Eigen::Vector3d& p) { return std::tuple(p.x(), p.y()); };
-        for (const auto& t : gt)
-          for (int e = 0; e < 3; ++e) {
-            auto a = keyOf(t[std::size_t(e)]), b = keyOf(t[std::size_t((e + 1) % 3)]);
-            if (b < a) std::swap(a, b);
-            ++edgeUse[{a, b}];
-          }
-        std::set<std::tuple<double, double>> kept;
-        for (const auto& t : st)
-          for (const auto& p : t) kept.insert(keyOf(p));
-        for (const auto& [edge, uses] : edgeUse)
-          if (uses == 1) {
-            EXPECT_TRUE(kept.count(edge.first)) << "level " << k.level << " quadrant " << q;
-            EXPECT_TRUE(kept.count(edge.second)) << "level " << k.level << " quadrant " << q;
-          }
         // The skirts are the grid's.
         EXPECT_EQ(sq.skirtTriangles, gq.skirtTriangles);
       }
@@ -166,39 +187,41 @@ TEST(TerrainChunkSimplify, ErrorsAreTheExactMaximumAndBlocksHoldEveryPoint) {
   for (const ChunkKey& k : allChunks(l)) {
     const ChunkMesh m = buildChunk(hf, l, k, {}, kFraction);
     for (std::size_t q = 0; q < 4; ++q) {
-      const ChunkQuadrant& quad = m.quadrants[q];
-      if (quad.empty()) continue;
-      const auto tris = triangles(m, quad.firstIndex, quad.surfaceTriangles);
-      const Footprint f = footprintOf(tris);
-      double brute = 0;
-      auto visit = [&](double x, double y) {
-        const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
-        if (s && fine) brute = std::max(brute, std::abs(*s - *fine));
-      };
-      for (double y = f.y1; y >= f.y0 - 1e-9; y -= 1.0)
-        for (double x = f.x0; x <= f.x1 + 1e-9; x += 1.0)
-          for (int i = 0; i < kPerEdge; ++i) {
-            const double t = double(i) / kPerEdge;
-            visit(x + t, y);      // along the row
-            visit(x, y - t);      // along the column
-            visit(x + t, y - t);  // along the north-west to south-east diagonal
-          }
-      EXPECT_GE(quad.maxError, brute - 1e-9) << "level " << k.level << " quadrant " << q;
-      EXPECT_LE(quad.maxError, brute + kSpacingSlackM) << "level " << k.level << " quadrant " << q;
-      ++checked;
-      std::uniform_real_distribution<double> ux(f.x0, f.x1), uy(f.y0, f.y1);
-      for (int i = 0; i < 200; ++i) {
-        const double x = ux(rng), y = uy(rng);
-        const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
-        if (!s || !fine) continue;
-        const Eigen::Vector3d p(x, y, *s);
-        const double e = std::abs(*s - *fine);
-        const bool held = std::any_of(quad.blocks.begin(), quad.blocks.end(), [&](const ChunkBlock& b) {
-          return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
-                 b.error >= e - 1e-8;
-        });
-        EXPECT_TRUE(held) << "level " << k.level << " quadrant " << q << " at " << x << " " << y;
-        ++points;
+      if (m.quadrants[q].empty()) continue;
+      for (const SurfaceRange& quad : surfacesOf(m.quadrants[q])) {
+        SCOPED_TRACE(quad.name);
+        const auto tris = triangles(m, quad.firstIndex, quad.surfaceTriangles);
+        const Footprint f = footprintOf(tris);
+        double brute = 0;
+        auto visit = [&](double x, double y) {
+          const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
+          if (s && fine) brute = std::max(brute, std::abs(*s - *fine));
+        };
+        for (double y = f.y1; y >= f.y0 - 1e-9; y -= 1.0)
+          for (double x = f.x0; x <= f.x1 + 1e-9; x += 1.0)
+            for (int i = 0; i < kPerEdge; ++i) {
+              const double t = double(i) / kPerEdge;
+              visit(x + t, y);      // along the row
+              visit(x, y - t);      // along the column
+              visit(x + t, y - t);  // along the north-west to south-east diagonal
+            }
+        EXPECT_GE(quad.maxError, brute - 1e-9) << "level " << k.level << " quadrant " << q;
+        EXPECT_LE(quad.maxError, brute + kSpacingSlackM) << "level " << k.level << " quadrant " << q;
+        ++checked;
+        std::uniform_real_distribution<double> ux(f.x0, f.x1), uy(f.y0, f.y1);
+        for (int i = 0; i < 200; ++i) {
+          const double x = ux(rng), y = uy(rng);
+          const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
+          if (!s || !fine) continue;
+          const Eigen::Vector3d p(x, y, *s);
+          const double e = std::abs(*s - *fine);
+          const bool held = std::any_of(quad.blocks->begin(), quad.blocks->end(), [&](const ChunkBlock& b) {
+            return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
+                   b.error >= e - 1e-8;
+          });
+          EXPECT_TRUE(held) << "level " << k.level << " quadrant " << q << " at " << x << " " << y;
+          ++points;
+        }
       }
     }
   }
@@ -209,7 +232,7 @@ TEST(TerrainChunkSimplify, ErrorsAreTheExactMaximumAndBlocksHoldEveryPoint) {
 TEST(TerrainChunkSimplify, LevelZeroKeepsItsExactGridBesideTheSimplifiedOne) {
   const Heightfield hf = terraces(97, 81, 0.01);
   const ChunkLayout l(hf.cols(), hf.rows(), 16);
-  std::size_t simplifiedQuadrants = 0;
+  std::size_t simplifiedQuadrants = 0, refinements = 0;
   for (int y = 0; y < l.chunksY(0); ++y)
     for (int x = 0; x < l.chunksX(0); ++x) {
       const ChunkKey k{0, x, y};
@@ -240,9 +263,29 @@ TEST(TerrainChunkSimplify, LevelZeroKeepsItsExactGridBesideTheSimplifiedOne) {
         EXPECT_EQ(positions(simple, sq.exactFirstIndex, sq.exactIndexCount / 3),
                   positions(grid, gq.firstIndex, gq.indexCount / 3));
         EXPECT_EQ(sq.exactSurfaceTriangles, gq.surfaceTriangles);
+        // Refinements: errors falling and triangles rising from the quadrant's own, all below the
+        // grid's triangles; each range ends with the quadrant's very skirts.
+        double error = sq.maxError;
+        std::size_t triangles = sq.surfaceTriangles;
+        const auto skirtsOf = [&](std::size_t first, std::size_t surface) {
+          const auto from = simple.indices.begin() + std::ptrdiff_t(first + 3 * surface);
+          return std::vector<std::uint32_t>(from, from + std::ptrdiff_t(3 * sq.skirtTriangles));
+        };
+        for (const ChunkRefinement& r : sq.refinements) {
+          ++refinements;
+          EXPECT_LT(r.maxError, error);
+          EXPECT_GT(r.surfaceTriangles, triangles);
+          EXPECT_LE(double(r.surfaceTriangles), kRefinementMaxGridShare * double(gq.surfaceTriangles));
+          EXPECT_EQ(r.indexCount, 3 * (r.surfaceTriangles + sq.skirtTriangles));
+          EXPECT_EQ(skirtsOf(r.firstIndex, r.surfaceTriangles), skirtsOf(sq.firstIndex, sq.surfaceTriangles));
+          error = r.maxError;
+          triangles = r.surfaceTriangles;
+        }
+        EXPECT_LE(sq.refinements.size(), std::size_t(kMaxRefinements));
       }
     }
   EXPECT_GT(simplifiedQuadrants, 10u);
+  EXPECT_GT(refinements, 10u);
 }
 
 }  // namespace

@@ -144,7 +144,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   doc["route"] = offscreenRouteName(renderer.route());
   doc["gl_renderer"] = renderer.glRenderer();
   const double firstFrameMs = renderer.render(poses.front()).totalMs;  // warm-up, reported apart
-  std::vector<double> total, cullMs, draw, readback, triangles;
+  std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
   double maxErrorPx = 0, maxErrorM = 0;
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
   const PagedLodTerrain* lod = renderer.graph().pagedLodTerrain();
@@ -166,6 +166,9 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
     draw.push_back(s.drawMs);
     readback.push_back(s.readbackMs);
     triangles.push_back(double(s.triangles));
+    skirtTriangles.push_back(double(s.terrain.skirtTrianglesDrawn));
+    refinedTriangles.push_back(double(s.terrain.refinedTrianglesDrawn));
+    exactTriangles.push_back(double(s.terrain.exactTrianglesDrawn));
     maxErrorPx = std::max(maxErrorPx, s.terrainErrorPx);
     maxErrorM = std::max(maxErrorM, s.terrainErrorM);
     if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
@@ -185,6 +188,9 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
           {"fps_p50", 1000.0 / percentile(total, 50)},
           {"mean_triangles", mean(triangles)},
           {"max_triangles", percentile(triangles, 100)},
+          {"mean_skirt_triangles", mean(skirtTriangles)},
+          {"mean_refined_level0_triangles", mean(refinedTriangles)},
+          {"mean_exact_level0_triangles", mean(exactTriangles)},
           {"max_terrain_error_px", maxErrorPx},
           {"max_terrain_error_m", maxErrorM},
           {"first_frame_ms", firstFrameMs},

@@ -256,7 +256,7 @@ int runTerrainSweepChild(const std::string& requestFile) {
   // Settled: the last pose of each flythrough, rendered until nothing is wanted.
   double settledErrorPx = 0;
   bool settled = true;
-  std::vector<double> settledMs;
+  std::vector<double> settledMs, settledTriangles, settledSkirts, settledRefined, settledExact, settledQuadrants;
   const auto settleStart = std::chrono::steady_clock::now();
   for (const Json& index : req["settle"]) {
     const ViewPose& pose = poses.at(index.get<std::size_t>());
@@ -265,6 +265,11 @@ int runTerrainSweepChild(const std::string& requestFile) {
       if (s.terrain.chunksWanted == 0 || k + 1 == kMaxSettleFrames) {
         settledErrorPx = std::max(settledErrorPx, s.terrain.maxErrorPx);
         settledMs.push_back(s.totalMs);
+        settledTriangles.push_back(double(s.terrain.trianglesDrawn));
+        settledSkirts.push_back(double(s.terrain.skirtTrianglesDrawn));
+        settledRefined.push_back(double(s.terrain.refinedTrianglesDrawn));
+        settledExact.push_back(double(s.terrain.exactTrianglesDrawn));
+        settledQuadrants.push_back(double(s.terrain.chunksDrawn));
         settled = settled && s.terrain.chunksWanted == 0;
         break;
       }
@@ -289,6 +294,11 @@ int runTerrainSweepChild(const std::string& requestFile) {
                  {"settled_error_px", settledErrorPx},
                  {"settled", settled},
                  {"settled_ms_p50", percentile(settledMs, 50)},
+                 {"settled_triangles_p50", percentile(settledTriangles, 50)},
+                 {"settled_skirt_triangles_p50", percentile(settledSkirts, 50)},
+                 {"settled_refined_level0_triangles_p50", percentile(settledRefined, 50)},
+                 {"settled_exact_level0_triangles_p50", percentile(settledExact, 50)},
+                 {"settled_quadrants_p50", percentile(settledQuadrants, 50)},
                  {"settle_s", settleS},
                  {"budget_mib", double(paged.budgetBytes()) / kBytesPerMiB},
                  {"load_error", paged.loadError()},
@@ -395,6 +405,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
       .column({"err px", "/settled_error_px", 7, 2})
       .column({"settle s", "/settle_s", 9, 1})
       .column({"settled ms", "/settled_ms_p50", 11, 1})
+      .column({"settled tris", "/settled_triangles_p50", 13, 0})
       .column({"load RSS", "/load_rss_mib", 9, 0})
       .column({"RSS MiB", "/peak_rss_mib", 8, 0})
       .column({"p50 x", "/ratio/p50", 6, 2})
@@ -415,7 +426,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
               "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
               "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
               "of each flythrough,\n rendered until nothing is wanted: settle s in all, settled ms the median last "
-              "frame); load RSS, RSS MiB:\n the measuring process's peak resident memory once the scene was "
+              "frame, settled tris its\n median terrain triangles); load RSS, RSS MiB:\n the measuring process's peak resident memory once the scene was "
               "loaded, and in all; p50 x, p95 x:\n against the smallest size)\n";
   for (const Json& row : table.rows()) {
     const std::string at = "note: at " + numberText(row["size_m"].get<double>()) + " m, ";
