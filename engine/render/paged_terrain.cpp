@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -44,6 +45,7 @@ struct PagedTerrain::Entry {
   struct Quadrant {
     std::vector<Surface> surfaces;
     std::size_t skirtTriangles = 0;
+    osg::BoundingBox box;  // everything any of its surfaces draws (skirts included), for frustum culling
   };
   std::array<Quadrant, 4> quadrants;
   bool empty = true;     // no triangle at all (holes)
@@ -123,6 +125,20 @@ class ChunkNodeMaker {
   osg::ref_ptr<osg::Vec4ubArray> colours_;
 };
 
+/// The mesh-frame box of the vertices an index range of the chunk draws (refinements draw a subset of
+/// the exact grid's vertices and the same skirts).
+osg::BoundingBox rangeBox(const terrain::ChunkMesh& m, std::size_t firstIndex, std::size_t indexCount) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = Eigen::Vector3d::Constant(-kInf);
+  for (std::size_t k = firstIndex; k < firstIndex + indexCount; ++k) {
+    const std::uint32_t v = m.indices[k];
+    const Eigen::Vector3d p = Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]) + m.offset;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return toBox(lo, hi);
+}
+
 std::vector<std::pair<float, osg::BoundingBox>> blocksOf(const std::vector<terrain::ChunkBlock>& blocks) {
   std::vector<std::pair<float, osg::BoundingBox>> out;
   for (const terrain::ChunkBlock& block : blocks)
@@ -191,6 +207,8 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
       Entry::Quadrant& quad = b.entry.quadrants[q];
       const std::string name = " quadrant " + std::to_string(q);
       quad.skirtTriangles = mq.skirtTriangles;
+      quad.box = rangeBox(m, mq.firstIndex, mq.indexCount);
+      if (mq.exactIndexCount > 0) quad.box.expandBy(rangeBox(m, mq.exactFirstIndex, mq.exactIndexCount));
       quad.surfaces.push_back({node(mq.firstIndex, mq.indexCount, name), blocksOf(mq.blocks), mq.maxError,
                                mq.surfaceTriangles + mq.skirtTriangles});
       for (std::size_t r = 0; r < mq.refinements.size(); ++r) {
@@ -259,7 +277,8 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
   const osg::Vec3d eye = cv.getEyePoint();
   for (int q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = e.quadrants[std::size_t(q)];
-    if (quad.surfaces.empty()) continue;
+    // Out of view: neither drawn nor refined (its children are not asked for).
+    if (quad.surfaces.empty() || cv.isCulled(quad.box)) continue;
     // The projected error of a surface: the largest of its blocks' (terrain_chunk.h).
     auto projected = [&](const Entry::Surface& s) {
       double pixels = 0;

@@ -131,6 +131,42 @@ TEST(PagedTerrain, ACompleteFrameIsTheCoarsestCutWithinAPixel) {
   EXPECT_LE(parentsGoodEnough, drawn.size() / 10) << "of " << drawn.size();
 }
 
+TEST(PagedTerrain, QuadrantsOutOfViewAreNeitherDrawnNorRefined) {
+  // Every drawn part's box, taken here from the heightfield over its samples (down to the lowest
+  // sample within the skirts' reach), has a corner on the inner side of each frustum plane in clip
+  // space: no part lies wholly outside one plane. Looking along a chunk's edge makes some
+  // quadrants of chunks in view lie outside it.
+  const auto hf = hills();
+  osg::ref_ptr<PagedTerrain> node = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  const View v = viewFrom({40, -250, 330}, {40, -60, 310});
+  cullOnce(node.get(), v);
+  const terrain::ChunkLayout& l = node->layout();
+  const osg::Matrixd clip = v.view * v.projection;
+  ASSERT_GT(node->drawnParts().size(), 4u);
+  for (const DrawnPart& p : node->drawnParts()) {
+    const PartRange r = partRange(l, p.key, p.quadrant);
+    const int reach = terrain::kSkirtReachSteps << p.key.level;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int row = std::max(0, r.r0 - reach); row <= std::min(hf->rows() - 1, r.r1 + reach); ++row)
+      for (int col = std::max(0, r.c0 - reach); col <= std::min(hf->cols() - 1, r.c1 + reach); ++col) {
+        if (!hf->valid(col, row)) continue;
+        lo = std::min(lo, double(hf->sample(col, row)));
+        if (col >= r.c0 && col <= r.c1 && row >= r.r0 && row <= r.r1) hi = std::max(hi, double(hf->sample(col, row)));
+      }
+    // Each plane: x <= w, -x <= w, y <= w, -y <= w, z <= w, -z <= w in clip coordinates.
+    for (int plane = 0; plane < 6; ++plane) {
+      bool inside = false;
+      for (int corner = 0; corner < 8; ++corner) {
+        const osg::Vec4d c = osg::Vec4d(corner & 1 ? r.c1 : r.c0, -(corner & 2 ? r.r1 : r.r0), corner & 4 ? hi : lo - 1.0, 1.0) * clip;
+        const double value = (plane & 1 ? -1.0 : 1.0) * c[plane / 2];
+        inside = inside || value <= c.w();
+      }
+      EXPECT_TRUE(inside) << "part " << p.key.level << "/" << p.key.x << "/" << p.key.y << " quadrant " << p.quadrant
+                          << " lies outside frustum plane " << plane;
+    }
+  }
+}
+
 TEST(PagedTerrain, BackgroundLoadingSettlesToTheCompleteFrame) {
   const auto hf = hills();
   osg::ref_ptr<PagedTerrain> complete = new PagedTerrain(hf, options(TerrainLoading::Complete));

@@ -26,7 +26,7 @@ namespace nestwalk::terrain {
 namespace {
 
 constexpr double kOriginX = 500000.0, kOriginY = 5200000.0;  // UTM magnitudes
-constexpr double kFraction = 0.5;                             // the renderer's default
+constexpr double kFraction = 1.5;  // the renderer's default (kTerrainSimplifyFraction)
 
 /// Benches: flat treads 12 m deep, faces rising 6 m over 8 m, around a centre, with centimetre
 /// waves (the kind of surface simplification is for); optional holes.
