@@ -1,6 +1,8 @@
 // View-bounded terrain through osg::PagedLOD and osgDB::DatabasePager (paged_lod_terrain.h).
 #include "nestwalk/render/paged_lod_terrain.h"
 
+#include "nestwalk/render/chunk_node.h"
+
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/MatrixTransform>
@@ -61,55 +63,13 @@ std::string chunkFileName(const ChunkKey& k) {
   return std::to_string(k.level) + "_" + std::to_string(k.x) + "_" + std::to_string(k.y) + "." + kChunkExtension;
 }
 
-/// A range of a chunk's index array: [first, first + count).
-struct IndexRange {
-  std::size_t first = 0, count = 0;
-};
-
-/// What a chunk draws in one geometry under its offset (paged_terrain.cpp's quadrantNodes, for
-/// several ranges at once): float positions, normalised RGBA8 colours, 16-bit indices where they
-/// fit, vertex buffer objects. The mesh must not be empty.
-osg::ref_ptr<osg::MatrixTransform> meshNode(const terrain::ChunkMesh& m, const std::vector<IndexRange>& ranges,
-                                            const std::string& what) {
-  const std::size_t n = m.vertexCount();
-  osg::ref_ptr<osg::Vec3Array> positions = new osg::Vec3Array(unsigned(n));
-  std::copy(m.positions.begin(), m.positions.end(), &(*positions)[0][0]);
-  osg::ref_ptr<osg::Vec4ubArray> colours = new osg::Vec4ubArray(unsigned(n));
-  std::copy(m.colours.begin(), m.colours.end(), &(*colours)[0][0]);
-  colours->setNormalize(true);
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setUseDisplayList(false);
-  g->setUseVertexBufferObjects(true);
-  g->setVertexArray(positions.get());
-  g->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
-  std::vector<std::uint32_t> indices;
-  for (const IndexRange& r : ranges)
-    indices.insert(indices.end(), m.indices.begin() + std::ptrdiff_t(r.first),
-                   m.indices.begin() + std::ptrdiff_t(r.first + r.count));
-  if (n <= 0xFFFF) {
-    osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(indices.size()));
-    std::copy(indices.begin(), indices.end(), e->begin());
-    g->addPrimitiveSet(e.get());
-  } else {
-    g->addPrimitiveSet(new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(indices.size()), indices.data()));
-  }
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g.get());
-  osg::ref_ptr<osg::MatrixTransform> t =
-      new osg::MatrixTransform(osg::Matrixd::translate(m.offset.x(), m.offset.y(), m.offset.z()));
-  t->setName("chunk " + std::to_string(m.key.level) + "/" + std::to_string(m.key.x) + "/" + std::to_string(m.key.y) +
-             " " + what);
-  t->addChild(geode.get());
-  return t;
-}
-
 }  // namespace
 
 // The terrain's shared state: what the pseudo-loader builds from, the ranges' rule, and the
 // statistics. Reached from the PagedLODs' database options (user data).
 class PagedLodTerrain::Source : public osg::Referenced {
  public:
-  Source(std::shared_ptr<const terrain::Heightfield> heightfield, const PagedLodTerrainOptions& o)
+  Source(std::shared_ptr<const terrain::Heightfield> heightfield, const PagedTerrainOptions& o)
       : hf(std::move(heightfield)),
         layout(hf ? hf->cols() : 0, hf ? hf->rows() : 0, o.chunkCells),
         pixelsPerRadian(o.pixelsPerRadian),
@@ -323,7 +283,8 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
     lod->setCenterMode(osg::LOD::UNION_OF_BOUNDING_SPHERE_AND_USER_DEFINED);
     lod->setCenter(box.center());
     lod->setRadius(box.radius());
-    osg::ref_ptr<osg::MatrixTransform> mesh = meshNode(m, primary, "mesh");
+    const ChunkNodeMaker node(m);  // the mesh and the exact grid share the arrays
+    osg::ref_ptr<osg::MatrixTransform> mesh = node(primary, " mesh");
     mesh->setCullCallback(new DrawnChunk(this, m, primaryTriangles, false));
     const float split = threshold(m.maxError, box.radius());
     switch (finer) {
@@ -338,7 +299,7 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
         break;
       case Finer::ExactGrid: {
         lod->addChild(mesh.get(), split, kEverywhere);
-        osg::ref_ptr<osg::MatrixTransform> grid = meshNode(m, exact, "exact grid");
+        osg::ref_ptr<osg::MatrixTransform> grid = node(exact, " exact grid");
         grid->setCullCallback(new DrawnChunk(this, m, exactTriangles, true));
         lod->addChild(grid.get(), 0.0f, split);
         break;
@@ -352,7 +313,7 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
 }
 
 PagedLodTerrain::PagedLodTerrain(std::shared_ptr<const terrain::Heightfield> heightfield,
-                                 PagedLodTerrainOptions options) {
+                                 PagedTerrainOptions options) {
   if (!heightfield) throw std::invalid_argument("PagedLodTerrain: no heightfield");
   if (!(options.pixelsPerRadian > 0) || !(options.maxPixels >= 0))
     throw std::invalid_argument("PagedLodTerrain: pixelsPerRadian must be positive and maxPixels not negative");

@@ -67,19 +67,6 @@
 
 namespace nestwalk {
 
-struct PagedLodTerrainOptions {
-  int chunkCells = 64;              // cells per chunk side, a power of two >= 2
-  double pixelsPerRadian = 623.5;   // the screen's (LodRule::pixelsPerRadian; 1280 x 720 at 60 degrees)
-  double maxPixels = 1.0;           // the largest vertical error drawn, pixels (0: full resolution)
-  std::size_t budgetBytes = 0;      // 0: defaultTerrainBudgetBytes() (paged_terrain.h)
-  bool shade = true;                // bake Horn's hillshade into the colours
-  /// Chunk surfaces simplified to about this fraction of their grid's error (buildChunk's argument;
-  /// the chunk's exact error is still what the ranges use); 0: the level grids as they are.
-  double simplifyFraction = 0;
-  terrain::ColourGridReader imagery;  // draped imagery (empty: colours by height)
-  Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
-};
-
 /// What the last cull drew (per frame) and what is resident (since the node was made).
 struct PagedLodTerrainStats {
   std::size_t chunksDrawn = 0;       // chunks whose mesh the cull visited (inside the frustum)
@@ -105,7 +92,9 @@ class PagedLodTerrain : public osg::Group {
   /// Builds the root chunk (so the first frame has terrain) and registers the "nwchunk"
   /// pseudo-loader with osgDB (once per process). Throws std::invalid_argument for bad options (as
   /// PagedTerrain).
-  PagedLodTerrain(std::shared_ptr<const terrain::Heightfield> heightfield, PagedLodTerrainOptions options);
+  /// The own quadtree's options (paged_terrain.h): the same chunks and rule; `loading` is not used
+  /// (the DatabasePager always loads in the background).
+  PagedLodTerrain(std::shared_ptr<const terrain::Heightfield> heightfield, PagedTerrainOptions options);
   ~PagedLodTerrain() override;
   PagedLodTerrain(const PagedLodTerrain&) = delete;
   PagedLodTerrain& operator=(const PagedLodTerrain&) = delete;

@@ -1,6 +1,8 @@
 // View-bounded terrain (paged_terrain.h).
 #include "nestwalk/render/paged_terrain.h"
 
+#include "nestwalk/render/chunk_node.h"
+
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/Timer>
@@ -81,49 +83,6 @@ double distanceToBox(const osg::Vec3d& p, const osg::BoundingBox& b) {
   const double dz = std::max({double(b.zMin()) - p.z(), 0.0, p.z() - double(b.zMax())});
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
-
-/// The OSG node of one index range of a chunk (a quadrant's surface and skirts): the chunk's offset
-/// as a transform over one geometry of that range (16-bit indices where they fit). All the nodes of
-/// one chunk share its float positions and byte colours, drawn from vertex buffer objects.
-class ChunkNodeMaker {
- public:
-  explicit ChunkNodeMaker(const terrain::ChunkMesh& m)
-      : m_(m), positions_(new osg::Vec3Array(unsigned(m.vertexCount()))), colours_(new osg::Vec4ubArray(unsigned(m.vertexCount()))) {
-    std::copy(m.positions.begin(), m.positions.end(), &(*positions_)[0][0]);
-    std::copy(m.colours.begin(), m.colours.end(), &(*colours_)[0][0]);
-    colours_->setNormalize(true);
-  }
-  osg::ref_ptr<osg::Node> operator()(std::size_t firstIndex, std::size_t indexCount, const std::string& name) const {
-    osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-    g->setUseDisplayList(false);
-    g->setUseVertexBufferObjects(true);
-    g->setVertexArray(positions_.get());
-    g->setColorArray(colours_.get(), osg::Array::BIND_PER_VERTEX);
-    const auto first = m_.indices.begin() + std::ptrdiff_t(firstIndex);
-    if (m_.vertexCount() <= 0xFFFF) {
-      osg::ref_ptr<osg::DrawElementsUShort> e = new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(indexCount));
-      std::copy(first, first + std::ptrdiff_t(indexCount), e->begin());
-      g->addPrimitiveSet(e.get());
-    } else {
-      osg::ref_ptr<osg::DrawElementsUInt> e =
-          new osg::DrawElementsUInt(GL_TRIANGLES, unsigned(indexCount), m_.indices.data() + firstIndex);
-      g->addPrimitiveSet(e.get());
-    }
-    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-    geode->addDrawable(g.get());
-    osg::ref_ptr<osg::MatrixTransform> t =
-        new osg::MatrixTransform(osg::Matrixd::translate(m_.offset.x(), m_.offset.y(), m_.offset.z()));
-    t->setName("chunk " + std::to_string(m_.key.level) + "/" + std::to_string(m_.key.x) + "/" +
-               std::to_string(m_.key.y) + name);
-    t->addChild(geode.get());
-    return t;
-  }
-
- private:
-  const terrain::ChunkMesh& m_;
-  osg::ref_ptr<osg::Vec3Array> positions_;
-  osg::ref_ptr<osg::Vec4ubArray> colours_;
-};
 
 /// The mesh-frame box of the vertices an index range of the chunk draws (refinements draw a subset of
 /// the exact grid's vertices and the same skirts).
@@ -209,16 +168,16 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
       quad.skirtTriangles = mq.skirtTriangles;
       quad.box = rangeBox(m, mq.firstIndex, mq.indexCount);
       if (mq.exactIndexCount > 0) quad.box.expandBy(rangeBox(m, mq.exactFirstIndex, mq.exactIndexCount));
-      quad.surfaces.push_back({node(mq.firstIndex, mq.indexCount, name), blocksOf(mq.blocks), mq.maxError,
+      quad.surfaces.push_back({node({{mq.firstIndex, mq.indexCount}}, name), blocksOf(mq.blocks), mq.maxError,
                                mq.surfaceTriangles + mq.skirtTriangles});
       for (std::size_t r = 0; r < mq.refinements.size(); ++r) {
         const terrain::ChunkRefinement& refined = mq.refinements[r];
-        quad.surfaces.push_back({node(refined.firstIndex, refined.indexCount, name + " refinement " + std::to_string(r)),
+        quad.surfaces.push_back({node({{refined.firstIndex, refined.indexCount}}, name + " refinement " + std::to_string(r)),
                                  blocksOf(refined.blocks), refined.maxError,
                                  refined.surfaceTriangles + mq.skirtTriangles});
       }
       if (mq.exactIndexCount > 0)
-        quad.surfaces.push_back({node(mq.exactFirstIndex, mq.exactIndexCount, name + " exact"), {}, 0.0,
+        quad.surfaces.push_back({node({{mq.exactFirstIndex, mq.exactIndexCount}}, name + " exact"), {}, 0.0,
                                  mq.exactSurfaceTriangles + mq.skirtTriangles});
     }
   }

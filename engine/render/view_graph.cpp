@@ -141,16 +141,7 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
   osg::ref_ptr<osg::MatrixTransform> terrain =
       new osg::MatrixTransform(osg::Matrixd::translate(hf.origin().x(), hf.origin().y(), 0.0));
   if (options_.terrainPaging == TerrainPaging::OsgPagedLod) {
-    PagedLodTerrainOptions lod;
-    lod.chunkCells = terrainOptions.chunkCells;
-    lod.pixelsPerRadian = terrainOptions.pixelsPerRadian;
-    lod.maxPixels = terrainOptions.maxPixels;
-    lod.budgetBytes = terrainOptions.budgetBytes;
-    lod.shade = terrainOptions.shade;
-    lod.simplifyFraction = terrainOptions.simplifyFraction;  // the same meshes as the own quadtree's
-    lod.imagery = std::move(terrainOptions.imagery);
-    lod.mapOrigin = terrainOptions.mapOrigin;
-    lodTerrain_ = new PagedLodTerrain(scene_.terrain, std::move(lod));
+    lodTerrain_ = new PagedLodTerrain(scene_.terrain, std::move(terrainOptions));  // the same chunks
     terrain->addChild(lodTerrain_.get());
   } else {
     terrain_ = new PagedTerrain(scene_.terrain, std::move(terrainOptions));

@@ -111,11 +111,12 @@ class PagedCull {
   osg::ref_ptr<osgUtil::SceneView> sv_;
 };
 
-PagedLodTerrainOptions options() {
-  PagedLodTerrainOptions o;
+PagedTerrainOptions options() {
+  PagedTerrainOptions o;
   o.chunkCells = kChunkCells;
   o.pixelsPerRadian = kPixelsPerRadian;
   o.maxPixels = 1.0;
+  o.simplifyFraction = 0;  // the level grids, whose surface the checks below take
   return o;
 }
 
@@ -236,8 +237,8 @@ TEST(PagedLodTerrain, SimplifiedChunksKeepTheRuleAndLevelZeroSwitchesToItsExactG
   // stays within the pixel by the block measure, and level-0 chunks near the eye draw their exact
   // grid (error 0).
   const auto hf = hills();
-  PagedLodTerrainOptions o = options();
-  o.simplifyFraction = 0.5;
+  PagedTerrainOptions o = options();
+  o.simplifyFraction = kTerrainSimplifyFraction;
   osg::ref_ptr<PagedLodTerrain> node = new PagedLodTerrain(hf, o);
   PagedCull cull(node.get());
   const View v = viewFrom({120, -140, 312}, {300, -330, 290});  // a few metres above the ground

@@ -1,0 +1,45 @@
+// The OSG nodes of a terrain chunk (terrain/terrain_chunk.h) for both ways of paging it: the own
+// quadtree (paged_terrain.h) draws one node per quadrant surface, the PagedLOD tree
+// (paged_lod_terrain.h) one node per chunk (its quadrants' ranges together).
+//
+// A node is the chunk's offset as a MatrixTransform over one Geode with one Geometry: the chunk's
+// float positions (metres, relative to the offset) and byte colours, drawn from vertex buffer
+// objects, with the given index ranges as one triangle list (16-bit indices where the chunk has at
+// most 65535 vertices). Every node made by one ChunkNodeMaker shares the same two arrays, so the
+// surfaces of one chunk cost their indices only. Named "chunk LEVEL/X/Y" + the given suffix (tests
+// and the scene graph's readers tell the surfaces apart by it).
+//
+// Ownership: the maker copies the mesh's positions and colours once; it reads the mesh's indices
+// while it lives (the mesh must outlive it). Not thread-safe (one maker, one thread).
+#pragma once
+
+#include "nestwalk/terrain/terrain_chunk.h"
+
+#include <osg/Array>
+#include <osg/MatrixTransform>
+#include <osg/ref_ptr>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace nestwalk {
+
+/// A range of a chunk's index array: `count` indices from `first`.
+struct IndexRange {
+  std::size_t first = 0, count = 0;
+};
+
+class ChunkNodeMaker {
+ public:
+  explicit ChunkNodeMaker(const terrain::ChunkMesh& mesh);
+  /// A node drawing the ranges (in order), named "chunk L/X/Y" + suffix.
+  osg::ref_ptr<osg::MatrixTransform> operator()(const std::vector<IndexRange>& ranges, const std::string& suffix) const;
+
+ private:
+  const terrain::ChunkMesh& mesh_;
+  osg::ref_ptr<osg::Vec3Array> positions_;
+  osg::ref_ptr<osg::Vec4ubArray> colours_;
+};
+
+}  // namespace nestwalk

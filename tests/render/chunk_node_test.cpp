@@ -1,0 +1,71 @@
+// A chunk's OSG nodes (engine/render/chunk_node.h): each draws exactly the index ranges it is given,
+// in order, over the chunk's own positions and colours, which all the nodes of one maker share;
+// 16-bit indices while the chunk has at most 65535 vertices, 32-bit beyond.
+#include "nestwalk/render/chunk_node.h"
+
+#include "hills_terrain.h"
+
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/PrimitiveSet>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace nestwalk {
+namespace {
+
+const osg::Geometry& geometryOf(const osg::MatrixTransform& node) {
+  const osg::Geode* geode = node.getChild(0)->asGeode();
+  return *geode->getDrawable(0)->asGeometry();
+}
+
+std::vector<std::uint32_t> indicesOf(const osg::Geometry& g) {
+  const auto* e = dynamic_cast<const osg::DrawElements*>(g.getPrimitiveSet(0));
+  std::vector<std::uint32_t> v;
+  for (unsigned i = 0; i < e->getNumIndices(); ++i) v.push_back(e->index(i));
+  return v;
+}
+
+TEST(ChunkNode, DrawsItsRangesInOrderOverSharedArrays) {
+  const auto hf = test::hills();
+  const terrain::ChunkLayout layout(hf->cols(), hf->rows(), 16);
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf, layout, {1, 2, 3});
+  const terrain::ChunkQuadrant &a = m.quadrants[0], &b = m.quadrants[3];
+  const ChunkNodeMaker maker(m);
+  const osg::ref_ptr<osg::MatrixTransform> both = maker({{b.firstIndex, b.indexCount}, {a.firstIndex, a.indexCount}}, " both");
+  const osg::ref_ptr<osg::MatrixTransform> one = maker({{a.firstIndex, a.indexCount}}, " one");
+  std::vector<std::uint32_t> expected(m.indices.begin() + std::ptrdiff_t(b.firstIndex),
+                                      m.indices.begin() + std::ptrdiff_t(b.firstIndex + b.indexCount));
+  expected.insert(expected.end(), m.indices.begin() + std::ptrdiff_t(a.firstIndex),
+                  m.indices.begin() + std::ptrdiff_t(a.firstIndex + a.indexCount));
+  EXPECT_EQ(indicesOf(geometryOf(*both)), expected);
+  EXPECT_EQ(geometryOf(*both).getPrimitiveSet(0)->getType(), osg::PrimitiveSet::DrawElementsUShortPrimitiveType);
+  EXPECT_EQ(both->getName(), "chunk 1/2/3 both");
+  // Shared arrays holding the mesh's values; the offset as the transform.
+  EXPECT_EQ(geometryOf(*both).getVertexArray(), geometryOf(*one).getVertexArray());
+  EXPECT_EQ(geometryOf(*both).getColorArray(), geometryOf(*one).getColorArray());
+  const auto* positions = dynamic_cast<const osg::Vec3Array*>(geometryOf(*one).getVertexArray());
+  ASSERT_EQ(positions->size(), m.vertexCount());
+  for (std::size_t v = 0; v < m.vertexCount(); v += 97)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ((*positions)[unsigned(v)][k], m.positions[3 * v + std::size_t(k)]);
+  const osg::Vec3d t = both->getMatrix().getTrans();
+  EXPECT_EQ(t, osg::Vec3d(m.offset.x(), m.offset.y(), m.offset.z()));
+}
+
+TEST(ChunkNode, ChunksOfMoreThan65535VerticesGet32BitIndices) {
+  const auto hf = test::hills();
+  const terrain::ChunkLayout layout(hf->cols(), hf->rows(), 256);  // 257 x 257 samples and skirts
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf, layout, {0, 0, 0});
+  ASSERT_GT(m.vertexCount(), 0xFFFFu);
+  const terrain::ChunkQuadrant& q = m.quadrants[3];
+  const osg::ref_ptr<osg::MatrixTransform> node = ChunkNodeMaker(m)({{q.firstIndex, q.indexCount}}, "");
+  EXPECT_EQ(geometryOf(*node).getPrimitiveSet(0)->getType(), osg::PrimitiveSet::DrawElementsUIntPrimitiveType);
+  EXPECT_EQ(indicesOf(geometryOf(*node)),
+            std::vector<std::uint32_t>(m.indices.begin() + std::ptrdiff_t(q.firstIndex),
+                                       m.indices.begin() + std::ptrdiff_t(q.firstIndex + q.indexCount)));
+}
+
+}  // namespace
+}  // namespace nestwalk
