@@ -73,12 +73,17 @@ struct LargePageAllocator {
 
 }  // namespace
 
+/// The pyramid level whose nodes (2^k x 2^k cells) the oblique traversal walks before the cells.
+constexpr int kBlockLevel = 3;
+
 struct Heightfield::RayAccel {
   int cellsX = 0, cellsY = 0;
   /// Heights with every hole replaced by NaN (so that one NaN test on a result covers three samples).
   std::vector<float, LargePageAllocator<float>> clean;
-  /// Pyramid levels: level 0 = cells, level k node (i, j) covers cells [i 2^k, (i+1) 2^k) x [j 2^k, ...).
-  /// Each node stores {min, max} of the valid samples at its cells' corners ({+inf, -inf} if none).
+  /// Pyramid levels from baseLevel up (levels[0] is level baseLevel): level k node (i, j) covers cells
+  /// [i 2^k, (i+1) 2^k) x [j 2^k, ...). Each node stores {min, max} of the valid samples at its cells'
+  /// corners ({+inf, -inf} if none). Finer levels are not kept: the traversal reads none (a cell's
+  /// range comes from its samples), and level 0 alone would cost twice the heights.
   /// Layout: 2 x 2 blocks of nodes (the four children of one parent) stored together, 32 bytes, so
   /// that a traversal step reads one cache line per level.
   struct Level {
@@ -94,6 +99,7 @@ struct Heightfield::RayAccel {
     }
   };
   std::vector<Level> levels;
+  int baseLevel = 0;  // min(kBlockLevel, the root's level)
   double noDataFraction = 0.0;
 };
 
@@ -133,19 +139,26 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
     holes += ok ? 0 : 1;
   }
   accel->noDataFraction = double(holes) / double(heights_.size());
-  // Level 0: per cell.
+  // The base level: min(kBlockLevel, the root's level), straight from the samples of each node's
+  // cells (the same as taking every finer level in turn).
   {
-    RayAccel::Level L{accel->cellsX, accel->cellsY, {}};
+    int root = 0;
+    while (((accel->cellsX - 1) >> root) > 0 || ((accel->cellsY - 1) >> root) > 0) ++root;
+    const int K = std::min(kBlockLevel, root);
+    accel->baseLevel = K;
+    RayAccel::Level L{((accel->cellsX - 1) >> K) + 1, ((accel->cellsY - 1) >> K) + 1, {}};
     L.allocate();
     const float* H = accel->clean.data();
-    for (int r = 0; r < L.ny; ++r)
-      for (int c = 0; c < L.nx; ++c) {
+    for (int j = 0; j < L.ny; ++j)
+      for (int i = 0; i < L.nx; ++i) {
         float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-        const float v[4] = {H[std::size_t(r) * cols + c], H[std::size_t(r) * cols + c + 1],
-                            H[std::size_t(r + 1) * cols + c], H[std::size_t(r + 1) * cols + c + 1]};
-        for (float h : v)
-          if (!std::isnan(h)) lo = std::min(lo, h), hi = std::max(hi, h);
-        const std::size_t k = 2 * L.index(c, r);
+        const int c1 = std::min((i + 1) << K, accel->cellsX), r1 = std::min((j + 1) << K, accel->cellsY);
+        for (int r = j << K; r <= r1; ++r)
+          for (int c = i << K; c <= c1; ++c) {
+            const float h = H[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
+            if (!std::isnan(h)) lo = std::min(lo, h), hi = std::max(hi, h);
+          }
+        const std::size_t k = 2 * L.index(i, j);
         L.range[k] = lo;
         L.range[k + 1] = hi;
       }
@@ -285,8 +298,6 @@ inline double woopTest(const ShearedVertex& A, const ShearedVertex& B, const She
   return T / det;
 }
 
-/// The pyramid level whose nodes (2^k x 2^k cells) the oblique traversal walks before the cells.
-constexpr int kBlockLevel = 3;
 
 /// Whether cell (x1, y1), triangle half1 comes after (x2, y2), half2 in the front-to-back quadtree
 /// order (coordinates already flipped along the ray's negative axes): Morton order with the y bit
@@ -420,8 +431,8 @@ std::optional<RayHit> Heightfield::intersectRay(const Eigen::Vector3d& origin, c
     // (same padded footprint and height range), so every cell that can hold a hit at or before the
     // best so far is tested. Equal parameters are resolved as the quadtree's front-to-back order
     // would (the last tested there wins): see laterInQuadtreeOrder.
-    const int K = std::min(kBlockLevel, int(A.levels.size()) - 1);
-    const RayAccel::Level& BL = A.levels[std::size_t(K)];
+    const int K = A.baseLevel;
+    const RayAccel::Level& BL = A.levels.front();
     const bool finX = std::isfinite(inv[0]), finY = std::isfinite(inv[1]);
     const int sx = d[0] >= 0.0 ? 0 : 1, sy = d[1] >= 0.0 ? 0 : 1;
     const std::uint32_t mx = sx ? ~0u : 0u, my = sy ? ~0u : 0u;
