@@ -73,7 +73,8 @@ std::vector<int> ChunkLayout::rowsOf(const ChunkKey& k) const {
 }
 
 std::size_t ChunkMesh::bytes() const {
-  return positions.size() * sizeof(float) + colours.size() + indices.size() * sizeof(std::uint32_t);
+  return positions.size() * sizeof(float) + colours.size() + indices.size() * sizeof(std::uint32_t) + texture.size() +
+         texCoords.size() * sizeof(float);
 }
 
 namespace {
@@ -88,6 +89,36 @@ Eigen::Vector3d heightColour(double h, double lo, double hi) {
 }
 
 std::uint8_t toByte(double v) { return std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+
+/// Texels of holes (index -1) take a valid neighbour's colour, spreading ring by ring, so that no
+/// triangle's bilinear lookup near a hole blends towards black; a chunk without valid samples stays
+/// black (it draws nothing).
+void fillHoleTexels(std::vector<std::uint8_t>& texture, std::size_t w, std::size_t h, const std::vector<std::int32_t>& index) {
+  std::vector<char> known(w * h);
+  bool any = false;
+  for (std::size_t k = 0; k < w * h; ++k) {
+    known[k] = index[k] >= 0;
+    any = any || !known[k];
+  }
+  while (any) {
+    any = false;
+    std::vector<char> next = known;
+    for (std::size_t y = 0; y < h; ++y)
+      for (std::size_t x = 0; x < w; ++x) {
+        if (known[y * w + x]) continue;
+        for (const auto& [ox, oy] : {std::pair(-1, 0), std::pair(1, 0), std::pair(0, -1), std::pair(0, 1)}) {
+          const std::ptrdiff_t nx = std::ptrdiff_t(x) + ox, ny = std::ptrdiff_t(y) + oy;
+          if (nx < 0 || ny < 0 || nx >= std::ptrdiff_t(w) || ny >= std::ptrdiff_t(h) || !known[std::size_t(ny) * w + std::size_t(nx)])
+            continue;
+          std::copy_n(&texture[4 * (std::size_t(ny) * w + std::size_t(nx))], 4, &texture[4 * (y * w + x)]);
+          next[y * w + x] = 1;
+          any = true;
+          break;
+        }
+      }
+    known.swap(next);
+  }
+}
 
 /// The kept samples of one chunk and which coarse triangles exist.
 struct ChunkGrid {
@@ -256,6 +287,9 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
 
   std::vector<std::int32_t> index(nc * nr, -1);
   std::vector<std::array<int, 2>> fineOf;  // surface vertex -> its fine (column, row)
+  m.textureWidth = int(nc);
+  m.textureHeight = int(nr);
+  m.texture.assign(nc * nr * 4, 0);
   for (std::size_t j = 0; j < nr; ++j)
     for (std::size_t i = 0; i < nc; ++i) {
       if (!g.valid(i, j)) continue;
@@ -274,8 +308,12 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
       if (shading.shade) colour *= std::min(1.0, kAmbientLight + kSunLight * hornShade(hf, c, r, shading.sun, step));
       for (int k = 0; k < 3; ++k) m.colours.push_back(toByte(colour[k]));
       m.colours.push_back(255);
+      std::copy(m.colours.end() - 4, m.colours.end(), m.texture.begin() + std::ptrdiff_t(4 * (j * nc + i)));
+      m.texCoords.push_back(float((double(i) + 0.5) / double(nc)));
+      m.texCoords.push_back(float((double(j) + 0.5) / double(nr)));
     }
   m.surfaceVertices = m.positions.size() / 3;
+  fillHoleTexels(m.texture, nc, nr, index);
   auto vertex = [&](std::size_t i, std::size_t j) { return std::uint32_t(index[j * nc + i]); };
 
   // Skirt bottoms, shared by the skirts that hang from one vertex on one grid line: the lowest
@@ -306,6 +344,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     const auto v = std::uint32_t(m.positions.size() / 3);
     for (int i = 0; i < 3; ++i) m.positions.push_back(float(q[i] - m.offset[i]));
     for (int i = 0; i < 4; ++i) m.colours.push_back(m.colours[4 * top + i]);
+    for (int i = 0; i < 2; ++i) m.texCoords.push_back(m.texCoords[2 * top + i]);
     m.boxMin = m.boxMin.cwiseMin(q);
     bottoms.emplace(key, v);
     return v;

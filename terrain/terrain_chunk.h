@@ -63,7 +63,9 @@
 //
 // Shading: each vertex carries a colour: the base colour (draped imagery where given, else a ramp by
 // height) times the light of Horn's hillshade (hillshade.h) on the level's own samples (neighbours
-// s samples apart), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1.
+// s samples apart), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1. The same
+// colours, one texel per kept sample, form the chunk's texture: a simplified surface's large
+// triangles still show the imagery and the hillshade at the level's resolution.
 //
 // Frames: the mesh frame of terrain_mesh.h (x = col * dx, y = -row * dy, z = height; metres from
 // sample (0, 0) for a projected CRS). A chunk's vertices are stored relative to its `offset` (its
@@ -198,6 +200,13 @@ struct ChunkMesh {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // mesh frame position of the stored (0, 0, 0)
   std::vector<float> positions;        // x, y, z per vertex, relative to offset
   std::vector<std::uint8_t> colours;   // RGBA per vertex
+  /// The same colours as a texture at the level's resolution (see "Shading" above): RGBA texels,
+  /// textureWidth x textureHeight = the chunk's kept columns x rows, row 0 north; hole texels copy a
+  /// neighbour's. texCoords: u, v per vertex, the centre of its sample's texel ((i + 0.5) / width,
+  /// (j + 0.5) / height; a skirt bottom has its top's).
+  std::vector<std::uint8_t> texture;
+  int textureWidth = 0, textureHeight = 0;
+  std::vector<float> texCoords;
   std::vector<std::uint32_t> indices;  // triangles (counter-clockwise), quadrant by quadrant
   std::array<ChunkQuadrant, 4> quadrants;
   std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // over the quadrants

@@ -3,10 +3,12 @@
 // (paged_lod_terrain.h) one node per chunk (its quadrants' ranges together).
 //
 // A node is the chunk's offset as a MatrixTransform over one Geode with one Geometry: the chunk's
-// float positions (metres, relative to the offset) and byte colours, drawn from vertex buffer
-// objects, with the given index ranges as one triangle list (16-bit indices where the chunk has at
-// most 65535 vertices). Every node made by one ChunkNodeMaker shares the same two arrays, so the
-// surfaces of one chunk cost their indices only. Named "chunk LEVEL/X/Y" + the given suffix (tests
+// float positions (metres, relative to the offset) drawn from vertex buffer objects, with the given
+// index ranges as one triangle list (16-bit indices where the chunk has at most 65535 vertices). Its
+// colours are the chunk's texture (terrain_chunk.h, "Shading": one texel per kept sample, linear
+// between texel centres, no mipmaps: see chunk_node.cpp) on texture unit 0, over white; a mesh without
+// a texture gives its vertex colours instead. Every node made by one ChunkNodeMaker shares the same
+// arrays and texture, so the surfaces of one chunk cost their indices only. Named "chunk LEVEL/X/Y" + the given suffix (tests
 // and the scene graph's readers tell the surfaces apart by it).
 //
 // Ownership: the maker copies the mesh's positions and colours once; it reads the mesh's indices
@@ -17,6 +19,7 @@
 
 #include <osg/Array>
 #include <osg/MatrixTransform>
+#include <osg/StateSet>
 #include <osg/ref_ptr>
 
 #include <cstddef>
@@ -40,6 +43,8 @@ class ChunkNodeMaker {
   const terrain::ChunkMesh& mesh_;
   osg::ref_ptr<osg::Vec3Array> positions_;
   osg::ref_ptr<osg::Vec4ubArray> colours_;
+  osg::ref_ptr<osg::Vec2Array> texCoords_;  // null without a texture
+  osg::ref_ptr<osg::StateSet> textureState_;
 };
 
 }  // namespace nestwalk

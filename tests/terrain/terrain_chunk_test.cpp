@@ -19,6 +19,7 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <set>
 #include <vector>
 
 namespace nestwalk::terrain {
@@ -423,6 +424,45 @@ TEST(TerrainChunk, ImageryIsReadOnTheLevelsGridAtMapPositions) {
       }
     }
   EXPECT_GT(calls, 0);
+}
+
+TEST(TerrainChunk, TheTextureHoldsEverySamplesColourAndFillsHolesFromNeighbours) {
+  // Texel (i, j) is the colour of the vertex at kept sample (i, j); a hole's texel repeats a texel
+  // next to it, so every hole texel's colour is that of some valid sample of the chunk.
+  const Heightfield hf = roughField(70, 53, 11, 0.2);
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  std::size_t holes = 0;
+  for (const ChunkKey k : {ChunkKey{0, 1, 2}, ChunkKey{1, 0, 1}, ChunkKey{2, 0, 0}}) {
+    const ChunkMesh m = buildChunk(hf, l, k);
+    const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+    ASSERT_EQ(m.textureWidth, int(cols.size()));
+    ASSERT_EQ(m.textureHeight, int(rows.size()));
+    ASSERT_EQ(m.texture.size(), 4 * cols.size() * rows.size());
+    ASSERT_EQ(m.texCoords.size(), 2 * m.vertexCount());
+    std::set<std::array<std::uint8_t, 4>> valid;
+    for (std::size_t v = 0; v < m.surfaceVertices; ++v) {
+      const std::size_t i = std::size_t(m.texCoords[2 * v] * float(cols.size()));
+      const std::size_t j = std::size_t(m.texCoords[2 * v + 1] * float(rows.size()));
+      // The vertex lies at kept sample (i, j).
+      EXPECT_NEAR(m.positions[3 * v] + m.offset.x(), cols[i] * hf.dx(), 1e-3);
+      EXPECT_NEAR(m.positions[3 * v + 1] + m.offset.y(), -rows[j] * hf.dy(), 1e-3);
+      std::array<std::uint8_t, 4> texel;
+      for (std::size_t c = 0; c < 4; ++c) {
+        texel[c] = m.texture[4 * (j * cols.size() + i) + c];
+        EXPECT_EQ(texel[c], m.colours[4 * v + c]);
+      }
+      valid.insert(texel);
+    }
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      for (std::size_t i = 0; i < cols.size(); ++i) {
+        if (hf.valid(cols[i], rows[j])) continue;
+        ++holes;
+        std::array<std::uint8_t, 4> texel;
+        for (std::size_t c = 0; c < 4; ++c) texel[c] = m.texture[4 * (j * cols.size() + i) + c];
+        EXPECT_TRUE(valid.count(texel)) << "hole texel " << i << " " << j << " of chunk " << k.level;
+      }
+  }
+  EXPECT_GT(holes, 20u);
 }
 
 }  // namespace
