@@ -426,17 +426,32 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     // and it has fewer triangles than the grid; its errors and blocks are then those of its own
     // triangles.
     const std::size_t gridCount = m.indices.size() - quad.firstIndex;
+    // The quadrant's own vertices, numbered from 0: meshoptimizer's work grows with the vertex
+    // count it is given, and the chunk has four quadrants' (and its skirts').
+    std::vector<std::uint32_t> localIndices(gridCount), globalOf;
+    std::vector<float> localPositions;
+    {
+      std::vector<std::int32_t> localOf(m.positions.size() / 3, -1);
+      for (std::size_t k = 0; k < gridCount; ++k) {
+        const std::uint32_t v = m.indices[quad.firstIndex + k];
+        if (localOf[v] < 0) {
+          localOf[v] = std::int32_t(globalOf.size());
+          globalOf.push_back(v);
+          localPositions.insert(localPositions.end(), &m.positions[3 * v], &m.positions[3 * v] + 3);
+        }
+        localIndices[k] = std::uint32_t(localOf[v]);
+      }
+    }
+    const float scale = meshopt_simplifyScale(localPositions.data(), globalOf.size(), 3 * sizeof(float));
     auto simplify = [&](double targetM) -> std::optional<SimplifiedSurface> {
-      const std::uint32_t* grid = m.indices.data() + quad.firstIndex;
-      const std::size_t vertices = m.positions.size() / 3;
-      const float scale = meshopt_simplifyScale(m.positions.data(), vertices, 3 * sizeof(float));
       SimplifiedSurface out;
       out.indices.resize(gridCount);
       float resultError = 0;
-      out.indices.resize(meshopt_simplify(out.indices.data(), grid, gridCount, m.positions.data(), vertices,
-                                          3 * sizeof(float), 0, float(targetM / scale), meshopt_SimplifyLockBorder,
-                                          &resultError));
+      out.indices.resize(meshopt_simplify(out.indices.data(), localIndices.data(), gridCount, localPositions.data(),
+                                          globalOf.size(), 3 * sizeof(float), 0, float(targetM / scale),
+                                          meshopt_SimplifyLockBorder, &resultError));
       if (out.indices.size() >= gridCount) return std::nullopt;
+      for (std::uint32_t& v : out.indices) v = globalOf[v];
       for (std::size_t t = 0; t < out.indices.size(); t += 3) {
         const auto& p = fineOf[out.indices[t]];
         const auto& q = fineOf[out.indices[t + 1]];

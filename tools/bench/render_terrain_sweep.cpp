@@ -426,8 +426,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
               "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
               "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
               "of each flythrough,\n rendered until nothing is wanted: settle s in all, settled ms the median last "
-              "frame, settled tris its\n median terrain triangles); load RSS, RSS MiB:\n the measuring process's peak resident memory once the scene was "
-              "loaded, and in all; p50 x, p95 x:\n against the smallest size)\n";
+              "frame, settled tris its\n median terrain triangles); load RSS, RSS MiB: the measuring process's peak resident memory once "
+              "the scene\n was loaded, and in all; p50 x, p95 x: against the smallest size)\n";
   for (const Json& row : table.rows()) {
     const std::string at = "note: at " + numberText(row["size_m"].get<double>()) + " m, ";
     if (row["frames_loading"].get<double>() > kLoadingNoteFraction * row["frames"].get<double>())
