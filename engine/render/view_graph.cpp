@@ -118,7 +118,7 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
 
   // The terrain: chunks in the mesh frame (metres from sample (0, 0)), placed in the map frame.
   PagedTerrainOptions terrainOptions;
-  terrainOptions.chunkCells = options_.terrainTileCells;
+  terrainOptions.chunkCells = options_.terrainChunkCells;
   terrainOptions.pixelsPerRadian = pixelsPerRadian_;
   terrainOptions.maxPixels = options_.lodMaxPixels;
   terrainOptions.budgetBytes = options_.terrainBudgetBytes;

@@ -59,7 +59,7 @@ struct RenderOptions {
   int width = 1280, height = 720;
   double fovYDegrees = 60.0;
   double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
-  int terrainTileCells = 64;     // cells per terrain chunk side (power of two, paged_terrain.h)
+  int terrainChunkCells = 64;    // cells per terrain chunk side (power of two, paged_terrain.h)
   std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
   TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h (own quadtree only;
                                                               // the DatabasePager always loads in the background)

@@ -38,7 +38,7 @@ struct Config {
   std::string name;
   double lodPixels;
   bool nestedCulling;
-  int chunkCells = RenderOptions{}.terrainTileCells;
+  int chunkCells = RenderOptions{}.terrainChunkCells;
   TerrainPaging paging = TerrainPaging::OwnQuadtree;
   // Before each timed frame, render the pose until the terrain is the rule's full answer (the own
   // quadtree: once, it builds in the cull; PagedLOD: until the pager has loaded what the cull wants),
@@ -128,7 +128,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   ro.height = height;
   ro.lodMaxPixels = c.lodPixels;
   ro.nestedCulling = c.nestedCulling;
-  ro.terrainTileCells = c.chunkCells;
+  ro.terrainChunkCells = c.chunkCells;
   ro.terrainPaging = c.paging;
   // Every frame the error rule's full answer: the steady state, whatever the loader's timing (the
   // own quadtree's Complete loading; the PagedLOD tree is settled before each frame instead).
