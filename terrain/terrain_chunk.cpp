@@ -528,15 +528,17 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     ChunkQuadrant& quad = m.quadrants[q];
     quad.exactFirstIndex = m.indices.size();
     m.indices.insert(m.indices.end(), exactSurfaces[q].begin(), exactSurfaces[q].end());
-    const auto skirts = m.indices.begin() + std::ptrdiff_t(quad.firstIndex + 3 * quad.surfaceTriangles);
-    m.indices.insert(m.indices.end(), skirts, skirts + std::ptrdiff_t(3 * quad.skirtTriangles));
+    // A copy: inserting into m.indices may move it.
+    const auto skirtsFrom = m.indices.begin() + std::ptrdiff_t(quad.firstIndex + 3 * quad.surfaceTriangles);
+    const std::vector<std::uint32_t> skirts(skirtsFrom, skirtsFrom + std::ptrdiff_t(3 * quad.skirtTriangles));
+    m.indices.insert(m.indices.end(), skirts.begin(), skirts.end());
     quad.exactIndexCount = m.indices.size() - quad.exactFirstIndex;
     quad.exactSurfaceTriangles = exactSurfaces[q].size() / 3;
     for (SimplifiedSurface& r : refinedSurfaces[q]) {
       ChunkRefinement& refinement = quad.refinements.emplace_back();
       refinement.firstIndex = m.indices.size();
       m.indices.insert(m.indices.end(), r.indices.begin(), r.indices.end());
-      m.indices.insert(m.indices.end(), skirts, skirts + std::ptrdiff_t(3 * quad.skirtTriangles));
+      m.indices.insert(m.indices.end(), skirts.begin(), skirts.end());
       refinement.indexCount = m.indices.size() - refinement.firstIndex;
       refinement.surfaceTriangles = r.indices.size() / 3;
       refinement.maxError = r.maxError;
