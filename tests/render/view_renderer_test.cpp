@@ -409,6 +409,11 @@ TEST_F(RenderTest, DrapedImageryColoursTheTerrain) {
   // The orthophoto is sampled at the drawn level's spacing and blended over triangles, and carries
   // per-pixel noise: a pixel's hue strays, the median does not.
   EXPECT_LT(median, 0.02) << "over " << errors.size() << " pixels";
+  // Nine pixels in ten too: the orthophoto's materials (bench, face, berm) change within a chunk, so
+  // a chunk drawn in fewer colours than its samples strays on a large share of them (measured: 0.013
+  // when right; 0.10 when a texture-filling bug drew each chunk in one colour, whose median was 0.009).
+  const double ninetieth = errors[errors.size() * 9 / 10];
+  EXPECT_LT(ninetieth, 0.04) << "over " << errors.size() << " pixels";
 }
 
 TEST_F(RenderTest, StableAcrossRuns) {
