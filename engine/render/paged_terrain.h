@@ -63,9 +63,9 @@ inline constexpr double kMinEyeDistanceM = 0.01;
 
 /// The default simplification of chunk quadrants, a multiple of the level grid's own error (the drawn
 /// error stays exact whatever it is: a coarser quadrant is only replaced by its children sooner).
-/// Chosen by the triangles drawn at 1 px: of 0.35, 0.5, 0.75, 1, 1.5 and 2, 1.5 drew the fewest on
-/// the bundled flythroughs (bench render: 103k a frame; 0.5: 150k, 1: 114k, 2: 80k on the 1 M sweep
-/// terrain against 75k) and nearly the fewest on the 100 M sweep terrain (370k; 0.5: 460k, 2: 357k).
+/// Chosen by the triangles a settled frame draws at 1 px. Terrain-size sweep, 0.35 / 0.5 / 0.75 / 1 /
+/// 1.5 / 2: 1 M terrain 105k / 102k / 93k / 74k / 75k / 80k, 100 M terrain 503k / 460k / 432k /
+/// 409k / 370k / 357k; bench render's bundled flythroughs: 0.5 150k, 1 114k, 1.5 103k.
 inline constexpr double kTerrainSimplifyFraction = 1.5;
 
 enum class TerrainLoading { Background, Complete };
