@@ -422,68 +422,68 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         for (std::size_t i = 0; i + 1 < coarser.nc(); ++i) coarserError = std::max(coarserError, cellError(coarser, i, j));
       target = simplifyFraction * coarserError;
     }
-    // Simplification (terrain_chunk.h): a surface is kept only when every triangle still faces up
-    // and it has fewer triangles than the grid; its errors and blocks are then those of its own
-    // triangles.
-    const std::size_t gridCount = m.indices.size() - quad.firstIndex;
-    // The quadrant's own vertices, numbered from 0: meshoptimizer's work grows with the vertex
-    // count it is given, and the chunk has four quadrants' (and its skirts').
-    std::vector<std::uint32_t> localIndices(gridCount), globalOf;
-    std::vector<float> localPositions;
-    {
-      std::vector<std::int32_t> localOf(m.positions.size() / 3, -1);
-      for (std::size_t k = 0; k < gridCount; ++k) {
-        const std::uint32_t v = m.indices[quad.firstIndex + k];
-        if (localOf[v] < 0) {
-          localOf[v] = std::int32_t(globalOf.size());
-          globalOf.push_back(v);
-          localPositions.insert(localPositions.end(), &m.positions[3 * v], &m.positions[3 * v] + 3);
-        }
-        localIndices[k] = std::uint32_t(localOf[v]);
-      }
-    }
-    const float scale = meshopt_simplifyScale(localPositions.data(), globalOf.size(), 3 * sizeof(float));
-    auto simplify = [&](double targetM) -> std::optional<SimplifiedSurface> {
-      SimplifiedSurface out;
-      out.indices.resize(gridCount);
-      float resultError = 0;
-      out.indices.resize(meshopt_simplify(out.indices.data(), localIndices.data(), gridCount, localPositions.data(),
-                                          globalOf.size(), 3 * sizeof(float), 0, float(targetM / scale),
-                                          meshopt_SimplifyLockBorder, &resultError));
-      if (out.indices.size() >= gridCount) return std::nullopt;
-      for (std::uint32_t& v : out.indices) v = globalOf[v];
-      for (std::size_t t = 0; t < out.indices.size(); t += 3) {
-        const auto& p = fineOf[out.indices[t]];
-        const auto& q = fineOf[out.indices[t + 1]];
-        const auto& r = fineOf[out.indices[t + 2]];
-        // Counter-clockwise seen from above is clockwise in (column, row), rows running south.
-        if (std::int64_t(q[0] - p[0]) * (r[1] - p[1]) - std::int64_t(q[1] - p[1]) * (r[0] - p[0]) > 0)
-          return std::nullopt;
-      }
-      out.blocks.assign(bx * by, ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
-      for (std::size_t t = 0; t < out.indices.size(); t += 3) {
-        FineTriangle tri;
-        Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-        for (std::size_t k = 0; k < 3; ++k) {
-          tri.v[k] = fineOf[out.indices[t + k]];
-          tri.h[k] = hf.sample(tri.v[k][0], tri.v[k][1]);
-          centroid += Eigen::Vector2d(tri.v[k][0], tri.v[k][1]) / 3.0;
-        }
-        // The block of the cell holding the centroid.
-        const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
-        const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
-        ChunkBlock& blk = out.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
-        blk.error = std::max(blk.error, triangleError(hf, tri));
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
-          blk.min = blk.min.cwiseMin(p);
-          blk.max = blk.max.cwiseMax(p);
-        }
-      }
-      for (const ChunkBlock& blk : out.blocks) out.maxError = std::max(out.maxError, blk.error);
-      return out;
-    };
     if (target > 0) {
+      // Simplification (terrain_chunk.h): a surface is kept only when every triangle still faces up
+      // and it has fewer triangles than the grid; its errors and blocks are then those of its own
+      // triangles.
+      const std::size_t gridCount = m.indices.size() - quad.firstIndex;
+      // The quadrant's own vertices, numbered from 0: meshoptimizer's work grows with the vertex
+      // count it is given, and the chunk has four quadrants' (and its skirts').
+      std::vector<std::uint32_t> localIndices(gridCount), globalOf;
+      std::vector<float> localPositions;
+      {
+        std::vector<std::int32_t> localOf(m.positions.size() / 3, -1);
+        for (std::size_t k = 0; k < gridCount; ++k) {
+          const std::uint32_t v = m.indices[quad.firstIndex + k];
+          if (localOf[v] < 0) {
+            localOf[v] = std::int32_t(globalOf.size());
+            globalOf.push_back(v);
+            localPositions.insert(localPositions.end(), &m.positions[3 * v], &m.positions[3 * v] + 3);
+          }
+          localIndices[k] = std::uint32_t(localOf[v]);
+        }
+      }
+      const float scale = meshopt_simplifyScale(localPositions.data(), globalOf.size(), 3 * sizeof(float));
+      auto simplify = [&](double targetM) -> std::optional<SimplifiedSurface> {
+        SimplifiedSurface out;
+        out.indices.resize(gridCount);
+        float resultError = 0;
+        out.indices.resize(meshopt_simplify(out.indices.data(), localIndices.data(), gridCount, localPositions.data(),
+                                            globalOf.size(), 3 * sizeof(float), 0, float(targetM / scale),
+                                            meshopt_SimplifyLockBorder, &resultError));
+        if (out.indices.size() >= gridCount) return std::nullopt;
+        for (std::uint32_t& v : out.indices) v = globalOf[v];
+        for (std::size_t t = 0; t < out.indices.size(); t += 3) {
+          const auto& p = fineOf[out.indices[t]];
+          const auto& q = fineOf[out.indices[t + 1]];
+          const auto& r = fineOf[out.indices[t + 2]];
+          // Counter-clockwise seen from above is clockwise in (column, row), rows running south.
+          if (std::int64_t(q[0] - p[0]) * (r[1] - p[1]) - std::int64_t(q[1] - p[1]) * (r[0] - p[0]) > 0)
+            return std::nullopt;
+        }
+        out.blocks.assign(bx * by, ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
+        for (std::size_t t = 0; t < out.indices.size(); t += 3) {
+          FineTriangle tri;
+          Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+          for (std::size_t k = 0; k < 3; ++k) {
+            tri.v[k] = fineOf[out.indices[t + k]];
+            tri.h[k] = hf.sample(tri.v[k][0], tri.v[k][1]);
+            centroid += Eigen::Vector2d(tri.v[k][0], tri.v[k][1]) / 3.0;
+          }
+          // The block of the cell holding the centroid.
+          const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
+          const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
+          ChunkBlock& blk = out.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
+          blk.error = std::max(blk.error, triangleError(hf, tri));
+          for (std::size_t k = 0; k < 3; ++k) {
+            const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
+            blk.min = blk.min.cwiseMin(p);
+            blk.max = blk.max.cwiseMax(p);
+          }
+        }
+        for (const ChunkBlock& blk : out.blocks) out.maxError = std::max(out.maxError, blk.error);
+        return out;
+      };
       if (std::optional<SimplifiedSurface> primary = simplify(target)) {
         if (key.level == 0) {
           // Level 0: finer simplifications of the same grid, then the grid itself (exact), for the
