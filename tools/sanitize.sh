@@ -62,12 +62,14 @@ run_asan() {  # full?
     echo "nestwalk: sanitize: AddressSanitizer + UndefinedBehaviorSanitizer, everything (build-asan-full/)"
     configure build-asan-full "$flags_asan"
     cmake --build build-asan-full -j "$jobs"
+    echo "nestwalk: sanitize: asan build in $(( $(date +%s) - start )) s"
     (cd build-asan-full && ctest --output-on-failure -j "$jobs" ${NESTWALK_SANITIZE_CTEST_ARGS:-})
   else
     echo "nestwalk: sanitize: AddressSanitizer + UndefinedBehaviorSanitizer, the modules' tests (build-asan/)"
     need_generator
     configure build-asan "$flags_asan" "$generator"
     cmake --build build-asan -j "$jobs" --target "${module_tests[@]}" "${fuzz_replays[@]}" bundled_scene gis_sample_scene
+    echo "nestwalk: sanitize: asan build in $(( $(date +%s) - start )) s"
     # Left out here: the tests that run the program (tool_tests, GisSample's flythroughs) and the
     # installed consumer (see above); the layering probes, which check compiler messages, not
     # running code. The render tests run in a second pass without leak detection: Mesa's EGL
@@ -88,6 +90,7 @@ run_tsan() {
   need_generator
   configure build-tsan "$flags_tsan" "$generator"
   cmake --build build-tsan -j "$jobs" --target core_tests scene_tests render_tests bundled_scene
+  echo "nestwalk: sanitize: tsan build in $(( $(date +%s) - start )) s"
   (cd build-tsan && ctest --output-on-failure -j "$jobs" -L '^(core_tests|scene_tests|render_tests)$' \
      -R 'FrameWriter|PngSequence|Video|GuardedProcess|ModelFile|ModelCache|Render|PagedTerrain' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
   echo "nestwalk: sanitize: tsan passed in $(( $(date +%s) - start )) s"

@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
+  ccache                                         # the compiler cache: CI's clean clone compiles from the session's builds
   libeigen3-dev                                  # linear algebra, symmetric eigensolver
   libopenscenegraph-dev openscenegraph           # scene graph, model loading (osgDB plugins)
   libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering (EGL)

@@ -16,6 +16,7 @@
 #include "assets/generators/gis_inputs.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <gdal_priv.h>
@@ -36,8 +37,8 @@ namespace fs = std::filesystem;
 using test::quoted;
 using test::readText;
 
-const fs::path kScene = fs::path(NESTWALK_GIS_SCENE_DIR) / "scene.json";
-const fs::path kInputs = NESTWALK_GIS_INPUTS_DIR;
+const fs::path kScene = fs::path(nestwalk::test::build::gisSceneDir()) / "scene.json";
+const fs::path kInputs = nestwalk::test::build::gisInputsDir();
 
 /// Degrees a - b, wrapped to (-180, 180].
 double angleDifference(double a, double b) {

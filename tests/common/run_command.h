@@ -1,6 +1,7 @@
 // Runs a program as a user would, from a shell, and captures what it printed.
 #pragma once
 
+#include "tests/common/build_paths.h"
 #include "tests/common/temp_folder.h"
 
 #include <sys/wait.h>
@@ -46,6 +47,6 @@ inline CommandResult runCommand(const std::string& commandLine) {
 }
 
 /// `nestwalk ARGS` (ARGS already shell-quoted where needed).
-inline CommandResult runNestwalk(const std::string& args) { return runCommand(quoted(std::string(NESTWALK_BINARY)) + " " + args); }
+inline CommandResult runNestwalk(const std::string& args) { return runCommand(quoted(std::string(nestwalk::test::build::nestwalkProgram())) + " " + args); }
 
 }  // namespace nestwalk::test

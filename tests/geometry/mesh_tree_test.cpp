@@ -11,7 +11,7 @@
 // the brute-force minimum (to 1e-12 relative: the same triangles and function, so normally bit for
 // bit); the node volumes hold their triangles; the counters stay far below brute force (far boxes
 // under 10% of the triangle count, as are near boxes on average). Timings are printed.
-// The bundled equipment models (NESTWALK_BUNDLED_SCENE_DIR/models, or the folder the environment
+// The bundled equipment models (the bundled scene's models/, or the folder the environment
 // variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through collectModelGeometry (scene/model_geometry.h) and
 // walked into by body-sized boxes: both trees equal brute force, every mesh contact is an inner-OBB
 // contact, and the OBB's false contacts (OBB touched, triangles not) are printed with how far

@@ -9,7 +9,7 @@
 // is printed (fit_ms: our fit, hull included; one run, Release build).
 //
 // Real models come from the shared data folder: NESTWALK_SHARED_DATA (environment) or else the
-// compile definition NESTWALK_SHARED_DATA_DIR; the model tests skip when the folder is absent.
+// build's default (tests/common/build_paths.h); the model tests skip when the folder is absent.
 
 #include "nestwalk/geometry/obb_fit.h"
 #include "tests/geometry/test_shapes.h"
@@ -107,7 +107,7 @@ class ObbFitCgalModels : public testing::TestWithParam<const char*> {};
 TEST_P(ObbFitCgalModels, HullSearchIsWithinTenPercentOfCgal) {
   const std::filesystem::path dir = test::sharedData();
   if (dir.empty()) {
-    GTEST_SKIP() << "shared data folder absent: looked for " << NESTWALK_SHARED_DATA_DIR
+    GTEST_SKIP() << "shared data folder absent: looked for " << nestwalk::test::build::sharedDataDir()
                  << " (set NESTWALK_SHARED_DATA to its path)";
   }
   const std::filesystem::path model = dir / GetParam();

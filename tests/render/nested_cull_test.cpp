@@ -7,6 +7,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "tests/common/build_paths.h"
 #include "tests/scene/scene_test_util.h"
 
 #include <Eigen/Geometry>
@@ -536,7 +537,7 @@ TEST_F(NestedCullInstall, CulledInstancesAreNotTraversedByARealCullTraversal) {
 }
 
 TEST(NestedCullBundled, KeepsNoMoreThanOsgSpheresAtGroundLevel) {
-  const std::filesystem::path scenePath = std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
+  const std::filesystem::path scenePath = std::filesystem::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
   if (!std::filesystem::exists(scenePath))
     GTEST_SKIP() << "the bundled scene is absent (" << scenePath << "); build the bundled_scene target";
   const Scene scene = loadScene(scenePath.string());

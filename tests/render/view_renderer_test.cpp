@@ -3,6 +3,7 @@
 // and sky where it meets nothing; a piece of equipment shows where its box is; the shaded frame is
 // neither empty nor black, follows the walker, is stable across runs, keeps the near ground and
 // near equipment, and nested culling draws exactly what OSG's own culling draws.
+#include "tests/common/build_paths.h"
 #include "nestwalk/render/view_renderer.h"
 
 #include "nestwalk/core/ui_font.h"
@@ -29,7 +30,7 @@ namespace nestwalk {
 namespace {
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
-const char* kScenePath = NESTWALK_BUNDLED_SCENE_DIR "/scene.json";
+const std::string kScenePath = std::string(nestwalk::test::build::bundledSceneDir()) + "/scene.json";
 
 // Small frames keep the suite fast; the pixel checks do not depend on the size.
 constexpr int kWidth = 320, kHeight = 180;

@@ -7,6 +7,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "tests/common/build_paths.h"
 #include "tests/common/box_model.h"
 #include "tests/scene/scene_test_util.h"
 
@@ -436,7 +437,7 @@ INSTANTIATE_TEST_SUITE_P(Places, SceneLoad, ::testing::ValuesIn(kPlaces),
 // every vertex transformed independently.
 TEST(SceneRealModels, VolumesContainEveryVertex) {
   const fs::path data = test::sharedData();
-  if (data.empty()) GTEST_SKIP() << "shared data folder absent (" << NESTWALK_SHARED_DATA_DIR << "): real models not tested";
+  if (data.empty()) GTEST_SKIP() << "shared data folder absent (" << nestwalk::test::build::sharedDataDir() << "): real models not tested";
   std::vector<std::string> models;
   for (const char* m : {"models/dumptruck.osgt", "models/street_lamp.osgb", "models/excavator_chassis.obj", "models/jeep1/jeep1.3ds"})
     if (fs::exists(data / m)) models.push_back((data / m).string());

@@ -3,6 +3,7 @@
 // OUT is never replaced without --overwrite and no temporary file is left behind; bad input names
 // the file and writes nothing.
 #include "nestwalk/scene/model_geometry.h"
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <osg/Geometry>
@@ -25,7 +26,7 @@ namespace fs = std::filesystem;
 constexpr int kCols = 40, kRows = 30;
 constexpr double kWest = 550000.0, kSouth = 4650000.0, kCell = 2.0;
 
-std::string weatherStation() { return std::string(NESTWALK_SOURCE_DIR) + "/assets/models/weather_station.obj"; }
+std::string weatherStation() { return std::string(nestwalk::test::build::sourceDir()) + "/assets/models/weather_station.obj"; }
 
 /// Writes terrain.asc and scene.json (three stations: two alone, a third use_only in a group) in `dir`.
 fs::path writeScene(const fs::path& dir) {

@@ -1,6 +1,7 @@
 // `nestwalk query volumes`: checked against values computed without the engine: the vertices
 // parsed from the OBJ text, and the triangle counts and bounding boxes that shared/data/SOURCES.md
 // records (measured there with osg::TriangleFunctor and osg::ComputeBoundsVisitor).
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
@@ -49,7 +50,7 @@ void expectInsideObb(const json& obb, const std::vector<Eigen::Vector3d>& points
   }
 }
 
-const std::filesystem::path kStation = std::filesystem::path(NESTWALK_SOURCE_DIR) / "assets/models/weather_station.obj";
+const std::filesystem::path kStation = std::filesystem::path(nestwalk::test::build::sourceDir()) / "assets/models/weather_station.obj";
 
 TEST(QueryVolumes, BundledWeatherStation) {
   const std::vector<Eigen::Vector3d> vertices = objVertices(kStation);
@@ -145,7 +146,7 @@ struct SharedModel {
 
 TEST(QueryVolumes, SharedModelsMatchTheirRecordedCountsAndBoxes) {
   const auto data = sharedData();
-  if (data.empty()) GTEST_SKIP() << "shared data folder absent (looked in " << NESTWALK_SHARED_DATA_DIR << ")";
+  if (data.empty()) GTEST_SKIP() << "shared data folder absent (looked in " << nestwalk::test::build::sharedDataDir() << ")";
   const SharedModel models[] = {
       {"models/dumptruck.osgt", 23346, {-21.18, 8.38, -2.58, 6.51, -6.04, 6.04}},
       {"models/jeep1/jeep1.3ds", 2032, {-5.53, 5.53, -4.35, 12.30, -0.03, 7.61}},

@@ -2,6 +2,7 @@
 // build/assets/mining_dump), quick settings: the report's files are written, every method ran over
 // every flythrough without a missed contact, nested+mesh has no false block and stops within 1 mm
 // of the real geometry, the plots read back as PNGs, and existing files are kept unless --overwrite.
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
@@ -17,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
+const fs::path kScene = fs::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
 const char* const kMethods[] = {"nested", "aabb", "obb", "nested+mesh", "kdop18", "auto"};
 // In name order, as the report lists them.
 const char* const kScripts[] = {"bench_patrol.txt", "equipment_fly.txt", "equipment_walk.txt", "low_flight.txt",
@@ -82,7 +83,7 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   // blocked by" line, counted here from the scripts themselves), on at least 5 kinds.
   std::size_t expected = 0;
   for (const char* script : kScripts) {
-    std::istringstream text(readText(fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts" / script));
+    std::istringstream text(readText(fs::path(nestwalk::test::build::bundledSceneDir()) / "scripts" / script));
     for (std::string line; std::getline(text, line);) expected += line.rfind("expect blocked by ", 0) == 0;
   }
   EXPECT_GE(expected, 20u);

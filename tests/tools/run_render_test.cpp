@@ -2,6 +2,7 @@
 // into numbered PNG frames and an MP4 video (ffprobe counts its frames), render times in the same
 // CSV and summary, rendered columns deterministic between runs, and bad options refused with a
 // message.
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
@@ -20,8 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
-const fs::path kFlight = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts" / "low_flight.txt";
+const fs::path kScene = fs::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
+const fs::path kFlight = fs::path(nestwalk::test::build::bundledSceneDir()) / "scripts" / "low_flight.txt";
 
 std::string commandOutput(const std::string& command) {
   std::string out;
@@ -153,7 +154,7 @@ TEST_F(RenderRun, FallsBackToAnXPbufferUnderXvfb) {
   const auto egl = runNestwalk(args + quoted(dir / "egl"));
   ASSERT_EQ(egl.exitCode, 0) << egl.out << egl.err;
   const auto x11 = runCommand("NESTWALK_OFFSCREEN=x11 xvfb-run -a -s '-screen 0 640x480x24' " +
-                              std::string(NESTWALK_BINARY) + " " + args + quoted(dir / "x11"));
+                              std::string(nestwalk::test::build::nestwalkProgram()) + " " + args + quoted(dir / "x11"));
   ASSERT_EQ(x11.exitCode, 0) << x11.out << x11.err;
   EXPECT_EQ(nlohmann::json::parse(readText(dir / "egl" / "summary.json"))["render"]["route"], "egl-surfaceless");
   EXPECT_EQ(nlohmann::json::parse(readText(dir / "x11" / "summary.json"))["render"]["route"], "x11-pbuffer");
@@ -164,7 +165,7 @@ TEST_F(RenderRun, FallsBackToAnXPbufferUnderXvfb) {
     EXPECT_LT(diff, 1.0) << frame;
   }
   // Asking for a route that cannot be had names the variable.
-  const auto none = runCommand("env -u DISPLAY NESTWALK_OFFSCREEN=x11 " + std::string(NESTWALK_BINARY) + " " + args +
+  const auto none = runCommand("env -u DISPLAY NESTWALK_OFFSCREEN=x11 " + std::string(nestwalk::test::build::nestwalkProgram()) + " " + args +
                                quoted(dir / "none"));
   EXPECT_NE(none.exitCode, 0);
   EXPECT_NE(none.err.find("DISPLAY"), std::string::npos) << none.err;

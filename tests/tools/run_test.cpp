@@ -2,6 +2,7 @@
 // build/assets/mining_dump): every bundled flythrough meets its expectations, the per-frame CSV is
 // byte-identical between runs once the timing columns are cut, every hierarchy gives the same
 // contacts, and bad input and failed expectations end with their messages and exit codes.
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <nlohmann/json.hpp>
@@ -13,8 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kScene = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
-const fs::path kScripts = fs::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts";
+const fs::path kScene = fs::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
+const fs::path kScripts = fs::path(nestwalk::test::build::bundledSceneDir()) / "scripts";
 const char* const kScriptNames[] = {"bench_patrol.txt", "ramp_descent.txt", "low_flight.txt", "equipment_walk.txt",
                                     "equipment_fly.txt"};
 

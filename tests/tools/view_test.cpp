@@ -11,6 +11,7 @@
 #include "nestwalk/walker/script.h"
 #include "nestwalk/walker/walker.h"
 
+#include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 #include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
@@ -121,7 +122,7 @@ TEST_F(ViewWindow, HeldKeysWalkIntoTheMastAndTheScreenshotAndRecordingAgree) {
   }
   const fs::path log = folder / "view.log";
   const std::string env = "DISPLAY=" + x.display() + " ";
-  const std::string view = env + quoted(std::string(NESTWALK_BINARY)) + " view " + quoted(test::bundledSceneFile()) +
+  const std::string view = env + quoted(std::string(nestwalk::test::build::nestwalkProgram())) + " view " + quoted(test::bundledSceneFile()) +
                            " --start " + std::to_string(start.x()) + " " + std::to_string(start.y()) + " " +
                            std::to_string(heading) + " --record " + quoted(folder / "rec") + " --screenshots " +
                            quoted(folder.path()) + " --terrain-loading complete --seconds 90 > " + quoted(log) + " 2>&1 &";
@@ -222,7 +223,7 @@ TEST_F(ViewWindow, AScriptPlaysInRealTimeAndPausesAndSteps) {
   const fs::path script = test::bundledScript("bench_patrol.txt");
   const fs::path log = folder / "view.log";
   const std::string env = "DISPLAY=" + x.display() + " ";
-  const std::string view = env + quoted(std::string(NESTWALK_BINARY)) + " view " + quoted(test::bundledSceneFile()) +
+  const std::string view = env + quoted(std::string(nestwalk::test::build::nestwalkProgram())) + " view " + quoted(test::bundledSceneFile()) +
                            " --script " + quoted(script) + " --seconds 60 > " + quoted(log) + " 2>&1; echo $? >> " +
                            quoted(log);
   const std::string background = "( " + view + " ) &";
@@ -268,7 +269,7 @@ TEST_F(ViewWindow, AScriptPlaysInRealTimeAndPausesAndSteps) {
 }
 
 TEST_F(ViewWindow, NoDisplaySaysToUseXvfbOrRunRender) {
-  const auto r = test::runCommand("env -u DISPLAY " + quoted(std::string(NESTWALK_BINARY)) + " view " +
+  const auto r = test::runCommand("env -u DISPLAY " + quoted(std::string(nestwalk::test::build::nestwalkProgram())) + " view " +
                                   quoted(test::bundledSceneFile()));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find("xvfb-run"), std::string::npos) << r.err;
@@ -278,7 +279,7 @@ TEST_F(ViewWindow, NoDisplaySaysToUseXvfbOrRunRender) {
 TEST_F(ViewWindow, AnExistingRecordingFolderIsNotOverwritten) {
   const test::TempFolder folder;
   test::writeText(folder / "walk_001.txt", "mine\n");
-  const auto r = test::runCommand("DISPLAY=:0 " + quoted(std::string(NESTWALK_BINARY)) + " view " +
+  const auto r = test::runCommand("DISPLAY=:0 " + quoted(std::string(nestwalk::test::build::nestwalkProgram())) + " view " +
                                   quoted(test::bundledSceneFile()) + " --record " + quoted(folder.path()));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find(folder.path().string() + ": the recording folder exists; pass --overwrite"), std::string::npos)

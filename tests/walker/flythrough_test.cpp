@@ -1,6 +1,7 @@
 // Flythroughs on the bundled mining-dump scene at the engine level: the scene at its real UTM
 // position and moved near the map origin (terrain, equipment and script shifted together) gives
 // the same contacts and heights, and every step's eye stands eye_height above the terrain query.
+#include "tests/common/build_paths.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
@@ -13,7 +14,7 @@ namespace nestwalk {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kDir(NESTWALK_BUNDLED_SCENE_DIR);
+const fs::path kDir(nestwalk::test::build::bundledSceneDir());
 
 Script shifted(Script s, const Eigen::Vector3d& shift) {
   for (ScriptCommand& c : s.commands)

@@ -8,6 +8,7 @@
 // method is also compared with the reference that finds contacts by conservative advancement on
 // exact distances instead of swept tests (mesh_world.h): the exact methods and auto never miss,
 // never stop early, never block falsely.
+#include "tests/common/build_paths.h"
 #include "nestwalk/report/reference_comparison.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
@@ -30,8 +31,8 @@
 namespace nestwalk {
 namespace {
 
-const std::filesystem::path kScene = std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scene.json";
-const std::filesystem::path kScripts = std::filesystem::path(NESTWALK_BUNDLED_SCENE_DIR) / "scripts";
+const std::filesystem::path kScene = std::filesystem::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
+const std::filesystem::path kScripts = std::filesystem::path(nestwalk::test::build::bundledSceneDir()) / "scripts";
 const char* const kBlockingScripts[] = {"bench_patrol.txt", "equipment_walk.txt", "equipment_fly.txt"};
 
 /// FCL's view of one unit: its instances' triangles in the local frame, one BVH.
