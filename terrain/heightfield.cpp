@@ -37,6 +37,12 @@ constexpr double kNodePadRelative = 1e-9;
 /// is exact (a comparison with the line's position), so the band only decides when to look.
 constexpr double kSnapBand = 1e-6;
 
+/// Slack, relative to the magnitudes of the ray's origin and the grid's extent (unitless), added to
+/// a ray's reach when its positions are turned into block indices: the division by the block width
+/// rounds by a few ulps (~1e-16 relative), so 1e-12 keeps every block the ray touches in range at
+/// UTM magnitudes (1 um at 1e6 m) and adds nothing measurable.
+constexpr double kIndexRangeRelativeSlack = 1e-12;
+
 /// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
 /// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
 /// do not miss the TLB on nearly every access (random groundHeight on a 2049^2 grid, kernel THP mode
@@ -464,7 +470,7 @@ std::optional<RayHit> Heightfield::intersectRay(const Eigen::Vector3d& origin, c
       lo = int(std::max(std::floor(std::max(a, -2.0)) - 1.0, 0.0));
       hi = int(std::min(std::floor(std::min(b, double(n) + 2.0)) + 1.0, double(n - 1)));
     };
-    const double slack = padXY + 1e-12 * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
+    const double slack = padXY + kIndexRangeRelativeSlack * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
     const int B = 1 << K;
     const double bw = dx_ * B, bh = dy_ * B;
     int j0, j1;

@@ -1,7 +1,7 @@
 // The terrain as the engine sees it: a regular grid of heights sampled at pixel centres, in a
 // projected map frame, triangulated by one fixed rule that every query and every mesh shares.
 //
-// Frames (see DESIGN.md): map coordinates are double (UTM reaches 1e7 m); the heightfield keeps a
+// Frames: map coordinates are double (UTM reaches 1e7 m); the heightfield keeps a
 // local origin (map coordinates of sample (0, 0)) and does its geometry in the local frame
 //   local = map - origin,  sample (col, row) at local (col * dx, -row * dy)   (row 0 is the north row)
 // Heights are metres, float as stored (Float32), widened to double in every computation.

@@ -3,13 +3,13 @@
 // nested AABB/OBB volumes are measured against (issue "Speed against error").
 //
 // Two hierarchies over the same TriangleMesh (model frame), binary, built top-down:
-//  - ObbTree (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH 1996; seed 000): each node's box is
+//  - ObbTree (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH 1996): each node's box is
 //    the project's covariance fitter (fitObb with ObbFitter::Covariance: the area-weighted
 //    covariance of the convex hull of the node's vertices, Gottschalk's section 3) on the distinct
 //    vertices of the node's triangles; the node is split at the mean of its triangles' centroids
 //    projected on the box's longest axis.
 //  - KdopTree (Klosowski, Held, Mitchell, Sowizral & Zikan, "Efficient collision detection using
-//    bounding volume hierarchies of k-DOPs", 1998; seed 003), k = 18: the slabs of the node's
+//    bounding volume hierarchies of k-DOPs", 1998), k = 18: the slabs of the node's
 //    vertices on the 3 coordinate axes and the 6 diagonals (1,1,0), (1,-1,0), (1,0,1), (1,0,-1),
 //    (0,1,1), (0,1,-1); split by the "splatter" rule: the coordinate axis along which the
 //    triangles' centroids have the largest variance, at their mean.

@@ -1,6 +1,7 @@
-// The nested-volume test of the mining-dump method (Ma et al., seed 004, section 3): every object
-// carries an outer AABB and an inner OBB, and a pair is tested in three stages, each run only when
-// the one before could not separate the pair:
+// The nested-volume test of the mining-dump method (Ma et al., "A collision detection-based
+// wandering method for equipment deploy scene in land reclamation area of mining dump",
+// section 3): every object carries an outer AABB and an inner OBB, and a pair is tested in three
+// stages, each run only when the one before could not separate the pair:
 //   1. AABB-AABB  (outer vs outer: separates most distant pairs with six comparisons),
 //   2. AABB-OBB   (the viewer's outer AABB vs the object's inner OBB, 15-axis SAT),
 //   3. OBB-OBB    (inner vs inner, 15-axis SAT): its verdict is the answer.

@@ -69,6 +69,10 @@ namespace nestwalk {
 namespace {
 
 constexpr double kFloatRoundoff = 0x1p-24;  // u: |fl(x) - x| <= u |x| for normal floats
+// Growth per metre of half extent (unitless) added to the float box's bound for the rounding of
+// the bound's own double arithmetic (a few 2^-53, ~1e-16): 1e-12 covers it with room and adds
+// 1 pm to a 1 m box.
+constexpr double kBoundArithmeticMargin = 1e-12;
 
 /// The smallest float >= x (x itself when representable).
 float roundUp(double x) {
@@ -107,7 +111,7 @@ Obb<float> toFloatConservative(const Obb<double>& b) {
     disp += std::abs(b.halfExtents[j]) * colErr;
     esum += std::abs(b.halfExtents[j]);
   }
-  const double grow = 2 * disp + (4 * kFloatRoundoff + 1e-12) * esum;
+  const double grow = 2 * disp + (4 * kFloatRoundoff + kBoundArithmeticMargin) * esum;
   for (int k = 0; k < 3; ++k) f.halfExtents[k] = roundUp(b.halfExtents[k] + grow);
   return f;
 }

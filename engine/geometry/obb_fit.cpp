@@ -110,6 +110,12 @@ constexpr std::size_t kMaxFaceCandidates = 1000;
 // cube's extents measured along slightly rotated axes differ by rounding, ~1e-15).
 constexpr double kEqualExtent = 1e-12;
 
+// A hull face whose normal component along a candidate direction is below this fraction of its
+// area vector's length (unitless) counts as edge-on to it: the sign of so small a dot product is
+// rounding (~1e-16 relative), so the face's edges are kept as silhouette candidates rather than
+// trusted to one side.
+constexpr double kEdgeOnRelative = 1e-12;
+
 // How many of the best candidates are refined, and the refinement's angle schedule (radians).
 constexpr int kRefineCandidates = 6;
 constexpr double kRefineAngleStart = 0.1;
@@ -288,7 +294,7 @@ class BoxSearch {
       for (std::size_t f = 0; f < faceA_.size(); ++f) {
         const double s = n.dot(faceA_[f]);
         proj += std::abs(s);
-        sign_[f] = !faceOk_[f] || std::abs(s) <= 1e-12 * faceA_[f].norm() ? 0 : (s > 0.0 ? 1 : -1);
+        sign_[f] = !faceOk_[f] || std::abs(s) <= kEdgeOnRelative * faceA_[f].norm() ? 0 : (s > 0.0 ? 1 : -1);
       }
       if (height * 0.25 * proj >= bound) return {};
       // Vertices of silhouette edges (sign change, or a face that is edge-on or degenerate).

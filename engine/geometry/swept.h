@@ -55,15 +55,16 @@ struct SweptNestedResult {
   Vec3<double> normal = Vec3<double>::Zero();   // at the contact, as in SweepResult
 };
 
-// The nested test of seed 004 over a step: the moving viewer's outer AABB against the object's
-// outer AABB, then against its inner OBB, then the viewer's inner OBB against the object's inner
-// OBB; the pair is in contact at t when all three overlap at t, so the intervals are intersected
-// stage by stage and the test stops as soon as the intersection misses [0, 1]. At any fixed t this
-// agrees with testNested (nested.h) on the boxes moved to t.
+// The nested test of the mining-dump method (Ma et al., nested.h) over a step: the moving
+// viewer's outer AABB against the object's outer AABB, then against its inner OBB, then the
+// viewer's inner OBB against the object's inner OBB; the pair is in contact at t when all three
+// overlap at t, so the intervals are intersected stage by stage and the test stops as soon as the
+// intersection misses [0, 1]. At any fixed t this agrees with testNested (nested.h) on the boxes
+// moved to t.
 SweptNestedResult sweepNested(const NestedVolume<double>& viewer, const Vec3<double>& d,
                               const NestedVolume<double>& object);
 
-// Methods with a single volume (issue 6 compares them with the nested test):
+// Methods with a single volume (the methods report compares them with the nested test):
 SweptNestedResult sweepOuterOnly(const NestedVolume<double>& viewer, const Vec3<double>& d,
                                  const NestedVolume<double>& object);  // AABB-AABB alone
 SweptNestedResult sweepInnerOnly(const NestedVolume<double>& viewer, const Vec3<double>& d,

@@ -1,9 +1,10 @@
 // Broad phase: a hierarchy over the collision units' outer AABBs (local frame, metres).
 //
-// Two ways to build it (seed 001, fACT):
+// Two ways to build it (as in the fACT framework, "Bounding volume hierarchies for collision
+// detection"):
 //  - automatically, top-down, with branching factor delta = 2, 4 or 8: a node's boxes are split
 //    along one axis chosen by a rule (the longest side of the node's box, or the axis of largest
-//    centroid variance, "splatter", Klosowski et al. 1998, seed 003), at the mean or the median of
+//    centroid variance, "splatter", Klosowski et al. 1998), at the mean or the median of
 //    the centroids; a delta-ary node is made by repeated binary splits (delta = 4: split, then
 //    split each half), recursively until a part holds at most delta units, which become the node's
 //    leaves. A mean split that leaves one side empty (e.g. all centroids equal) splits the index
@@ -15,7 +16,7 @@
 // A query with a box (the viewer's swept outer AABB) returns every unit whose AABB overlaps it;
 // boxes are closed (touching overlaps). The leaf-level test of a unit's AABB is stage 1 of the
 // nested test (AABB-AABB), so it is counted there; the tests of inner nodes are the hierarchy's own
-// BV tests (Nv of the broad phase). As in fACT (seed 001, "the root of S-T can be omitted") the
+// BV tests (Nv of the broad phase). As in fACT ("the root of S-T can be omitted") the
 // root's own box is not tested: a query starts with the root's children.
 //
 // Exactness: the answer is exactly that of the brute-force closed test in double,

@@ -31,6 +31,11 @@ namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// Where to look for the nearest triangles after a step blocked by no named unit, metres.
 constexpr double kGapSearchRadius = 5.0;
+/// The nearest-unit search widens the gap found so far by this fraction (unitless) plus this much
+/// (metres): the box query compares rounded box corners, and a unit exactly at the gap must not be
+/// left out by a last-bit difference (1e-9 is 1 nm at 1 m, a millionth of the report's precision).
+constexpr double kNearSearchRelative = 1e-9;
+constexpr double kNearSearchAbsolute = 1e-9;
 
 struct Settings {
   int timingPlays;            // timing plays per method and flythrough (each frame: the least)
@@ -49,7 +54,7 @@ double stopGap(const CollisionWorld& world, const MeshWorld& meshes, const Neste
   MeshQueryCounters counters;
   double gap = blockedUnit >= 0 ? meshes.distance(std::uint32_t(blockedUnit), body.inner, MeshTreeKind::Obb, counters)
                                 : kGapSearchRadius;
-  const Vec3<double> grow = Vec3<double>::Constant(gap * (1 + 1e-9) + 1e-9);
+  const Vec3<double> grow = Vec3<double>::Constant(gap * (1 + kNearSearchRelative) + kNearSearchAbsolute);
   near.clear();
   world.tree().query(Aabb<double>{body.outer.min - grow, body.outer.max + grow}, near);
   bool found = blockedUnit >= 0;

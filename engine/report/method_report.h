@@ -1,4 +1,4 @@
-// The methods report (`nestwalk report`, issue 3): every contact method of the walker run over a
+// The methods report (`nestwalk report`): every contact method of the walker run over a
 // scene's flythroughs and measured against the exact reference, the ground following's terrain
 // levels of detail against the full-resolution surface, and the OBB fitters against CGAL's optimal
 // box; written as a Markdown report with PNG plots and the numbers as JSON.

@@ -13,7 +13,7 @@
 namespace nestwalk {
 
 // The walker's contact test against each unit (after the broad phase over the outer AABBs):
-//   Nested     outer AABB, then AABB-OBB, then OBB-OBB (seed 004; the default)
+//   Nested     outer AABB, then AABB-OBB, then OBB-OBB (Ma et al.; the default)
 //   Aabb       outer AABB only;  Obb  inner OBB only
 //   NestedMesh the nested test, then the body box against the model's real triangles through an
 //              OBB tree: blocks only on real contact (exact reference)

@@ -18,8 +18,8 @@ Eigen::Vector2d forwardOf(double headingDeg) {
 using Clock = std::chrono::steady_clock;
 
 /// Nu, the volumes updated per step, counts each of the body's two volumes (outer AABB and inner
-/// OBB) every time the body is placed somewhere new and rebuilt (seed 000's cost model counts
-/// volumes, not bodies).
+/// OBB) every time the body is placed somewhere new and rebuilt (the collision cost model
+/// t = Nv Cv + Np Cp + Nu Cu counts volumes, not bodies).
 constexpr std::uint64_t kVolumesPerBody = 2;
 /// Back-offs from a contact at most: each doubles the distance backed off (kStopDistance, then 2,
 /// 4, ... times it), so 60 reach any step's length long before the cap.

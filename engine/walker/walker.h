@@ -1,5 +1,5 @@
 // The walker: the viewpoint moved one fixed time step at a time, deterministic (same inputs, same
-// states, bit for bit). Each step (seed 004 and the design sketch):
+// states, bit for bit). Each step (the wandering method of Ma et al., see geometry/nested.h):
 //   1. the view turns to the commanded heading and pitch; the body box turns with it unless the
 //      turned box would overlap equipment (then the body keeps its yaw until it is clear);
 //   2. ground following (walking): downward rays at the body centre and the four footprint

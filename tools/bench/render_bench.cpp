@@ -229,7 +229,7 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
 
   std::vector<Config> configs = {{"LOD 1 px, nested culling", 1.0, true}, {"LOD 1 px, OSG sphere culling", 1.0, false}};
   if (!o.quick) {
-    // The two ways of paging the terrain (issue 13), each pose settled before its timed frame.
+    // The two ways of paging the terrain, each pose settled before its timed frame.
     configs.push_back({"LOD 1 px, own quadtree, settled", 1.0, true, 64, TerrainPaging::OwnQuadtree, true});
     configs.push_back({"LOD 1 px, osg::PagedLOD + DatabasePager", 1.0, true, 64, TerrainPaging::OsgPagedLod, true});
     // ... and with smaller chunks, where PagedLOD's whole-chunk refinement costs less.

@@ -1,10 +1,10 @@
-// The rendering benchmark (`nestwalk bench render`, issue 5): the bundled scene rendered offscreen
+// The rendering benchmark (`nestwalk bench render`): the bundled scene rendered offscreen
 // (software OpenGL where there is no GPU) along its flythroughs, the walker's view at the poses
 // the walker takes. Per configuration: median and p95 ms per frame, split into cull, draw and
 // readback, triangles drawn and the terrain's vertical error on screen. Configurations: the
 // default (terrain LOD at 1 px of error, nested culling), the same with OSG's bounding-sphere
 // culling, the terrain at full resolution (no LOD: error 0) and LOD at 0.5, 2 and 4 px (speed
-// against error), and the two ways of paging the terrain (issue 13) on the same poses, each pose
+// against error), and the two ways of paging the terrain on the same poses, each pose
 // settled (rendered until the terrain is the error rule's full answer) before its timed frame: the
 // own quadtree (paged_terrain.h) and osg::PagedLOD with the viewer's DatabasePager
 // (paged_lod_terrain.h), each with the time from a new renderer to its first complete frame

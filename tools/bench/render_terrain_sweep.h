@@ -1,5 +1,5 @@
 // The terrain-size sweep of the rendering benchmark (`nestwalk bench render --terrain-sizes
-// [METRES ...]`, issue 13, item 5): the bundled flythroughs' poses rendered over generated
+// [METRES ...]`): the bundled flythroughs' poses rendered over generated
 // mining-dump terrains of several sizes (default 1000, 4000 and 10000 m at 1 m cells: 1 M, 16 M and
 // 100 M samples; --quick: 250 and 500 m at 320 x 180), to show that what the view-bounded terrain
 // (engine/render/paged_terrain.h) costs grows with the view, not with the DEM.

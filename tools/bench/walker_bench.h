@@ -1,12 +1,13 @@
-// The walker benchmark (`nestwalk bench walker`, issue 4):
+// The walker benchmark (`nestwalk bench walker`):
 //  1. walker steps without rendering over 1k, 100k and 1M box-shaped instances scattered over
 //     10 km x 10 km of rolling synthetic terrain (poles to containers, random headings): p50 / p99
 //     / max µs per step, each step timed on its own, contacts per 1000 steps;
 //  2. the broad-phase query side by side with Bullet's btDbvt and FCL's DynamicAABBTree on the same
 //     boxes, and build times (tools/bench/broadphase_bench.h);
-//  3. BV tests per hierarchy on the bundled flythroughs, printed like fACT's Table 2 (seed 001):
-//     hierarchy node tests and the three stages per script, and the total as a % of the template
-//     hierarchy's; every hierarchy must give the same contacts (checked, reported).
+//  3. BV tests per hierarchy on the bundled flythroughs, printed like Table 2 of the fACT
+//     paper ("Bounding volume hierarchies for collision detection"): hierarchy node tests and
+//     the three stages per script, and the total as a % of the template hierarchy's; every
+//     hierarchy must give the same contacts (checked, reported).
 #pragma once
 
 #include "tools/bench/bench_runner.h"
