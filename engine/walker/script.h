@@ -63,6 +63,5 @@ struct Script {
 inline constexpr double kBlockedTimeout = 0.5;  // seconds without progress that end a motion command
 
 Script parseScript(const std::string& text, const std::string& path);  // throws InputError
-Script readScript(const std::string& path);  // a script file, or an osgviewer AnimationPath (.path)
 
 }  // namespace nestwalk

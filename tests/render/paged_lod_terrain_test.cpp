@@ -18,6 +18,7 @@
 #include "tests/render/hills_terrain.h"
 #include "tests/render/terrain_checks.h"
 #include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 
 #include "tests/common/test_data.h"
 

@@ -8,6 +8,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 
 #include "tests/common/test_data.h"
 

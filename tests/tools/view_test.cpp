@@ -8,7 +8,7 @@
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
-#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/script_file.h"
 #include "nestwalk/walker/walker.h"
 
 #include "tests/common/build_paths.h"

@@ -9,6 +9,7 @@
 #include "nestwalk/viewer/walk_manipulator.h"
 #include "nestwalk/viewer/walk_recording.h"
 #include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 
 #include "tests/common/test_data.h"
 

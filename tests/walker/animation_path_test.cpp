@@ -3,7 +3,7 @@
 // osgGA::AnimationPathManipulator, and the script made from a file osg::AnimationPath::write wrote.
 #include "nestwalk/core/angles.h"
 #include "nestwalk/walker/animation_path.h"
-#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/script_file.h"
 
 #include "nestwalk/core/input_error.h"
 #include "tests/common/temp_folder.h"

@@ -15,6 +15,7 @@
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/mesh_world.h"
+#include "nestwalk/walker/script_file.h"
 #include "nestwalk/walker/script_player.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>

@@ -1,6 +1,6 @@
 // Flythrough script parsing (engine/walker/script.h): every command form, comments and line
 // endings, and the errors, each of which must name the file and the line.
-#include "nestwalk/walker/script.h"
+#include "nestwalk/walker/script_file.h"
 
 #include "nestwalk/core/input_error.h"
 #include "tests/common/temp_folder.h"

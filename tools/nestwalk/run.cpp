@@ -16,6 +16,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 #include "tools/nestwalk/commands.h"
 #include "tools/nestwalk/walk_options.h"
 

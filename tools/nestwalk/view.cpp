@@ -25,6 +25,7 @@
 #include "nestwalk/viewer/walk_manipulator.h"
 #include "nestwalk/viewer/walk_recording.h"
 #include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 #include "tools/nestwalk/commands.h"
 #include "tools/nestwalk/walk_options.h"
 
