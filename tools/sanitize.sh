@@ -38,7 +38,7 @@ export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/
 flags_asan="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 flags_tsan="-fsanitize=thread"
 module_tests=(core_tests geometry_tests geometry_cgal_tests terrain_tests hierarchy_tests scene_tests gis_tests
-              walker_tests render_tests viewer_tests hard_case_tests report_tests assets_tests)
+              walker_tests render_tests viewer_tests hard_case_tests plot_tests report_tests assets_tests)
 fuzz_replays=(fuzz_scene_json fuzz_script fuzz_animation_path fuzz_points_csv fuzz_pairs_csv fuzz_catalog fuzz_dem)
 
 # The release build's program generates the scenes the tests read (built here if missing).

@@ -5,9 +5,9 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/statistics.h"
-#include "nestwalk/report/axis.h"
-#include "nestwalk/report/drawing_surface.h"
-#include "nestwalk/report/plot_frame.h"
+#include "nestwalk/plot/axis.h"
+#include "nestwalk/plot/drawing_surface.h"
+#include "nestwalk/plot/plot_frame.h"
 
 #include <algorithm>
 #include <cmath>

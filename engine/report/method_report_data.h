@@ -5,7 +5,7 @@
 
 #include "nestwalk/report/fitter_table.h"
 #include "nestwalk/report/reference_comparison.h"
-#include "nestwalk/report/targets.h"
+#include "nestwalk/core/targets.h"
 #include "nestwalk/report/terrain_lod_table.h"
 #include "nestwalk/scene/method_spec.h"
 

@@ -1,8 +1,8 @@
 #include "nestwalk/report/method_report_files.h"
 
 #include "nestwalk/core/output_file.h"
-#include "nestwalk/report/number_text.h"
-#include "nestwalk/report/report_plot.h"
+#include "nestwalk/core/number_text.h"
+#include "nestwalk/plot/charts.h"
 
 #include <nlohmann/json.hpp>
 

@@ -7,8 +7,8 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/geometry/convex_hull.h"
-#include "nestwalk/report/axis.h"
-#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/plot/axis.h"
+#include "nestwalk/plot/drawing_surface.h"
 #include "nestwalk/terrain/hillshade.h"
 
 #include <algorithm>

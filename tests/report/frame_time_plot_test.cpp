@@ -7,8 +7,8 @@
 #include "nestwalk/report/frame_time_plot.h"
 
 #include "nestwalk/core/input_error.h"
-#include "nestwalk/report/plot_frame.h"
-#include "tests/report/png_readback.h"
+#include "nestwalk/plot/plot_frame.h"
+#include "tests/common/png_readback.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>

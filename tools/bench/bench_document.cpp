@@ -3,7 +3,7 @@
 #include "tools/bench/peers/peer_versions.h"
 
 #include "nestwalk/core/machine.h"
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <benchmark/benchmark.h>
 

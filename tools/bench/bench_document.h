@@ -1,12 +1,12 @@
 // One benchmark's output, built once and written either as text or as one JSON document: a title
 // line, the machine and build it ran on (a speed figure means little without them), the
-// benchmark's tables and notes in order, the targets of the issue (report/targets.h) and the errors
+// benchmark's tables and notes in order, the targets of the issue (core/targets.h) and the errors
 // of benchmarks that failed. Every table goes to both forms from the same rows (result_table.h).
 #pragma once
 
 #include "tools/bench/result_table.h"
 
-#include "nestwalk/report/targets.h"
+#include "nestwalk/core/targets.h"
 
 #include <iosfwd>
 #include <map>

@@ -13,7 +13,7 @@
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/hierarchy/box_tree.h"
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,6 +1,6 @@
 #include "tools/bench/result_table.h"
 
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <cmath>
 #include <iomanip>

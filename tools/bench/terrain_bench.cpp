@@ -14,7 +14,7 @@
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/core/stopwatch.h"
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_mesh.h"
 

@@ -13,7 +13,7 @@
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/geometry/obb_batch.h"
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <Eigen/Geometry>
 

@@ -1,7 +1,7 @@
 // The report pictures' drawing surface over cairo (drawing_surface.h): y-up pixel coordinates turned
 // into cairo's y-down device space point by point (text is set upright in device space at the
 // converted anchor), the UI font loaded once from its file through FreeType and cairo-ft.
-#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/plot/drawing_surface.h"
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"

@@ -1,10 +1,10 @@
-// The axis and tick rule (engine/report/axis.h): ticks of the 1-2-5 sequence that cover the data,
+// The axis and tick rule (engine/plot/axis.h): ticks of the 1-2-5 sequence that cover the data,
 // the fewest-ticks step under the limit, log axes across many decades, within a decade and within
 // one 1-2-5 gap, NaN / zero / negative values, single values and empty data, values that lie
 // exactly on ticks, UTM magnitudes, and the labels as text. Expected values are worked out by hand
 // or checked against properties computed here (a 1-2-5 mantissa is recognised from the value's own
 // digits, not through the library).
-#include "nestwalk/report/axis.h"
+#include "nestwalk/plot/axis.h"
 
 #include <gtest/gtest.h>
 

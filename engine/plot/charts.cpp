@@ -1,10 +1,10 @@
-// The methods report's scatter and bar plots (report_plot.h) on the drawing surface, with the
+// The methods report's scatter and bar plots (charts.h) on the drawing surface, with the
 // shared axes, title and legend (plot_frame.h).
-#include "nestwalk/report/report_plot.h"
+#include "nestwalk/plot/charts.h"
 
-#include "nestwalk/report/axis.h"
-#include "nestwalk/report/number_text.h"
-#include "nestwalk/report/plot_frame.h"
+#include "nestwalk/plot/axis.h"
+#include "nestwalk/core/number_text.h"
+#include "nestwalk/plot/plot_frame.h"
 
 #include <algorithm>
 #include <cmath>

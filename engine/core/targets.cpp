@@ -1,6 +1,6 @@
-#include "nestwalk/report/targets.h"
+#include "nestwalk/core/targets.h"
 
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <algorithm>
 #include <iomanip>

@@ -12,7 +12,7 @@
 // writer per path at a time, core/output_file.h).
 #pragma once
 
-#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/plot/drawing_surface.h"
 
 #include <string>
 #include <utility>

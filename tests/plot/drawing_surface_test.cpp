@@ -1,14 +1,14 @@
-// The report pictures' drawing surface (engine/report/drawing_surface.h): the UI font is DejaVu
+// The report pictures' drawing surface (engine/plot/drawing_surface.h): the UI font is DejaVu
 // Sans from its file and draws what the bitmap font could not ("µ", "+", lower case); shapes are
 // antialiased yet exact in colour where they cover a pixel entirely; coordinates are y up; the
 // PNG is written through a temporary file and read back by osgDB with the same rows; a missing
 // folder is an InputError naming the path.
-#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/plot/drawing_surface.h"
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/ui_font.h"
-#include "tests/report/png_readback.h"
-#include "tests/report/report_fixtures.h"
+#include "tests/common/png_readback.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +19,7 @@ namespace nestwalk {
 namespace {
 
 using testing::Colour;
-using testing::TempDir;
+using TempDir = test::TempFolder;
 
 constexpr Rgb kPaper{255, 255, 255}, kInk{0, 0, 0};
 constexpr double kSize = 24;  // large text, so that glyph shapes are many pixels

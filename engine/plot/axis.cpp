@@ -1,7 +1,7 @@
 // The axis and tick rule (axis.h). Tick values are computed as whole multiples of a step (n · step)
 // or as m · 10^k with 10^k exact (k >= 0) or divided by an exact 10^-k (k < 0), never accumulated,
 // so that 0.1 + 0.2 never becomes a tick.
-#include "nestwalk/report/axis.h"
+#include "nestwalk/plot/axis.h"
 
 #include <algorithm>
 #include <charconv>

@@ -1,14 +1,14 @@
-// The methods report's scatter and bar plots (engine/report/report_plot.h), read back with osgDB's
+// The methods report's scatter and bar plots (engine/plot/charts.h), read back with osgDB's
 // own PNG reader. The plot area is found in the image (its black axis lines); the axes' ends are
 // worked out here from the axis rule (axis.h) for data chosen so that the answer is plain, and each
 // marker and bar is looked for where its value must lie. Labels, legend swatches, the size, the
 // errors and the absence of temporary files.
-#include "nestwalk/report/report_plot.h"
+#include "nestwalk/plot/charts.h"
 
 #include "nestwalk/core/input_error.h"
-#include "nestwalk/report/plot_frame.h"
-#include "tests/report/png_readback.h"
-#include "tests/report/report_fixtures.h"
+#include "nestwalk/plot/plot_frame.h"
+#include "tests/common/png_readback.h"
+#include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@ using testing::Colour;
 using testing::FoundAxes;
 using testing::logFraction;
 using testing::pixelAt;
-using testing::TempDir;
+using TempDir = test::TempFolder;
 
 constexpr Rgb kRed{214, 39, 40}, kBlue{31, 119, 180}, kOrange{255, 127, 14};
 constexpr Colour kRedC{214, 39, 40}, kBlueC{31, 119, 180}, kOrangeC{255, 127, 14};

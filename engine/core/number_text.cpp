@@ -1,4 +1,4 @@
-#include "nestwalk/report/number_text.h"
+#include "nestwalk/core/number_text.h"
 
 #include <algorithm>
 #include <cmath>

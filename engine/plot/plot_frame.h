@@ -1,5 +1,5 @@
 // A plot's furniture, shared by the frame-time plot (frame_time_plot.h) and the methods report's
-// plots (report_plot.h): the plot area, its two axes (light grey grid lines at the ticks, black
+// plots (charts.h): the plot area, its two axes (light grey grid lines at the ticks, black
 // tick marks outside the area with their labels from axis.h, black one-pixel axis lines on the
 // left and bottom edges, over the data) and the block above the plot with the title and the
 // legend.
@@ -10,8 +10,8 @@
 // DrawingSurface (one thread per surface).
 #pragma once
 
-#include "nestwalk/report/axis.h"
-#include "nestwalk/report/drawing_surface.h"
+#include "nestwalk/plot/axis.h"
+#include "nestwalk/plot/drawing_surface.h"
 
 #include <string>
 #include <vector>

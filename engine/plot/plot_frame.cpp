@@ -1,5 +1,5 @@
 // A plot's axes, title and legend (plot_frame.h).
-#include "nestwalk/report/plot_frame.h"
+#include "nestwalk/plot/plot_frame.h"
 
 #include <algorithm>
 #include <cmath>
