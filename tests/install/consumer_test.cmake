@@ -26,6 +26,25 @@ foreach(f bin/nestwalk include/nestwalk/version.h include/nestwalk/walker/walker
     message(FATAL_ERROR "not installed: ${f}")
   endif()
 endforeach()
+# The public surface is closed: every "nestwalk/..." an installed header includes is installed too
+# (a header left out of a module's INSTALL_HEADERS would break a consumer that includes its user).
+file(GLOB_RECURSE installed_headers ${WORK_DIR}/prefix/include/nestwalk/*.h)
+set(missing "")
+foreach(header ${installed_headers})
+  file(STRINGS ${header} includes REGEX "^#include \"nestwalk/")
+  foreach(line IN LISTS includes)
+    string(REGEX REPLACE "^#include \"(nestwalk/[^\"]+)\".*" "\\1" included "${line}")
+    if(NOT EXISTS ${WORK_DIR}/prefix/include/${included})
+      string(APPEND missing "\n  ${header} includes ${included}, which is not installed")
+    endif()
+  endforeach()
+endforeach()
+if(missing)
+  message(FATAL_ERROR "the installed headers are not closed under their includes:${missing}")
+endif()
+list(LENGTH installed_headers installed_count)
+message(STATUS "installed headers: ${installed_count}")
+
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/consumer -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
