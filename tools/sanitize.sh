@@ -38,7 +38,7 @@ export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/
 flags_asan="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 flags_tsan="-fsanitize=thread"
 module_tests=(core_tests geometry_tests geometry_cgal_tests terrain_tests hierarchy_tests scene_tests gis_tests
-              walker_tests render_tests viewer_tests hard_case_tests plot_tests report_tests assets_tests)
+              walker_tests render_tests viewer_tests session_tests hard_case_tests plot_tests report_tests assets_tests)
 fuzz_replays=(fuzz_scene_json fuzz_script fuzz_animation_path fuzz_points_csv fuzz_pairs_csv fuzz_catalog fuzz_dem)
 
 # The release build's program generates the scenes the tests read (built here if missing).
@@ -72,14 +72,15 @@ run_asan() {  # full?
     echo "nestwalk: sanitize: asan build in $(( $(date +%s) - start )) s"
     # Left out here: the tests that run the program (tool_tests, GisSample's flythroughs) and the
     # installed consumer (see above); the layering probes, which check compiler messages, not
-    # running code. The render tests run in a second pass without leak detection: Mesa's EGL
+    # running code. The render tests (and the session's, which render) run in a second pass
+    # without leak detection: Mesa's EGL
     # driver, loaded by eglInitialize and unloaded by eglTerminate, leaves two 56-byte callocs
     # that LeakSanitizer cannot attribute (their module is gone when it looks, so no suppression
     # can name them); their memory errors are still checked.
-    (cd build-asan && ctest --output-on-failure -j "$jobs" -LE '^(tool_tests|render_tests)$' \
+    (cd build-asan && ctest --output-on-failure -j "$jobs" -LE '^(tool_tests|render_tests|session_tests)$' \
        -E '^(Install|Layering)\.|^tool_tests_NOT_BUILT$|^GisSample\.EveryFlythroughPlays' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
     (cd build-asan && ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -j "$jobs" \
-       -L '^render_tests$' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
+       -L '^(render_tests|session_tests)$' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
   fi
   echo "nestwalk: sanitize: asan+ubsan passed in $(( $(date +%s) - start )) s"
 }

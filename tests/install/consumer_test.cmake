@@ -1,7 +1,9 @@
 # The install test (ctest Install.ConsumerBuildsAgainstTheInstalledPackage): installs the build into
 # a fresh prefix with `cmake --install`, configures and builds tests/install/consumer against it
 # with find_package(nestwalk), and runs it on the bundled scene: the bench patrol's start, 100
-# steps at 30 m/s along the lane, which must end blocked by the station standing in it.
+# steps at 30 m/s along the lane, which must end blocked by the station standing in it; then the
+# bench patrol played through the session module into a run folder (play_script), which must meet
+# its expectations and write a CSV row per frame.
 # Variables: BUILD_DIR (nestwalk's build), SOURCE_DIR, WORK_DIR (scratch), SCENE_DIR (the bundled
 # scene; the start and the blocker are read from its scripts/bench_patrol.txt).
 file(STRINGS ${SCENE_DIR}/scripts/bench_patrol.txt start REGEX "^start ")
@@ -67,4 +69,29 @@ endif()
 if(NOT out MATCHES "walked 100 steps")
   message(FATAL_ERROR "walk_box did not walk its 100 steps")
 endif()
+# The bench patrol played through the session module into a run folder.
+execute_process(COMMAND ${WORK_DIR}/build/play_script ${SCENE} ${SCENE_DIR}/scripts/bench_patrol.txt ${WORK_DIR}/run
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "play_script failed (${rc}): ${out}${err}")
+endif()
+if(NOT out MATCHES "^([0-9]+) frames, ([0-9]+) of ([0-9]+) expectations met")
+  message(FATAL_ERROR "play_script printed no frame count: ${out}")
+endif()
+set(frames ${CMAKE_MATCH_1})
+if(NOT CMAKE_MATCH_2 EQUAL CMAKE_MATCH_3)
+  message(FATAL_ERROR "play_script did not meet the bench patrol's expectations: ${out}")
+endif()
+file(STRINGS ${WORK_DIR}/run/frames.csv rows)
+list(LENGTH rows row_count)
+math(EXPR expected_rows "${frames} + 1")
+if(NOT row_count EQUAL expected_rows)
+  message(FATAL_ERROR "play_script's frames.csv has ${row_count} lines for ${frames} frames")
+endif()
+foreach(f summary.json frame_times.png top_down.png camera.path)
+  if(NOT EXISTS ${WORK_DIR}/run/${f})
+    message(FATAL_ERROR "play_script wrote no ${f}")
+  endif()
+endforeach()
 file(REMOVE_RECURSE ${WORK_DIR})
