@@ -57,12 +57,19 @@ execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIAB
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "building the consumer failed:\n${out}\n${err}")
 endif()
-execute_process(COMMAND ${WORK_DIR}/build/walk_box ${SCENE} ${X} ${Y} ${HEADING} 30
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("${out}")
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "walk_box failed (${rc}): ${err}")
-endif()
+# Runs one of the consumer's programs with its arguments: its standard output printed and left in
+# `out`; the test fails when it exits non-zero.
+function(run_consumer program)
+  execute_process(COMMAND ${WORK_DIR}/build/${program} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE output
+                  ERROR_VARIABLE err)
+  message("${output}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${program} failed (${rc}): ${output}${err}")
+  endif()
+  set(out "${output}" PARENT_SCOPE)
+endfunction()
+
+run_consumer(walk_box ${SCENE} ${X} ${Y} ${HEADING} 30)
 if(NOT out MATCHES "blocked by ${EXPECT}")
   message(FATAL_ERROR "walk_box was not blocked by ${EXPECT}")
 endif()
@@ -70,12 +77,7 @@ if(NOT out MATCHES "walked 100 steps")
   message(FATAL_ERROR "walk_box did not walk its 100 steps")
 endif()
 # The bench patrol played through the session module into a run folder.
-execute_process(COMMAND ${WORK_DIR}/build/play_script ${SCENE} ${SCENE_DIR}/scripts/bench_patrol.txt ${WORK_DIR}/run
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("${out}")
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "play_script failed (${rc}): ${out}${err}")
-endif()
+run_consumer(play_script ${SCENE} ${SCENE_DIR}/scripts/bench_patrol.txt ${WORK_DIR}/run)
 if(NOT out MATCHES "^([0-9]+) frames, ([0-9]+) of ([0-9]+) expectations met")
   message(FATAL_ERROR "play_script printed no frame count: ${out}")
 endif()
