@@ -77,7 +77,6 @@ class WalkSession {
   const Scene& scene() const { return scene_; }
   const MethodSpec& method() const { return method_; }
   Walker& walker() { return *walker_; }
-  const WalkSessionOptions& options() const { return options_; }
   /// The played script's steps and expectations (empty without a script).
   const FlythroughResult& played() const { return played_; }
   bool playsScript() const { return !options_.script.empty(); }
