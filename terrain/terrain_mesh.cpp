@@ -1,4 +1,4 @@
-// Terrain meshes: tiles, levels of detail with exact errors, OpenSceneGraph nodes (terrain_mesh.h).
+// Terrain meshes: tiles and levels of detail with exact errors (terrain_mesh.h).
 //
 // Why the maximum of |fine - coarse| over a tile is attained at fine samples:
 // Level k keeps the samples (col0 + i s, row0 + j s), s = 2^k, and splits every coarse cell along
@@ -21,10 +21,6 @@
 // fine triangle; with a step that does not divide the tile the coarse cells would not be square
 // and their diagonals would not follow fine diagonals: hence the power-of-two levels per tile.)
 #include "nestwalk/terrain/terrain_mesh.h"
-
-#include <osg/Geode>
-#include <osg/Array>
-#include <osg/PrimitiveSet>
 
 #include <algorithm>
 #include <cmath>
@@ -225,83 +221,17 @@ std::optional<double> TerrainMesh::heightAt(const TerrainTile& t, int level, dou
   return std::nullopt;
 }
 
-osg::ref_ptr<osg::Geometry> TerrainMesh::makeGeometry(const TerrainTile& t, int level, bool colours) const {
-  const std::vector<GridTriangle> tris = triangles(t, level);
-  if (tris.empty()) return nullptr;
-  const int s = 1 << level;
-  const int nx = t.cellsX / s + 1, ny = t.cellsY / s + 1;
-  std::vector<std::int32_t> index(std::size_t(nx) * std::size_t(ny), -1);
-  osg::ref_ptr<osg::Vec3Array> vertices = new osg::Vec3Array;
-  std::vector<osg::Vec3d> normalSum;
-  auto vertexOf = [&](int c, int r) -> unsigned {
-    const std::size_t k = std::size_t((r - t.row0) / s) * std::size_t(nx) + std::size_t((c - t.col0) / s);
-    if (index[k] < 0) {
-      index[k] = std::int32_t(vertices->size());
-      vertices->push_back(osg::Vec3(float(c * grid_.dx), float(-r * grid_.dy), grid_.height(c, r)));
-      normalSum.emplace_back(0, 0, 0);
-    }
-    return unsigned(index[k]);
-  };
-  osg::ref_ptr<osg::DrawElementsUInt> elements = new osg::DrawElementsUInt(GL_TRIANGLES);
-  elements->reserve(tris.size() * 3);
-  for (const GridTriangle& g : tris) {
-    // The heightfield's vertex order is clockwise seen from above; OpenGL's front faces are
-    // counter-clockwise, so the second and third vertices swap.
-    const unsigned a = vertexOf(g.col[0], g.row[0]), b = vertexOf(g.col[2], g.row[2]), c = vertexOf(g.col[1], g.row[1]);
-    elements->push_back(a);
-    elements->push_back(b);
-    elements->push_back(c);
-    const osg::Vec3d pa((*vertices)[a]), pb((*vertices)[b]), pc((*vertices)[c]);
-    const osg::Vec3d n = (pb - pa) ^ (pc - pa);  // area-weighted, pointing up
-    normalSum[a] += n;
-    normalSum[b] += n;
-    normalSum[c] += n;
-  }
-  osg::ref_ptr<osg::Vec3Array> normals = new osg::Vec3Array;
-  normals->reserve(normalSum.size());
-  for (osg::Vec3d n : normalSum) {
-    if (n.normalize() <= 0) n.set(0, 0, 1);
-    normals->push_back(osg::Vec3(n));
-  }
-  osg::ref_ptr<osg::Geometry> geom = new osg::Geometry;
-  geom->setVertexArray(vertices.get());
-  geom->setNormalArray(normals.get(), osg::Array::BIND_PER_VERTEX);
-  if (colours) {
-    const float lo = heightLo_, hi = heightHi_;
-    const float range = hi > lo ? hi - lo : 1.0f;
-    osg::ref_ptr<osg::Vec4Array> colourArray = new osg::Vec4Array;
-    colourArray->reserve(vertices->size());
-    for (const osg::Vec3& p : *vertices) {
-      // Green valleys, brown slopes, white tops.
-      const float f = std::clamp((p.z() - lo) / range, 0.0f, 1.0f);
-      const osg::Vec4 green(0.25f, 0.45f, 0.2f, 1), brown(0.5f, 0.4f, 0.3f, 1), white(0.95f, 0.95f, 0.95f, 1);
-      colourArray->push_back(f < 0.6f ? green * (1 - f / 0.6f) + brown * (f / 0.6f)
-                                      : brown * (1 - (f - 0.6f) / 0.4f) + white * ((f - 0.6f) / 0.4f));
-    }
-    geom->setColorArray(colourArray.get(), osg::Array::BIND_PER_VERTEX);
-  }
-  geom->addPrimitiveSet(elements.get());
-  geom->setUseDisplayList(false);
-  geom->setUseVertexBufferObjects(true);
-  return geom;
-}
-
-namespace {
-
-/// The axis-aligned box of a tile's valid samples (local frame); empty when it has none.
-osg::BoundingBox tileBox(const TerrainGrid& g, const TerrainTile& t) {
-  osg::BoundingBox box;
+Eigen::AlignedBox3f TerrainMesh::tileBox(const TerrainTile& t) const {
+  Eigen::AlignedBox3f box;  // empty
   for (int r = t.row0; r <= t.row0 + t.cellsY; ++r)
     for (int c = t.col0; c <= t.col0 + t.cellsX; ++c)
-      if (g.isValid(c, r)) box.expandBy(osg::Vec3(float(c * g.dx), float(-r * g.dy), g.height(c, r)));
+      if (grid_.isValid(c, r)) box.extend(Eigen::Vector3f(float(c * grid_.dx), float(-r * grid_.dy), grid_.height(c, r)));
   return box;
 }
 
-}  // namespace
-
 std::vector<double> TerrainMesh::switchDistances(const TerrainTile& t, const LodRule& rule) const {
-  const osg::BoundingBox box = tileBox(grid_, t);
-  const double radius = box.valid() ? 0.5 * double((box._max - box._min).length()) : 0.0;
+  const Eigen::AlignedBox3f box = tileBox(t);
+  const double radius = box.isEmpty() ? 0.0 : 0.5 * double(box.diagonal().norm());
   std::vector<double> d(std::size_t(t.levels), 0.0);
   double e = 0;
   for (int k = 1; k < t.levels; ++k) {
@@ -309,26 +239,6 @@ std::vector<double> TerrainMesh::switchDistances(const TerrainTile& t, const Lod
     d[std::size_t(k)] = e > 0 ? rule.distanceFor(e) + radius : 0.0;
   }
   return d;
-}
-
-osg::ref_ptr<osg::LOD> TerrainMesh::makeLod(const TerrainTile& t, const LodRule& rule, bool colours) const {
-  osg::ref_ptr<osg::LOD> lod = new osg::LOD;
-  lod->setRangeMode(osg::LOD::DISTANCE_FROM_EYE_POINT);
-  const osg::BoundingBox box = tileBox(grid_, t);
-  if (box.valid()) {
-    lod->setCenterMode(osg::LOD::USER_DEFINED_CENTER);
-    lod->setCenter(box.center());
-    lod->setRadius(0.5f * (box._max - box._min).length());
-  }
-  const std::vector<double> d = switchDistances(t, rule);
-  for (int k = 0; k < t.levels; ++k) {
-    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-    if (osg::ref_ptr<osg::Geometry> g = makeGeometry(t, k, colours)) geode->addDrawable(g.get());
-    const float lo = float(d[std::size_t(k)]);
-    const float hi = k + 1 < t.levels ? float(d[std::size_t(k) + 1]) : std::numeric_limits<float>::max();
-    lod->addChild(geode.get(), lo, hi);
-  }
-  return lod;
 }
 
 }  // namespace nestwalk::terrain

@@ -1,7 +1,7 @@
 // Terrain meshes for rendering: the heightfield's grid cut into square tiles of cells (neighbouring
 // tiles share their border samples) with levels of detail, each level carrying its exact maximum
-// vertical error against the full-resolution surface, and the conversion to OpenSceneGraph
-// (an osg::Geometry per tile and level, an osg::LOD per tile).
+// vertical error against the full-resolution surface. The drawing side turns them into
+// OpenSceneGraph nodes (render/terrain_tile_nodes.h); nothing here knows a renderer.
 //
 // Levels: level k of a tile keeps every 2^k-th sample of the tile (the tile's first sample and
 // every step s = 2^k samples after it, up to and including the tile's last sample) and triangulates
@@ -22,17 +22,14 @@
 // and small gaps of at most the coarser level's error). Closing them is the renderer's business;
 // the meshes here carry no skirts.
 //
-// Ownership: a TerrainMesh keeps its own copy of the grid (no reference to the Heightfield);
-// makeGeometry and makeLod return new OSG nodes on every call, owned by the caller (ref_ptr).
+// Ownership: a TerrainMesh keeps its own copy of the grid (no reference to the Heightfield).
 // Thread safety: immutable once constructed; its const members may run from several threads at
 // once.
 #pragma once
 
 #include "nestwalk/terrain/heightfield.h"
 
-#include <osg/Geometry>
-#include <osg/LOD>
-#include <osg/ref_ptr>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <cstdint>
@@ -119,17 +116,18 @@ class TerrainMesh {
   /// samples next to holes, which carry no triangle).
   std::optional<double> heightAt(const TerrainTile& t, int level, double x, double y) const;
 
-  /// Geometry of a tile level: the level's valid samples as float vertices (local frame,
-  /// (col * dx, -row * dy, h)), area-weighted vertex normals of the level's own triangles, colours
-  /// by height (when `colours`), triangles as DrawElementsUInt. Null when the level has no triangle.
-  osg::ref_ptr<osg::Geometry> makeGeometry(const TerrainTile& t, int level, bool colours = true) const;
-  /// A tile's LOD node: child k holds level k's geometry (in an osg::Geode), shown from distance
-  /// D_k to D_{k+1} (the last to infinity), D_0 = 0, D_k = rule.distanceFor(E_k) + tile radius,
-  /// E_k = max of the errors of levels 1..k (so the ranges are ordered). Distances are measured
-  /// from the eye to the tile's bounding-sphere centre; adding the radius keeps the nearest point
-  /// of the tile at least distanceFor(E_k) away, so the projected error stays <= maxPixels.
-  osg::ref_ptr<osg::LOD> makeLod(const TerrainTile& t, const LodRule& rule = {}, bool colours = true) const;
-  /// The switch distances D_0 .. D_{levels-1} of makeLod.
+  /// The box of a tile's valid samples in the mesh frame ((col * dx, -row * dy, h), each coordinate
+  /// rounded to float as the drawn vertices are); empty when the tile has none.
+  Eigen::AlignedBox3f tileBox(const TerrainTile& t) const;
+  /// The valid heights' range over the whole grid (metres; 0, 0 without valid samples): what the
+  /// drawn tiles' colours by height span.
+  float heightLow() const { return heightLo_; }
+  float heightHigh() const { return heightHi_; }
+  /// A tile's switch distances D_0 .. D_{levels-1}: level k is drawn from D_k to D_{k+1} (the last
+  /// to infinity), D_0 = 0, D_k = rule.distanceFor(E_k) + tile radius, E_k = max of the errors of
+  /// levels 1..k (so the distances are ordered). Distances are measured from the eye to the centre
+  /// of tileBox; adding its radius (half its diagonal) keeps the nearest point of the tile at least
+  /// distanceFor(E_k) away, so the projected error stays <= rule.maxPixels.
   std::vector<double> switchDistances(const TerrainTile& t, const LodRule& rule = {}) const;
 
  private:

@@ -120,13 +120,10 @@ class Builder {
     if (const auto it = loaded_.find(name); it != loaded_.end()) return &it->second;
     const auto t = catalog_.types.find(name);
     if (t == catalog_.types.end()) return nullptr;
-    const ModelFile file = readModelFile(t->second.model);
-    if (!file.node)
-      throw InputError(catalog_.path + ": types." + name + ".model: " + t->second.model + ": " + file.problem);
     LoadedType lt;
     lt.type = &t->second;
     try {
-      lt.hull = convexHull(collectModelGeometry(*file.node, t->second.model).vertices).vertices;
+      lt.hull = convexHull(loadModelGeometry(t->second.model).vertices).vertices;
     } catch (const InputError& e) {
       throw InputError(catalog_.path + ": types." + name + ".model: " + e.what());
     }

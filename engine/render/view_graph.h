@@ -32,7 +32,7 @@
 #include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/render/scene_graph.h"
 
 #include <osg/Camera>
 #include <osg/Geometry>

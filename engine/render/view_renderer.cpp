@@ -151,7 +151,7 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     for (std::size_t i = 0; i < scene_.instances.size(); ++i) {
       const bool drawn =
           culler ? culler->visible(i) : osgFrustum.contains(parts.equipment->getChild(unsigned(i))->getBound());
-      if (drawn) stats_.triangles += scene_.models[scene_.instances[i].model].triangles;
+      if (drawn) stats_.triangles += scene_.models[scene_.instances[i].model].mesh.triangles.size();
     }
   }
   return stats_;

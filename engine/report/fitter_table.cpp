@@ -6,7 +6,6 @@
 
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/geometry/obb_fit.h"
-#include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
 
 #include <CGAL/Aff_transformation_3.h>
@@ -46,7 +45,7 @@ double optimalVolume(const std::vector<Vec3<double>>& points) {
 std::vector<FitterRow> measureFitters(const Scene& scene, int repetitions) {
   std::vector<FitterRow> rows;
   for (const SceneModel& model : scene.models) {
-    const TriangleMesh g = collectModelGeometry(*model.node, model.path);
+    const TriangleMesh& g = model.mesh;
     FitterRow row;
     row.model = std::filesystem::path(model.path).filename().string();
     row.triangles = g.triangles.size();

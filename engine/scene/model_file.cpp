@@ -78,12 +78,15 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
   if (!out.problem.empty()) return out;
   osgDB::ReaderWriter& binary = nativeBinary();  // loaded here, before the child copies this process
   const std::optional<ModelFileIdentity> before = modelFileIdentity(path);
-  if (const std::optional<std::string> cached = cachedModel(path)) {
+  if (std::optional<std::string> cached = cachedModel(path)) {
     out.node = fromHandBack(binary, *cached, out.problem);
-    if (out.node) return out;
+    if (out.node) {
+      out.osgb = std::move(*cached);
+      return out;
+    }
     out.problem.clear();  // an entry that does not parse: read the file again
   }
-  const GuardedResult child = runGuarded(
+  GuardedResult child = runGuarded(
       [&] {
         const osg::ref_ptr<osg::Node> node = readNode(path);
         std::ostringstream bytes(std::ios::binary);
@@ -98,7 +101,9 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
     return out;
   }
   out.node = fromHandBack(binary, child.bytes, out.problem);
-  if (out.node && before) storeCachedModel(path, *before, child.bytes);
+  if (!out.node) return out;
+  if (before) storeCachedModel(path, *before, child.bytes);
+  out.osgb = std::move(child.bytes);
   return out;
 }
 
@@ -112,6 +117,10 @@ ModelFile readModelFileUnguarded(const std::string& path) {
     out.problem = e.what();
   }
   return out;
+}
+
+osg::ref_ptr<osg::Node> nodeFromOsgb(const std::string& osgb, std::string& problem) {
+  return fromHandBack(nativeBinary(), osgb, problem);
 }
 
 std::string modelFileError(const std::string& path, const std::string& problem) {

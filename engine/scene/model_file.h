@@ -17,7 +17,8 @@
 // readModelFileUnguarded does not fork: it is as safe to call from several threads as the OSG
 // plugin that reads the file.
 // Ownership: the returned node is a new graph owned by the caller (ref_ptr); it is shared with
-// nothing else.
+// nothing else. This header is scene's and the drawing side's (render): the simulation layers never
+// see an OSG node (scene.h keeps a model's mesh and its .osgb bytes).
 #pragma once
 
 #include "nestwalk/core/guarded_process.h"
@@ -35,6 +36,8 @@ namespace nestwalk {
 /// 2048 MiB of memory", "crashed (...)", with the reader's last words).
 struct ModelFile {
   osg::ref_ptr<osg::Node> node;
+  std::string osgb;     // the node in OSG's native binary form, images included (the guarded read's
+                        // hand-back or the cache entry it came from; empty from the unguarded read)
   std::string problem;  // "" when the node was read
 };
 
@@ -45,6 +48,11 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits);
 /// The same file read directly in this process, unguarded: for measuring the guard's cost and for
 /// tests comparing the two. Never for files a user hands in.
 ModelFile readModelFileUnguarded(const std::string& path);
+
+/// A new node from .osgb bytes a guarded read handed back (ModelFile::osgb, SceneModel::drawing):
+/// how the drawing side rebuilds a model's graph without reading its file again. Null with
+/// `problem` set when the bytes do not parse.
+osg::ref_ptr<osg::Node> nodeFromOsgb(const std::string& osgb, std::string& problem);
 
 /// "PATH: could not be read as a model (PROBLEM)", or "PATH: PROBLEM" for a missing file, a
 /// folder or a format no plugin reads: the message commands print.

@@ -2,29 +2,23 @@
 // of a file OpenSceneGraph reads, with the file's own transforms applied, in the file's units.
 // Units: the model file's own frame and units (the type's transform to metres is applied later,
 // scene.h).
-// Thread safety: collectModelGeometry only reads the node (nothing in it changes) and keeps
-// nothing; loadModelGeometry reads through readModelFile (model_file.h: one thread at a time).
+// Thread safety: loadModelGeometry reads through readModelFile (model_file.h: one thread at a
+// time).
 #pragma once
 
 #include "nestwalk/geometry/triangle_mesh.h"
-#include "nestwalk/scene/model_file.h"
-
-#include <osg/Node>
-#include <osg/ref_ptr>
 
 #include <string>
 
 namespace nestwalk {
 
-/// Reads a model (readModelFile, model_file.h: guarded) and collects its geometry: every vertex a
-/// primitive refers to, under the file's transforms, and OSG's triangulation of every primitive
-/// set (indices into the vertices).
+/// Reads a model (readModelFile, model_file.h: guarded) and collects its geometry
+/// (collectModelGeometry, node_geometry.h): every vertex a primitive refers to, under the file's
+/// transforms, and OSG's triangulation of every primitive set (indices into the vertices).
 /// Throws InputError (modelFileError's message) when it does not exist, no plugin reads it, the
-/// read fails, or it holds no vertex at all, or a vertex that is not finite (NaN, infinity). A model with vertices but no triangles (a point cloud, lines) is returned with
-/// an empty triangle list.
+/// read fails, or it holds no vertex at all, or a vertex that is not finite (NaN, infinity). A
+/// model with vertices but no triangles (a point cloud, lines) is returned with an empty triangle
+/// list.
 TriangleMesh loadModelGeometry(const std::string& path);
-
-/// The geometry under an already loaded node (same rules; `name` is used in error messages).
-TriangleMesh collectModelGeometry(const osg::Node& node, const std::string& name);
 
 }  // namespace nestwalk

@@ -10,20 +10,19 @@
 // Units: map and local coordinates in metres (projected CRS); SceneModel's model-frame data in the
 // model file's own frame and units (SceneInstance::toLocal includes the type's transform to
 // metres); angles in degrees.
-// Ownership: a Scene owns its data, except that the models' OSG nodes are reference-counted and
-// shared with every scene graph built from it (scene_graph.h, the renderer), and the terrain is a
-// shared_ptr to const.
+// A model is kept twice, once per side: its triangle mesh (what the collision side measures) and
+// the scene graph its file held, as the .osgb bytes the guarded read handed back (what the drawing
+// side rebuilds its nodes from: render/model_nodes.h). No OpenSceneGraph type appears here, so the
+// simulation layers above compile without it.
+// Ownership: a Scene owns its data; the terrain is a shared_ptr to const.
 // Thread safety: nothing in the engine changes a loaded Scene, so its fields and const members may
-// be read from several threads at once. Its OSG nodes are another matter: drawing compiles GL
-// objects and computes bounds into them, so a graph over them is used by one thread at a time.
+// be read from several threads at once.
 #pragma once
 
 #include "nestwalk/geometry/nested.h"
+#include "nestwalk/geometry/triangle_mesh.h"
 #include "nestwalk/scene/scene_file.h"
 #include "nestwalk/terrain/heightfield.h"
-
-#include <osg/Node>
-#include <osg/ref_ptr>
 
 #include <cstdint>
 #include <map>
@@ -35,9 +34,10 @@ namespace nestwalk {
 
 struct SceneModel {
   std::string path;
-  osg::ref_ptr<osg::Node> node;           // loaded once, shared by every instance
+  TriangleMesh mesh;                      // model frame: every vertex and triangle (node_geometry.h)
+  std::string drawing;                    // the file's scene graph in OSG's native binary form (.osgb
+                                          // bytes, images included), read once: the renderer's source
   std::vector<Vec3<double>> hullPoints;   // model frame: the convex hull's vertices
-  std::size_t triangles = 0;
   Aabb<double> aabb;                      // model frame
   Obb<double> obb;                        // model frame, fitted once with the scene's fitter
 };

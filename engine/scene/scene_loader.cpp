@@ -3,7 +3,8 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/geometry/convex_hull.h"
 #include "nestwalk/geometry/obb_fit.h"
-#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/model_file.h"
+#include "nestwalk/scene/node_geometry.h"
 #include "nestwalk/scene/placement.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
@@ -86,14 +87,14 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
   // Models: each distinct file once, in order of first use.
   std::map<std::string, std::uint32_t> modelIndex;
   std::vector<std::string> unreadable;
+  std::vector<ModelFile> read;
   for (const auto& e : spec.equipment) {
     if (modelIndex.count(e.model)) continue;
     modelIndex.emplace(e.model, std::uint32_t(scene.models.size()));
     SceneModel m;
     m.path = e.model;
-    ModelFile read = readModelFile(e.model);
-    m.node = read.node;
-    if (!m.node) unreadable.push_back(e.model + " (" + read.problem + ")");
+    read.push_back(readModelFile(e.model));
+    if (!read.back().node) unreadable.push_back(e.model + " (" + read.back().problem + ")");
     scene.models.push_back(std::move(m));
   }
   if (!unreadable.empty()) {
@@ -102,16 +103,16 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     throw InputError(file + ": " + std::to_string(unreadable.size()) + " model" + (unreadable.size() == 1 ? "" : "s") +
                      " could not be read: " + list);
   }
-  for (auto& m : scene.models) {
-    TriangleMesh g;
+  for (std::size_t k = 0; k < scene.models.size(); ++k) {
+    SceneModel& m = scene.models[k];
     try {
-      g = collectModelGeometry(*m.node, m.path);
+      m.mesh = collectModelGeometry(*read[k].node, m.path);
     } catch (const InputError& e) {
       throw InputError(file + ": model " + e.what());
     }
-    m.triangles = g.triangles.size();
-    m.hullPoints = convexHull(g.vertices).vertices;
-    for (const auto& v : g.vertices) m.aabb.extend(v);
+    m.drawing = std::move(read[k].osgb);
+    m.hullPoints = convexHull(m.mesh.vertices).vertices;
+    for (const auto& v : m.mesh.vertices) m.aabb.extend(v);
     m.obb = fitObb(m.hullPoints, spec.method.fitter);
   }
 

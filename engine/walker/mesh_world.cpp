@@ -1,7 +1,6 @@
 // The equipment's triangles for the exact methods (mesh_world.h).
 #include "nestwalk/walker/mesh_world.h"
 
-#include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
 
 #include <algorithm>
@@ -24,8 +23,7 @@ std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
   world->models_.reserve(scene.models.size());
   for (const SceneModel& m : scene.models) {
-    const TriangleMesh mesh = collectModelGeometry(*m.node, m.path);
-    world->models_.push_back({ObbTree(mesh), KdopTree(mesh), mesh.triangles.size()});
+    world->models_.push_back({ObbTree(m.mesh), KdopTree(m.mesh), m.mesh.triangles.size()});
   }
   world->unitParts_.resize(scene.units.size());
   for (std::size_t u = 0; u < scene.units.size(); ++u)

@@ -12,7 +12,7 @@
 // bit); the node volumes hold their triangles; the counters stay far below brute force (far boxes
 // under 10% of the triangle count, as are near boxes on average). Timings are printed.
 // The bundled equipment models (the bundled scene's models/, or the folder the environment
-// variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through collectModelGeometry (scene/model_geometry.h) and
+// variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through collectModelGeometry (scene/node_geometry.h) and
 // walked into by body-sized boxes: both trees equal brute force, every mesh contact is an inner-OBB
 // contact, and the OBB's false contacts (OBB touched, triangles not) are printed with how far
 // from the real surface they stop the viewer: the error the exact reference measures.
@@ -21,7 +21,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/geometry/sat.h"
-#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/node_geometry.h"
 #include "tests/geometry/test_meshes.h"
 #include "tests/geometry/test_shapes.h"
 #include "tests/common/test_data.h"

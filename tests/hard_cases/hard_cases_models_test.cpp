@@ -83,7 +83,7 @@ TEST(HardCase, DegenerateModel_NoTriangles) {
   const Eigen::Vector2d at = site.map(0, 5);
   SceneRig rig(writeSceneFile(dir.path(), site.writeTerrain(dir.path()), site.origin(),
                               Json::array({equipment("frame", dir / "frame.osgt", at.x(), at.y())})));
-  ASSERT_EQ(rig.scene().models[0].triangles, 0u);
+  ASSERT_EQ(rig.scene().models[0].mesh.triangles.size(), 0u);
   const NestedVolume<double>& v = rig.scene().units[0].volume;
   const V3 lo(-0.5, 4.5, 0), hi(0.5, 5.5, 2);
   EXPECT_LT((v.outer.min - lo).cwiseAbs().maxCoeff(), 1e-12) << v.outer.min.transpose();

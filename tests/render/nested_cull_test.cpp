@@ -5,7 +5,7 @@
 // (SceneView, no GL context needed for culling) that shows which instances get traversed.
 #include "nestwalk/render/nested_cull.h"
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/render/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "tests/common/build_paths.h"
 #include "tests/scene/scene_test_util.h"
@@ -461,13 +461,14 @@ TEST_F(NestedCullInstall, CulledInstancesAreNotTraversedByARealCullTraversal) {
   ASSERT_EQ(scene.instances.size(), 36u);
   SceneGraphOptions graphOptions;
   graphOptions.terrain = false;
-  const osg::ref_ptr<osg::Group> root = buildSceneGraph(scene, graphOptions);
+  SceneGraphParts parts;
+  const osg::ref_ptr<osg::Group> root = buildSceneGraph(scene, graphOptions, &parts);
   osg::Group* equipmentNode = equipmentGroup(*root);
   ASSERT_NE(equipmentNode, nullptr);
 
   // Observe the shared model node: what reaches it is what the instance nodes let through (and,
   // while its own OSG test is on, what that test keeps of it).
-  osg::Node* model = scene.models[0].node.get();
+  osg::Node* model = parts.modelNodes[0].get();
   osg::ref_ptr<ReachedInstances> reached = new ReachedInstances(equipmentNode);
   model->addCullCallback(reached);
   const auto reachedBy = [&](const osg::Matrixd& viewMap, const osg::Matrixd& projection) {

@@ -11,7 +11,7 @@
 #include "nestwalk/scene/model_file.h"
 
 #include "nestwalk/core/input_error.h"
-#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/node_geometry.h"
 #include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
 

@@ -2,6 +2,7 @@
 // then collected; expected values are worked out by hand from the construction.
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/node_geometry.h"
 
 #include "tests/common/temp_folder.h"
 

@@ -1,11 +1,11 @@
-// Scene loading and the scene graph: small scenes on a planar GeoTIFF terrain written with GDAL,
-// at the origin and at UTM magnitudes. Expected values come from the construction (the plane's
-// formula), from Eigen's own AngleAxis/Affine transforms of the model's vertices read separately,
-// and from OSG's matrix stack for the graph.
+// Scene loading: small scenes on a planar GeoTIFF terrain written with GDAL, at the origin and at
+// UTM magnitudes. Expected values come from the construction (the plane's formula) and from Eigen's
+// own AngleAxis/Affine transforms of the model's vertices read separately. (The scene's drawing
+// graph is tested with the renderer: tests/render/scene_graph_test.cpp.)
 #include "nestwalk/geometry/volumes.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/node_geometry.h"
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/scene/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "tests/common/build_paths.h"
 #include "tests/common/box_model.h"
@@ -13,12 +13,6 @@
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
-#include <osg/Geode>
-#include <osg/Geometry>
-#include <osg/LOD>
-#include <osg/MatrixTransform>
-#include <osg/NodeVisitor>
-#include <osgDB/WriteFile>
 
 #include <chrono>
 #include <numbers>
@@ -72,31 +66,6 @@ double standingZ(const std::vector<Vec3<double>>& modelVertices, const Eigen::Af
 }
 
 
-/// Every Geometry under a node with its local-to-world matrix (all LOD children, all paths).
-class GeometryFinder : public osg::NodeVisitor {
- public:
-  GeometryFinder() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
-  void apply(osg::Geometry& g) override { found.push_back({&g, osg::computeLocalToWorld(getNodePath())}); }
-  std::vector<std::pair<osg::Geometry*, osg::Matrixd>> found;
-};
-
-/// Named MatrixTransforms under a node.
-class TransformFinder : public osg::NodeVisitor {
- public:
-  TransformFinder() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
-  void apply(osg::MatrixTransform& t) override {
-    byName[t.getName()].push_back(&t);
-    traverse(t);
-  }
-  std::map<std::string, std::vector<osg::MatrixTransform*>> byName;
-};
-
-osg::Node* childNamed(osg::Group& g, const std::string& name) {
-  for (unsigned i = 0; i < g.getNumChildren(); ++i)
-    if (g.getChild(i)->getName() == name) return g.getChild(i);
-  return nullptr;
-}
-
 class SceneLoad : public test::TempFolderTest, public ::testing::WithParamInterface<Place> {
  protected:
   void SetUp() override {
@@ -129,6 +98,8 @@ TEST_P(SceneLoad, GroundHeightOriginAndModelsLoadedOnce) {
   EXPECT_EQ(s.origin, Eigen::Vector3d(0.5 * (terrain_.sampleX(0) + terrain_.sampleX(terrain_.cols - 1)),
                                       0.5 * (terrain_.sampleY(0) + terrain_.sampleY(terrain_.rows - 1)), 0.0));
   const std::vector<Vec3<double>> vertices = loadModelGeometry(weatherStation()).vertices;
+  EXPECT_EQ(s.models[0].mesh.vertices, vertices) << "the scene keeps the mesh the file holds";
+  EXPECT_FALSE(s.models[0].drawing.empty()) << "and the drawing side's .osgb bytes";
   for (int i = 0; i < 2; ++i) {
     const Eigen::Vector3d map = s.toMap(s.instances[i].toLocal.translation);
     const double x = eq[i]["position"][0].get<double>(), y = eq[i]["position"][1].get<double>();
@@ -197,96 +168,6 @@ TEST_P(SceneLoad, VolumesMatchAnIndependentTransformOfTheVertices) {
     EXPECT_LT((v.inner.halfExtents - e.value("scale", 1.0) * s.models[0].obb.halfExtents).cwiseAbs().maxCoeff(), 1e-12);
     EXPECT_LT(axesError(v.inner.axes), kAxesTolerance<double>);
   }
-}
-
-TEST_P(SceneLoad, SharedNodeAndTerrainCoincideInTheGraph) {
-  test::writeBoxModel(dir() / "box.osgt", {0, 0, 0}, {2, 1, 0.5});  // 2 x 1 x 0.5 m, corner at the origin
-  const Json eq = Json::array({{{"name", "ws1"}, {"model", weatherStation()}, {"position", at(20.3, 30.7)}, {"heading", 30}},
-                               {{"name", "box"}, {"model", "box.osgt"}, {"position", at(10, 10)}, {"scale", 2}},
-                               {{"name", "ws2"}, {"model", weatherStation()}, {"position", at(40.2, 8.9)}}});
-  const Scene s = load(eq);
-  ASSERT_EQ(s.models.size(), 2u);
-  EXPECT_EQ(s.models[1].triangles, 12u);
-  SceneGraphOptions go;
-  go.volumes = true;
-  go.terrainTileCells = 16;  // 64 cells: 4 x 4 tiles
-  const osg::ref_ptr<osg::Group> root = buildSceneGraph(s, go);
-  TransformFinder transforms;
-  root->accept(transforms);
-  for (const char* n : {"ws1", "ws2", "box"}) ASSERT_EQ(transforms.byName[n].size(), 1u) << n;
-  osg::MatrixTransform* ws1 = transforms.byName["ws1"][0];
-  osg::MatrixTransform* ws2 = transforms.byName["ws2"][0];
-  ASSERT_EQ(ws1->getNumChildren(), 1u);
-  EXPECT_EQ(ws1->getChild(0), ws2->getChild(0)) << "every instance of a model shares its node";
-  EXPECT_EQ(ws1->getChild(0), s.models[0].node.get());
-  EXPECT_NE(transforms.byName["box"][0]->getChild(0), ws1->getChild(0));
-
-  // Equipment: a model vertex through the graph's matrices lands at toMap(toLocal(v)); the
-  // station's foot stands on the ground.
-  for (std::size_t i = 0; i < 3; ++i) {
-    osg::MatrixTransform* t = transforms.byName[s.spec.equipment[i].name][0];
-    const osg::Matrixd world = osg::computeLocalToWorld(t->getParentalNodePaths()[0]);  // the path ends at t
-    for (const auto& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 1.1, 2.5)}) {
-      const osg::Vec3d got = osg::Vec3d(p.x(), p.y(), p.z()) * world;
-      const Eigen::Vector3d want = s.toMap(s.instances[i].toLocal.apply(p));
-      EXPECT_NEAR(got.x(), want.x(), 1e-8);
-      EXPECT_NEAR(got.y(), want.y(), 1e-8);
-      EXPECT_NEAR(got.z(), want.z(), 1e-8);
-    }
-    // The model's z = 0 stands at the lowest ground under its footprint.
-    const osg::Vec3d foot = osg::Vec3d(0, 0, 0) * world;
-    const EquipmentSpec& e = s.spec.equipment[i];
-    const std::vector<Vec3<double>> vertices = loadModelGeometry(e.model).vertices;
-    EXPECT_NEAR(foot.z(),
-                standingZ(vertices, independentTransform(e.headingDeg, 0, 0, e.scale, Eigen::Vector3d(foot.x(), foot.y(), 0)),
-                          terrain_),
-                1e-8)
-        << e.name;
-  }
-
-  // Terrain: every vertex of every tile level, through the graph, is a sample of the plane at its
-  // map position (the mesh's frame is metres from sample (0, 0); the graph must place it).
-  osg::Group* localToMap = root->getChild(0)->asGroup();
-  ASSERT_NE(localToMap, nullptr);
-  osg::Node* terrainNode = childNamed(*localToMap, "terrain");
-  ASSERT_NE(terrainNode, nullptr);
-  GeometryFinder geometries;
-  terrainNode->accept(geometries);
-  EXPECT_GE(geometries.found.size(), 16u);
-  std::size_t checked = 0;
-  for (const auto& [g, m] : geometries.found) {
-    // accept() started at the terrain node (its matrix is in m): then the path above it (OSG
-    // multiplies row vectors, so the parent's matrix comes last).
-    const osg::Matrixd world = m * osg::computeLocalToWorld(localToMap->getParentalNodePaths()[0]);
-    const auto* v = dynamic_cast<const osg::Vec3Array*>(g->getVertexArray());
-    ASSERT_NE(v, nullptr);
-    for (const osg::Vec3& p : *v) {
-      const osg::Vec3d w = osg::Vec3d(p) * world;
-      // On the sample grid to float rounding of the tile vertices (< 1e-5 m over 64 m).
-      const double c = (w.x() - terrain_.sampleX(0)) / terrain_.cell, r = (terrain_.sampleY(0) - w.y()) / terrain_.cell;
-      ASSERT_NEAR(c, std::round(c), 1e-5);
-      ASSERT_NEAR(r, std::round(r), 1e-5);
-      ASSERT_NEAR(w.z(), terrain_.height(w.x(), w.y()), 1e-4);
-      ++checked;
-    }
-  }
-  EXPECT_GE(checked, std::size_t(terrain_.cols * terrain_.rows));
-
-  // Volumes: one outer and one inner wireframe, 12 edges per unit each.
-  osg::Node* volumes = childNamed(*localToMap, "volumes");
-  ASSERT_NE(volumes, nullptr);
-  GeometryFinder lines;
-  volumes->accept(lines);
-  ASSERT_EQ(lines.found.size(), 2u);
-  for (const auto& [g, m] : lines.found) EXPECT_EQ(g->getVertexArray()->getNumElements(), 24u * s.units.size());
-
-  // Without terrain and volumes: equipment only.
-  go.terrain = false;
-  go.volumes = false;
-  const osg::ref_ptr<osg::Group> bare = buildSceneGraph(s, go);
-  EXPECT_EQ(childNamed(*bare->getChild(0)->asGroup(), "terrain"), nullptr);
-  EXPECT_EQ(childNamed(*bare->getChild(0)->asGroup(), "volumes"), nullptr);
-  EXPECT_NE(childNamed(*bare->getChild(0)->asGroup(), "equipment"), nullptr);
 }
 
 TEST_P(SceneLoad, UseOnlyMembersFormOneUnitPerGroup) {
@@ -463,7 +344,7 @@ TEST(SceneRealModels, VolumesContainEveryVertex) {
   ASSERT_EQ(s.models.size(), models.size());
   for (std::size_t i = 0; i < s.instances.size(); ++i) {
     const SceneInstance& inst = s.instances[i];
-    const TriangleMesh g = collectModelGeometry(*s.models[inst.model].node, s.models[inst.model].path);
+    const TriangleMesh g = loadModelGeometry(s.models[inst.model].path);  // read again, independently
     const auto& e = eq[i];
     const double x = e["position"][0].get<double>(), y = e["position"][1].get<double>();
     const double h = e["heading"].get<double>();

@@ -10,7 +10,6 @@
 // never stop early, never block falsely.
 #include "tests/common/build_paths.h"
 #include "nestwalk/report/reference_comparison.h"
-#include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
@@ -42,7 +41,7 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fclUnit(const Scene& scene, std::si
   model->beginModel();
   for (std::uint32_t i : scene.units[unit].instances) {
     const SceneInstance& inst = scene.instances[i];
-    const TriangleMesh mesh = collectModelGeometry(*scene.models[inst.model].node, scene.models[inst.model].path);
+    const TriangleMesh& mesh = scene.models[inst.model].mesh;
     for (const auto& t : mesh.triangles) {
       fcl::Vector3d p[3];
       for (int k = 0; k < 3; ++k)

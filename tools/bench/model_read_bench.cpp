@@ -7,7 +7,7 @@
 
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/scene/model_file.h"
-#include "nestwalk/scene/model_geometry.h"
+#include "nestwalk/scene/node_geometry.h"
 
 #include <algorithm>
 #include <chrono>

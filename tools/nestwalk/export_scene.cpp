@@ -6,7 +6,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/scene/scene_graph.h"
+#include "nestwalk/render/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "tools/nestwalk/commands.h"
 
@@ -71,7 +71,7 @@ void runExport(const ExportArgs& a) {
   file.commit();
 
   std::size_t triangles = 0;
-  for (const auto& inst : scene.instances) triangles += scene.models[inst.model].triangles;
+  for (const auto& inst : scene.instances) triangles += scene.models[inst.model].mesh.triangles.size();
   std::printf("wrote %s: %zu instances, %zu models, %zu equipment triangles, %zu units", a.out.c_str(),
               scene.instances.size(), scene.models.size(), triangles, scene.units.size());
   if (go.terrain) std::printf(", terrain %d x %d samples", scene.terrain->cols(), scene.terrain->rows());

@@ -1,12 +1,13 @@
 // The OpenSceneGraph graph of a loaded scene, for drawing (the renderer, `nestwalk export`): the
-// terrain's LOD tiles and the equipment's instances over shared model nodes, optionally the
-// volumes as wireframes. The walker never touches it.
+// terrain's LOD tiles and the equipment's instances over the models' nodes (one node per model,
+// model_nodes.h, shared by its instances), optionally the volumes as wireframes. The walker never
+// touches it.
 //
-// Ownership: the graph holds the scene's model nodes by ref_ptr (shared, not copied) and copies
-// everything else it needs; it keeps no reference to the Scene, which may go after the call. The
-// caller owns the returned graph.
+// Ownership: the graph owns its nodes (the model nodes are rebuilt for it from the scene's .osgb
+// bytes) and copies everything else it needs; it keeps no reference to the Scene, which may go
+// after the call. The caller owns the returned graph.
 // Thread safety: as any OSG graph: build and use it on one thread. Graphs built from one Scene
-// share its model nodes: do not draw them from different threads at once.
+// share no node: each may be drawn from its own thread.
 #pragma once
 
 #include "nestwalk/scene/scene.h"
@@ -36,13 +37,14 @@ struct SceneGraphParts {
   std::vector<osg::ref_ptr<osg::LOD>> terrainTiles;         // tile i of terrainMesh->tiles() (null: no LOD)
   osg::ref_ptr<osg::MatrixTransform> terrain;               // mesh frame -> local frame
   osg::ref_ptr<osg::Group> equipment;                       // child i: instance i
+  std::vector<osg::ref_ptr<osg::Node>> modelNodes;          // node k: model k (buildModelNodes)
   osg::ref_ptr<osg::Group> volumes;
 };
 
 // The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
 // double) over
 //  - "terrain": a MatrixTransform moving the TerrainMesh frame (metres from sample (0, 0)) to the
-//    local frame, over one LOD per tile (TerrainMesh::makeLod);
+//    local frame, over one LOD per tile (terrainTileLod, terrain_tile_nodes.h);
 //  - "equipment": one MatrixTransform per instance (toLocal as a double matrix), named after the
 //    instance, over its model's node (the same node pointer for every instance of a model);
 //  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,

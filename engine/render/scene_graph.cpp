@@ -1,6 +1,8 @@
 // The OpenSceneGraph graph of a loaded scene (scene.h, buildSceneGraph).
-#include "nestwalk/scene/scene_graph.h"
-#include "nestwalk/terrain/terrain_mesh.h"
+#include "nestwalk/render/scene_graph.h"
+
+#include "nestwalk/render/model_nodes.h"
+#include "nestwalk/render/terrain_tile_nodes.h"
 
 #include <osg/Geode>
 #include <osg/Geometry>
@@ -88,7 +90,7 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
     meshOptions.tileCells = options.terrainTileCells;
     auto mesh = std::make_shared<const terrain::TerrainMesh>(hf, meshOptions);
     for (const auto& tile : mesh->tiles()) {
-      osg::ref_ptr<osg::LOD> lod = mesh->makeLod(tile, options.terrainLod);
+      osg::ref_ptr<osg::LOD> lod = terrainTileLod(*mesh, tile, options.terrainLod);
       if (lod) tiles->addChild(lod);
       out.terrainTiles.push_back(lod);
     }
@@ -100,12 +102,13 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
   if (options.equipment) {
     osg::ref_ptr<osg::Group> equipment = new osg::Group;
     equipment->setName("equipment");
+    out.modelNodes = buildModelNodes(scene);
     for (const auto& inst : scene.instances) {
       osg::ref_ptr<osg::MatrixTransform> t = new osg::MatrixTransform(toMatrix(inst.toLocal));
       t->setName(scene.spec.equipment[inst.spec].name);
       // Scaled instances: keep lighting right by renormalizing the transformed normals.
       if (inst.toLocal.scale != 1.0) t->getOrCreateStateSet()->setMode(GL_RESCALE_NORMAL, osg::StateAttribute::ON);
-      t->addChild(scene.models[inst.model].node);
+      t->addChild(out.modelNodes[inst.model]);
       equipment->addChild(t);
     }
     localToMap->addChild(equipment);
