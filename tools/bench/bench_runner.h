@@ -37,6 +37,10 @@ struct SuiteOptions : BenchOptions {
   /// Also send Google Benchmark's own report to this stream while running; null: print nothing
   /// but the final tables or JSON.
   std::ostream* googleBenchmarkOutput = nullptr;
+
+  /// The minimum time per benchmark: minTimeSeconds when given, else 0.02 s with quick (a smoke
+  /// run), else the suite's `full` default.
+  double minTime(double full) const { return minTimeSeconds > 0 ? minTimeSeconds : (quick ? 0.02 : full); }
 };
 
 /// Facts of one benchmark: named values counted once outside the timed loop (fraction of hits,

@@ -298,7 +298,7 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
             : opts.quick        ? std::vector<std::size_t>{1000, 10000}
                                 : std::vector<std::size_t>{1000, 10000, 100000, 1000000};
   c.queries = opts.queries ? opts.queries : (opts.quick ? 10'000 : 100'000);
-  const double minTime = opts.minTimeSeconds > 0 ? opts.minTimeSeconds : (opts.quick ? 0.02 : 0.3);
+  const double minTime = opts.minTime(0.3);
   registerBenchmarks();
   struct Release {
     ~Release() { currentScene().reset(); }

@@ -2,21 +2,20 @@
 #include "tools/bench/model_read_bench.h"
 
 #include "tools/bench/bench_document.h"
+#include "tools/bench/bench_process.h"
 
 #include "assets/generators/bundled_scene.h"
 
+#include "nestwalk/core/output_file.h"
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
 #include "nestwalk/scene/model_file.h"
 #include "nestwalk/scene/node_geometry.h"
 
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <ostream>
-
-#include <unistd.h>
 
 namespace nestwalk::bench {
 namespace {
@@ -48,10 +47,10 @@ std::vector<std::string> defaultModels() {
   return out;
 }
 
-double millisecondsOf(const std::function<void()>& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+/// Milliseconds of one call of f.
+template <class F>
+double millisecondsOf(const F& f) {
+  return 1000.0 * leastSeconds(1, f);
 }
 
 }  // namespace
@@ -59,12 +58,10 @@ double millisecondsOf(const std::function<void()>& f) {
 int runBenchmark(const ModelReadBenchOptions& opts, std::ostream& out) {
   const int repetitions = opts.quick ? 3 : opts.repetitions;
   const std::vector<std::string> models = opts.models.empty() ? defaultModels() : opts.models;
-  // The cache in a folder of the benchmark's own, emptied first: cold reads with the cache off,
-  // warm ones after one read has filled it.
-  const char* userCache = std::getenv("NESTWALK_MODEL_CACHE");
-  const std::string savedCache = userCache ? userCache : "";
-  const fs::path cache = fs::temp_directory_path() / ("nestwalk-bench-models-" + std::to_string(::getpid()));
-  auto useCache = [&](const std::string& folder) { ::setenv("NESTWALK_MODEL_CACHE", folder.c_str(), 1); };
+  // The cache in a folder of the benchmark's own, created empty and removed at the end (never
+  // committed): cold reads with the cache off, warm ones after one read has filled it.
+  const OutputFolder cache((fs::temp_directory_path() / "nestwalk-bench-models").string());
+  const ScopedEnvironment cacheFolder("NESTWALK_MODEL_CACHE", "off");
 
   Document doc("nestwalk bench models: ms per model read: direct (unguarded), guarded without the cache (a "
                "file's first read), guarded from the validated-model cache (every later read)");
@@ -86,9 +83,9 @@ int runBenchmark(const ModelReadBenchOptions& opts, std::ostream& out) {
     for (int k = 0; k < repetitions && problem.empty(); ++k) {
       ModelFile d, f, c;
       direct.push_back(millisecondsOf([&] { d = readModelFileUnguarded(path); }));
-      useCache("off");
+      cacheFolder.set("off");
       first.push_back(millisecondsOf([&] { f = readModelFile(path); }));
-      useCache(cache.string());
+      cacheFolder.set(cache.tempPath());
       if (k == 0) readModelFile(path);  // fills the entry
       cached.push_back(millisecondsOf([&] { c = readModelFile(path); }));
       if (!d.node || !f.node || !c.node) problem = !d.node ? d.problem : !f.node ? f.problem : c.problem;
@@ -98,7 +95,7 @@ int runBenchmark(const ModelReadBenchOptions& opts, std::ostream& out) {
       doc.errors[path] = problem;
       continue;
     }
-    auto least = [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); };
+    auto least = [](const std::vector<double>& v) { return percentile(v, 0); };
     table.add(Json{{"model", fs::path(path).filename().string()},
                    {"format", fs::path(path).extension().string().substr(1)},
                    {"kib", double(fs::file_size(path)) / 1024.0},
@@ -110,10 +107,6 @@ int runBenchmark(const ModelReadBenchOptions& opts, std::ostream& out) {
     worstCached = std::max(worstCached, least(cached) / least(direct));
     worstFirst = std::max(worstFirst, least(first) / least(direct));
   }
-  if (userCache) useCache(savedCache);
-  else ::unsetenv("NESTWALK_MODEL_CACHE");
-  std::error_code ec;
-  fs::remove_all(cache, ec);
   doc.text << "least of " << repetitions << " reads of each kind, alternated (medians in the JSON); ratios > 1: the "
            << "guard's cost\n";
   doc.table("models", table, "  ");

@@ -1,7 +1,7 @@
 // The rendering benchmark (see render_bench.h).
 #include "tools/bench/render_bench.h"
 
-#include "tools/bench/bench_document.h"
+#include "tools/bench/bench_process.h"
 #include "tools/bench/render_terrain_sweep.h"
 
 #include "nestwalk/core/statistics.h"
@@ -27,10 +27,7 @@ namespace nestwalk::bench {
 namespace {
 
 constexpr double kTargetFps = 30.0;  // frames per second, median, at the default configuration
-/// A settled configuration renders a pose at most this many times before its timed frame (the
-/// PagedLOD tree refines a level a frame: 5 levels on the bundled 1 km DEM at 64 cells a chunk).
-constexpr int kMaxSettleFrames = 64;
-/// ... and waits at most this long for the pager between two of them: seconds.
+/// A settled configuration waits at most this long for the pager between two frames: seconds.
 constexpr double kSettleWaitSeconds = 10.0;
 /// The time to the first complete frame gives up after this long: milliseconds.
 constexpr double kFirstCompleteCapMs = 60000.0;
@@ -68,8 +65,10 @@ struct CullComparison {
   }
 };
 
-/// The poses: each flythrough walked once (no rendering), `perScript` of its frames sampled evenly.
-std::vector<ViewPose> samplePoses(const Scene& scene, const RenderBenchOptions& o, int perScript, Json& flythroughs) {
+}  // namespace
+
+std::vector<ViewPose> sampleFlythroughPoses(const Scene& scene, const RenderBenchOptions& o, int perScript,
+                                            Json& flythroughs) {
   WalkerOptions wo;
   wo.viewer = scene.spec.viewer;
   wo.timeParts = false;
@@ -87,13 +86,24 @@ std::vector<ViewPose> samplePoses(const Scene& scene, const RenderBenchOptions& 
   return poses;
 }
 
-/// A line "KEY: N kB" of /proc/self/status, in MiB (nullopt where there is none).
-std::optional<double> statusMiB(const std::string& key) {
-  std::ifstream in("/proc/self/status");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(key + ":", 0) == 0) return std::stod(line.substr(key.size() + 1)) / 1024.0;
-  return std::nullopt;
+Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& o) {
+  Document doc(title);
+  Json& j = doc.json;
+  j["benchmark"] = benchmark;
+  j["cpu"] = j["machine"]["cpu_model"];
+  j["size"] = {o.runWidth(), o.runHeight()};
+  j["scene"] = o.scene;
+  j["flythroughs"] = Json::array();
+  return doc;
 }
+
+void printFrames(Document& doc, const std::string& legend) {
+  doc.text << "frames:";
+  for (const Json& f : doc.json["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
+  doc.text << legend;
+}
+
+namespace {
 
 /// Frees what the allocator keeps and restarts the process's peak resident memory (Linux 4.0+:
 /// "5" to clear_refs resets VmHWM); the resident memory now, MiB (nullopt where it cannot).
@@ -101,7 +111,7 @@ std::optional<double> restartPeakResident() {
   malloc_trim(0);
   std::ofstream clear("/proc/self/clear_refs");
   if (!(clear << "5" << std::flush)) return std::nullopt;
-  return statusMiB("VmRSS");
+  return processStatusMiB("VmRSS");
 }
 
 /// Whether the last frame drew the terrain's full answer (nothing wanted, no stand-in).
@@ -201,7 +211,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
     row["poses_unsettled"] = unsettled;
     row["first_complete_ms"] = firstComplete.first < 0 ? Json() : Json(firstComplete.first);
     row["first_complete_frames"] = firstComplete.second;
-    const std::optional<double> peak = statusMiB("VmHWM");
+    const std::optional<double> peak = processStatusMiB("VmHWM");
     row["peak_rss_growth_mib"] = residentBefore && peak ? Json(*peak - *residentBefore) : Json();
   }
   return row;
@@ -209,24 +219,14 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
 
 }  // namespace
 
-std::vector<ViewPose> sampleFlythroughPoses(const Scene& scene, const RenderBenchOptions& o, int perScript,
-                                            Json& flythroughs) {
-  return samplePoses(scene, o, perScript, flythroughs);
-}
-
 int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   if (!o.sweepChild.empty()) return runTerrainSweepChild(o.sweepChild);
   if (o.terrainSweep) return runTerrainSweep(o, out);
   const Scene scene = loadScene(o.scene);
-  const int width = o.quick ? 320 : o.width, height = o.quick ? 180 : o.height;
-  Document doc("nestwalk bench render: " + o.scene);
+  const int width = o.runWidth(), height = o.runHeight();
+  Document doc = renderDocument("nestwalk bench render: " + o.scene, "render", o);
   Json& j = doc.json;
-  j["benchmark"] = "render";
-  j["cpu"] = j["machine"]["cpu_model"];
-  j["size"] = {width, height};
-  j["scene"] = o.scene;
-  j["flythroughs"] = Json::array();
-  const std::vector<ViewPose> poses = samplePoses(scene, o, o.quick ? 8 : o.framesPerScript, j["flythroughs"]);
+  const std::vector<ViewPose> poses = sampleFlythroughPoses(scene, o, o.runFramesPerScript(), j["flythroughs"]);
 
   std::vector<Config> configs = {{"LOD 1 px, nested culling", 1.0, true}, {"LOD 1 px, OSG sphere culling", 1.0, false}};
   if (!o.quick) {
@@ -264,9 +264,8 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
     table.add(renderConfig(scene, c, width, height, poses, table.rows().empty() ? &cull : nullptr, j));
 
   doc.text << width << "x" << height << ", " << j["gl_renderer"].get<std::string>() << " ("
-           << j["route"].get<std::string>() << ")\nframes:";
-  for (const Json& f : j["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
-  doc.text << " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n";
+           << j["route"].get<std::string>() << ")\n";
+  printFrames(doc, " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n");
   doc.table("configs", table);
   const double n = double(std::max<std::size_t>(cull.frames, 1));
   char line[1024];

@@ -13,7 +13,7 @@
 #pragma once
 
 #include "tools/bench/bench_runner.h"
-#include "tools/bench/result_table.h"
+#include "tools/bench/bench_document.h"
 
 #include <iosfwd>
 #include <string>
@@ -37,7 +37,26 @@ struct RenderBenchOptions : BenchOptions {
   std::vector<double> terrainSizes;  // metres; empty: the sweep's defaults
   std::string terrainCache;          // folder of the generated DEMs; empty: the default
   std::string sweepChild;            // hidden: a sweep child's request file (it measures one size)
+
+  // What a run uses (the configurations and the sweep alike): with quick, 320 x 180 and 8 frames.
+  int runWidth() const { return quick ? 320 : width; }
+  int runHeight() const { return quick ? 180 : height; }
+  int runFramesPerScript() const { return quick ? 8 : framesPerScript; }
 };
+
+/// Settling a pose: frames rendered at most (each after waiting for the pager or loader) before its
+/// terrain is taken as it stands. The loaders answer each frame's wants in full, so a view settles
+/// within a few frames (one per level it refines: 5 for PagedLOD on the bundled 1 km DEM at 64
+/// cells a chunk); this only bounds a view the budget keeps from settling.
+inline constexpr int kMaxSettleFrames = 64;
+
+/// The document of a rendering run (`benchmark`: "render" or "render terrain sweep"): its title,
+/// and in its JSON "benchmark", "cpu", "size" (the run's), "scene" and "flythroughs" (empty; filled
+/// by sampleFlythroughPoses).
+Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& opts);
+
+/// The text line of the frames each flythrough gave ("frames: SCRIPT N ..."), then `legend`.
+void printFrames(Document& doc, const std::string& legend);
 
 /// Renders the configurations (quick: the first two) and prints their table, the culling
 /// comparison and the target (or one JSON document) to `out`. Returns 0. With terrainSweep (or

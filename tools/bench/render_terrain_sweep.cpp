@@ -1,7 +1,7 @@
 // The terrain-size sweep of the rendering benchmark (see render_terrain_sweep.h).
 #include "tools/bench/render_terrain_sweep.h"
 
-#include "tools/bench/bench_document.h"
+#include "tools/bench/bench_process.h"
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
@@ -45,15 +45,6 @@ constexpr double kCellM = 1.0;
 /// The generator's limits (mining_dump.h): at least 16 cells a side, at most 4e8 samples.
 constexpr long kMinCellsPerSide = 16;
 constexpr double kMaxSamples = 4.0e8;
-
-/// --quick: the frame size and poses per flythrough of the rest of `bench render --quick`.
-constexpr int kQuickWidth = 320, kQuickHeight = 180, kQuickFramesPerScript = 8;
-
-/// Settling a pose: frames rendered at most (each after waiting for the loader) before its error
-/// is taken as it stands. The loader answers each frame's wants in full, so a view settles within a
-/// few frames (one per quadtree level it refines); this only bounds a view the budget keeps from
-/// settling.
-constexpr int kMaxSettleFrames = 64;
 
 /// The targets, for the largest size against the smallest.
 constexpr double kTargetP50Ratio = 1.25;          // ms per frame p50, largest / smallest
@@ -119,33 +110,8 @@ Json readJsonFile(const std::string& path) {
   }
 }
 
-/// The process's peak resident memory (VmHWM), bytes; 0 where /proc cannot tell.
-double peakResidentBytes() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtod(line.c_str() + 6, nullptr) * 1024.0;  // kB
-  return 0;
-}
-
-/// A folder of this run's own under the system's temporary folder, removed with its contents.
-class RunFolder {
- public:
-  RunFolder() : path_(fs::temp_directory_path() / ("nestwalk-terrain-sweep-" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~RunFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  RunFolder(const RunFolder&) = delete;
-  RunFolder& operator=(const RunFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+/// The process's peak resident memory (VmHWM), MiB; 0 where /proc cannot tell.
+double peakResidentMiB() { return processStatusMiB("VmHWM").value_or(0.0); }
 
 /// Runs this program as a sweep child on `request`, its stdout sent to stderr (the parent's stdout
 /// is the benchmark's document). Returns "" when it ended with status 0, else why not.
@@ -211,7 +177,7 @@ int runTerrainSweepChild(const std::string& requestFile) {
   const auto loadStart = std::chrono::steady_clock::now();
   const Scene scene = loadScene(spec);
   const double demLoadS = secondsSince(loadStart);
-  const double loadPeakBytes = peakResidentBytes();
+  const double loadPeakMiB = peakResidentMiB();
   const terrain::Heightfield& hf = *scene.terrain;
 
   std::vector<ViewPose> poses;
@@ -302,8 +268,8 @@ int runTerrainSweepChild(const std::string& requestFile) {
                  {"settle_s", settleS},
                  {"budget_mib", double(paged.budgetBytes()) / kBytesPerMiB},
                  {"load_error", paged.loadError()},
-                 {"load_rss_mib", loadPeakBytes / kBytesPerMiB},
-                 {"peak_rss_mib", peakResidentBytes() / kBytesPerMiB},
+                 {"load_rss_mib", loadPeakMiB},
+                 {"peak_rss_mib", peakResidentMiB()},
                  {"route", offscreenRouteName(renderer.route())},
                  {"gl_renderer", renderer.glRenderer()}};
   writeFileAtomically(req["result"].get<std::string>(), result.dump());
@@ -317,24 +283,19 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   fs::create_directories(cache, ec);
   if (ec || !fs::is_directory(cache))
     throw InputError("--terrain-cache: " + cache + ": cannot be made a folder" + (ec ? ": " + ec.message() : ""));
-  const int width = o.quick ? kQuickWidth : o.width, height = o.quick ? kQuickHeight : o.height;
-  const int perScript = o.quick ? kQuickFramesPerScript : o.framesPerScript;
+  const int width = o.runWidth(), height = o.runHeight();
 
-  Document doc("nestwalk bench render --terrain-sizes: the flythroughs of " + o.scene +
-               " over generated terrains of several sizes");
+  Document doc = renderDocument("nestwalk bench render --terrain-sizes: the flythroughs of " + o.scene +
+                                    " over generated terrains of several sizes",
+                                "render terrain sweep", o);
   Json& j = doc.json;
-  j["benchmark"] = "render terrain sweep";
-  j["cpu"] = j["machine"]["cpu_model"];
-  j["size"] = {width, height};
-  j["scene"] = o.scene;
   j["terrain_cache"] = cache;
-  j["flythroughs"] = Json::array();
 
   // The poses, as heights above the bundled ground: [x, y, height, heading, pitch].
   Json poses = Json::array(), settle = Json::array();
   {
     const Scene bundled = loadScene(o.scene);
-    for (const ViewPose& p : sampleFlythroughPoses(bundled, o, perScript, j["flythroughs"])) {
+    for (const ViewPose& p : sampleFlythroughPoses(bundled, o, o.runFramesPerScript(), j["flythroughs"])) {
       const double ground = groundNear(*bundled.terrain, p.eye.x(), p.eye.y());
       poses.push_back({p.eye.x(), p.eye.y(), p.eye.z() - ground, p.headingDeg, p.pitchDeg});
     }
@@ -346,14 +307,15 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   }
   j["poses"] = poses.size();
 
-  const RunFolder run;
+  // This run's requests and results, in a folder removed at the end (never committed).
+  const OutputFolder run((fs::temp_directory_path() / "nestwalk-terrain-sweep").string());
   std::vector<Json> rows;
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     const double sizeM = double(cellsPerSide(sizes[i])) * kCellM;
     const std::string dem = (fs::path(cache) / demFileName(sizeM)).string();
     const auto [generated, generateS] = ensureDem(dem, sizeM);
-    const std::string request = (run.path() / ("request_" + std::to_string(i) + ".json")).string();
-    const std::string result = (run.path() / ("result_" + std::to_string(i) + ".json")).string();
+    const std::string request = (fs::path(run.tempPath()) / ("request_" + std::to_string(i) + ".json")).string();
+    const std::string result = (fs::path(run.tempPath()) / ("result_" + std::to_string(i) + ".json")).string();
     writeFileAtomically(request, Json{{"terrain", dem},
                                       {"width", width},
                                       {"height", height},
@@ -415,11 +377,10 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   doc.text << width << "x" << height;
   if (j.contains("gl_renderer"))
     doc.text << ", " << j["gl_renderer"].get<std::string>() << " (" << j["route"].get<std::string>() << ")";
-  doc.text << "\nframes:";
-  for (const Json& f : j["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
-  doc.text << " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
-              "loading)\nterrains: generated mining dumps, seed "
-           << kSweepSeed << ", " << numberText(kCellM) << " m cells, cached in " << cache << "\n\n";
+  doc.text << "\n";
+  printFrames(doc, " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
+                   "loading)\n");
+  doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << numberText(kCellM) << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);
   doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
               "set up,\n root chunk built, first render); ms p50 / p95: over all poses; loading: frames with chunks "

@@ -425,7 +425,7 @@ int runBenchmark(const TerrainBenchOptions& opts, std::ostream& out) {
   c.grid = opts.gridSamples > 0 ? opts.gridSamples : (opts.quick ? 257 : 2049);
   c.rays = opts.rays ? opts.rays : (opts.quick ? 20'000 : 1'000'000);
   c.slowRays = std::min<std::size_t>(opts.slowRays ? opts.slowRays : 50'000, c.rays);
-  const double minTime = opts.minTimeSeconds > 0 ? opts.minTimeSeconds : (opts.quick ? 0.02 : 0.5);
+  const double minTime = opts.minTime(0.5);
   registerBenchmarks();
   struct Release {  // the terrain, the peers' structures and the rays: a few GB at full size
     ~Release() {

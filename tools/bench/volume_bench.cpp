@@ -9,6 +9,7 @@
 #include "tools/bench/volume_bench.h"
 
 #include "tools/bench/bench_document.h"
+#include "tools/bench/bench_process.h"
 #include "tools/bench/peers/box_peers.h"
 
 #include "nestwalk/core/random.h"
@@ -22,7 +23,6 @@
 #include <cstring>
 #include <iomanip>
 #include <memory>
-#include <optional>
 #include <ostream>
 
 namespace nestwalk::bench {
@@ -225,29 +225,8 @@ constexpr auto kAabbFloat = [](const Obb<double>& b) { return toFloatConservativ
 constexpr auto kObbFloat = [](const Obb<double>& b) { return b.cast<float>(); };
 constexpr auto kNestedVolume = [](const Obb<double>& b) { return NestedVolume<double>::fromObb(b); };
 
-/// ObbPairBatch picks its kernel on every call: AVX2 + FMA where the processor has them, unless
-/// NESTWALK_SIMD=portable (engine/geometry/obb_batch.cpp). This forces the portable kernel while
-/// it lives (when asked to) and restores the environment afterwards.
-class SimdOverride {
- public:
-  explicit SimdOverride(bool portable) : active_(portable) {
-    if (!active_) return;
-    if (const char* v = std::getenv("NESTWALK_SIMD")) saved_ = v;
-    ::setenv("NESTWALK_SIMD", "portable", 1);
-  }
-  ~SimdOverride() {
-    if (active_ && saved_) ::setenv("NESTWALK_SIMD", saved_->c_str(), 1);
-    if (active_ && !saved_) ::unsetenv("NESTWALK_SIMD");
-  }
-  SimdOverride(const SimdOverride&) = delete;
-  SimdOverride& operator=(const SimdOverride&) = delete;
-
- private:
-  bool active_;
-  std::optional<std::string> saved_;
-};
-
-/// The kernel ObbPairBatch uses here, by the same rule as obb_batch.cpp.
+/// The kernel ObbPairBatch uses here, by obb_batch.cpp's rule: AVX2 + FMA where the processor has
+/// them, unless NESTWALK_SIMD=portable (which the 'portable' row sets while it runs).
 std::string batchKernel() {
   __builtin_cpu_init();
   const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -262,10 +241,10 @@ Pass<std::uint8_t> batchPass(const BoxSet& s, Facts& facts, bool portable) {
   for (std::size_t k = 0; k < s.n; ++k) pairs.emplace_back(s.a[k], s.b[k]);
   auto batch = std::make_shared<const ObbPairBatch>(pairs);
   auto scratch = std::make_shared<std::vector<std::uint8_t>>(s.n);
-  const SimdOverride simd(portable);
+  const ScopedEnvironment simd("NESTWALK_SIMD", "portable", portable);
   facts["uncertain_fraction"] = double(batch->test(scratch->data())) / double(s.n);
   return [batch, scratch, portable](std::uint8_t* verdicts) {
-    const SimdOverride simd(portable);
+    const ScopedEnvironment simd("NESTWALK_SIMD", "portable", portable);
     return double(batch->test(verdicts ? verdicts : scratch->data()));
   };
 }
@@ -412,7 +391,7 @@ void printDisagreements(std::ostream& out, const Table& table) {
 int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
   config().pairs = opts.pairs ? opts.pairs : (opts.quick ? 20'000 : 1'000'000);
   config().stored = opts.storedBoxes ? opts.storedBoxes : config().pairs;
-  const double minTime = opts.minTimeSeconds > 0 ? opts.minTimeSeconds : (opts.quick ? 0.02 : 0.5);
+  const double minTime = opts.minTime(0.5);
   registerBenchmarks();
   struct Release {  // the data sets take up to a few GB at 1M pairs
     ~Release() { currentSet().reset(); }
