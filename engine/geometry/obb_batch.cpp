@@ -345,9 +345,9 @@ void stages23Portable(const ObbBlock& viewerOuter, const ObbBlock& viewerInner, 
 }
 #endif
 
-/// Whether to run the AVX2 + FMA kernels: when the processor has them, unless the environment
-/// variable NESTWALK_SIMD is "portable" (read on every call, so that tests can run both paths).
-bool useAvx2() {
+}  // namespace
+
+bool obbBatchUsesAvx2() {
 #ifdef NESTWALK_HAVE_AVX2_PATH
   static const bool avx2 = [] {
     __builtin_cpu_init();
@@ -361,16 +361,18 @@ bool useAvx2() {
 #endif
 }
 
+namespace {
+
 SatBlocksFn pickSatBlocks() {
 #ifdef NESTWALK_HAVE_AVX2_PATH
-  if (useAvx2()) return satBlocksAvx2;
+  if (obbBatchUsesAvx2()) return satBlocksAvx2;
 #endif
   return satBlocksPortable;
 }
 
 Stages23Fn pickStages23() {
 #ifdef NESTWALK_HAVE_AVX2_PATH
-  if (useAvx2()) return stages23Avx2;
+  if (obbBatchUsesAvx2()) return stages23Avx2;
 #endif
   return stages23Portable;
 }

@@ -54,6 +54,11 @@ struct alignas(32) AabbBlock {
 Obb<float> toFloatConservative(const Obb<double>& b);
 Aabb<float> toFloatConservative(const Aabb<double>& b);
 
+/// Whether the batch kernels run their AVX2 + FMA form now: where the build has it and the processor
+/// has AVX2 and FMA, unless the environment variable NESTWALK_SIMD is "portable" (read on every
+/// call, so that tests and the benchmark can run both paths).
+bool obbBatchUsesAvx2();
+
 /// Many independent OBB pairs tested at once (the benchmark's and the cross-checks' form).
 class ObbPairBatch {
  public:

@@ -12,11 +12,11 @@
 #include "tools/bench/peers/broadphase_peers.h"
 
 #include "nestwalk/core/random.h"
+#include "nestwalk/geometry/obb_batch.h"
 #include "nestwalk/hierarchy/box_tree.h"
 #include "nestwalk/core/number_text.h"
 
 #include <algorithm>
-#include <limits>
 #include <memory>
 #include <numbers>
 #include <ostream>
@@ -65,21 +65,10 @@ constexpr const MethodDef& kDefaultTree = kMethods[2];  // the default AutoTreeO
 constexpr const MethodDef& kBullet = kMethods[4];
 constexpr const MethodDef& kFcl = kMethods[5];
 
-/// x rounded to a float in the direction of `towards` (-inf: down, +inf: up), returned as double
-/// (so every peer sees the same numbers).
-double toFloat(double x, float towards) {
-  float f = static_cast<float>(x);
-  if (double(f) != x && (double(f) > x) == (towards < 0)) f = std::nextafter(f, towards);
-  return f;
-}
+/// The smallest box of float coordinates around lo..hi, in double (so that every peer, float or
+/// double, sees the same numbers).
 Box floatBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  Box b;
-  for (int k = 0; k < 3; ++k) {
-    b.min[k] = toFloat(lo[k], -kInf);
-    b.max[k] = toFloat(hi[k], kInf);
-  }
-  return b;
+  return toFloatConservative(Box{lo, hi}).cast<double>();
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/scene/json_fields.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/mining_dump.h"
 #include "nestwalk/terrain/terrain_import.h"
@@ -25,7 +26,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <ostream>
@@ -100,15 +100,8 @@ double groundNear(const terrain::Heightfield& hf, double x, double y) {
   return hf.groundHeight(cx, cy).value_or(0.0);
 }
 
-Json readJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot be read");
-  try {
-    return Json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path + ": not JSON: " + e.what());
-  }
-}
+/// The request or result file (written by this program): ordered, as the rows keep its keys' order.
+Json readJson(const std::string& path) { return Json::parse(readJsonFile(path, "terrain sweep file")); }
 
 /// The process's peak resident memory (VmHWM), MiB; 0 where /proc cannot tell.
 double peakResidentMiB() { return processStatusMiB("VmHWM").value_or(0.0); }
@@ -170,7 +163,7 @@ std::string demFileName(double sizeM) {
 std::string defaultTerrainCacheFolder() { return (fs::temp_directory_path() / "nestwalk-terrain-cache").string(); }
 
 int runTerrainSweepChild(const std::string& requestFile) {
-  const Json req = readJsonFile(requestFile);
+  const Json req = readJson(requestFile);
   SceneSpec spec;
   spec.path = req["terrain"].get<std::string>();
   spec.terrain = spec.path;
@@ -330,7 +323,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
       doc.errors["size " + numberText(sizeM) + " m"] = problem;
       continue;
     }
-    Json r = readJsonFile(result);
+    Json r = readJson(result);
     Json row = {{"size_m", sizeM},
                 {"cell_m", kCellM},
                 {"samples", r["samples"]},

@@ -19,8 +19,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <cstdlib>
-#include <cstring>
 #include <iomanip>
 #include <memory>
 #include <ostream>
@@ -225,14 +223,9 @@ constexpr auto kAabbFloat = [](const Obb<double>& b) { return toFloatConservativ
 constexpr auto kObbFloat = [](const Obb<double>& b) { return b.cast<float>(); };
 constexpr auto kNestedVolume = [](const Obb<double>& b) { return NestedVolume<double>::fromObb(b); };
 
-/// The kernel ObbPairBatch uses here, by obb_batch.cpp's rule: AVX2 + FMA where the processor has
-/// them, unless NESTWALK_SIMD=portable (which the 'portable' row sets while it runs).
+/// The kernel ObbPairBatch uses here (the 'portable' row sets NESTWALK_SIMD=portable while it runs).
 std::string batchKernel() {
-  __builtin_cpu_init();
-  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  const char* env = std::getenv("NESTWALK_SIMD");
-  if (avx2 && !(env && std::strcmp(env, "portable") == 0)) return "avx2+fma (8 lanes, chosen at run time)";
-  return "portable (SSE, 4 lanes)";
+  return obbBatchUsesAvx2() ? "avx2+fma (8 lanes, chosen at run time)" : "portable (SSE, 4 lanes)";
 }
 
 /// ObbPairBatch over the pairs; its facts get the fraction of lanes it re-decided in double.
