@@ -8,6 +8,8 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <ostream>
 
 // "1" where the predefined macro x is defined (as 1), else the macro's own name.
@@ -71,7 +73,21 @@ Json machineJson() {
   return m;
 }
 
+std::string limitText(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", value);
+  return buf;
+}
+
 Document::Document(std::string title) : title_(std::move(title)) { json["machine"] = machineJson(); }
+
+void Document::target(const std::string& name, const std::string& what, const Json& value, const std::string& op,
+                      double limit, const std::string& unit) {
+  if (!value.is_number() || std::isnan(value.get<double>())) return;
+  const double v = value.get<double>();
+  const bool met = op == ">=" ? v >= limit : op == "<=" ? v <= limit : v < limit;
+  targets.push_back({name, (what.empty() ? "" : what + " ") + op + " " + limitText(limit) + unit, v, met});
+}
 
 std::string Document::runSettings(double minTime, bool quick, std::size_t repetitions) {
   Json& m = json["machine"];

@@ -21,6 +21,9 @@ namespace nestwalk::bench {
 /// the peer libraries linked (peers/peer_versions.h) as "libraries".
 Json machineJson();
 
+/// A limit or size as the text shows it: up to 10 significant digits, no trailing zeros ("1.25").
+std::string limitText(double value);
+
 class Document {
  public:
   /// `title`: the text's first line, e.g. "nestwalk bench volumes: ns per test (CPU time); ...".
@@ -34,6 +37,12 @@ class Document {
   std::vector<Target> targets;
   /// Benchmark name -> message, for the benchmarks that failed; they make write() return 1.
   std::map<std::string, std::string> errors;
+
+  /// Adds the target `name` when `value` is a number (null or NaN: not measured): met when value
+  /// `op` (">=", "<=" or "<") `limit`; its text "WHAT OP LIMIT UNIT" (limitText), e.g. "Embree /
+  /// nestwalk >= 15" or, with no `what`, "<= 2 us". One statement of each limit, text and check.
+  void target(const std::string& name, const std::string& what, const Json& value, const std::string& op,
+              double limit, const std::string& unit = "");
 
   /// Records a Google Benchmark suite's run settings in json["machine"] (min_time_s, quick,
   /// repetitions) and returns them as text: "min time per benchmark: 0.02 s (quick)", with

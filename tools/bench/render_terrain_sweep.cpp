@@ -61,13 +61,6 @@ constexpr double kLoadingNoteFraction = 0.5;
 /// The hidden option that makes `nestwalk bench render` a sweep child (bench_cli.cpp declares it).
 constexpr const char* kChildOption = "--terrain-sweep-child";
 
-/// A number as the text shows it (sizes, targets): up to 10 significant digits, no trailing zeros.
-std::string numberText(double m) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", m);
-  return buf;
-}
-
 /// Cells a side of a size (the generator rounds size / cell the same way).
 long cellsPerSide(double sizeM) { return std::lround(sizeM / kCellM); }
 
@@ -78,17 +71,17 @@ std::vector<double> checkedSizes(const RenderBenchOptions& o) {
   const double maxSizeM = std::floor(std::sqrt(kMaxSamples)) * kCellM;
   for (double s : sizes) {
     if (!std::isfinite(s) || s < double(kMinCellsPerSide) * kCellM || cellsPerSide(s) < kMinCellsPerSide)
-      throw InputError("--terrain-sizes: " + numberText(s) + " m is below the generator's " +
-                       std::to_string(kMinCellsPerSide) + " cells of " + numberText(kCellM) + " m a side");
+      throw InputError("--terrain-sizes: " + limitText(s) + " m is below the generator's " +
+                       std::to_string(kMinCellsPerSide) + " cells of " + limitText(kCellM) + " m a side");
     if (double(cellsPerSide(s)) * double(cellsPerSide(s)) > kMaxSamples)
-      throw InputError("--terrain-sizes: " + numberText(s) + " m is above the generator's 4e8 samples (" +
-                       numberText(maxSizeM) + " m at " + numberText(kCellM) + " m cells)");
+      throw InputError("--terrain-sizes: " + limitText(s) + " m is above the generator's 4e8 samples (" +
+                       limitText(maxSizeM) + " m at " + limitText(kCellM) + " m cells)");
   }
   std::sort(sizes.begin(), sizes.end());
   for (std::size_t i = 1; i < sizes.size(); ++i)
     if (cellsPerSide(sizes[i]) == cellsPerSide(sizes[i - 1]))
-      throw InputError("--terrain-sizes: " + numberText(sizes[i]) + " m is given twice (sizes round to whole " +
-                       numberText(kCellM) + " m cells)");
+      throw InputError("--terrain-sizes: " + limitText(sizes[i]) + " m is given twice (sizes round to whole " +
+                       limitText(kCellM) + " m cells)");
   return sizes;
 }
 
@@ -141,7 +134,7 @@ std::string runChild(const std::string& request) {
 /// the seconds that took.
 std::pair<bool, double> ensureDem(const std::string& path, double sizeM) {
   if (fs::exists(path)) return {false, 0.0};
-  std::cerr << "nestwalk: note: generating the " << numberText(sizeM) << " m mining dump into " << path << "\n";
+  std::cerr << "nestwalk: note: generating the " << limitText(sizeM) << " m mining dump into " << path << "\n";
   const auto start = std::chrono::steady_clock::now();
   terrain::MiningDumpParams params;
   params.seed = kSweepSeed;
@@ -154,8 +147,8 @@ std::pair<bool, double> ensureDem(const std::string& path, double sizeM) {
 }
 
 std::string demFileName(double sizeM) {
-  return "mining_dump_seed" + std::to_string(kSweepSeed) + "_cell" + numberText(kCellM) + "_size" +
-         numberText(double(cellsPerSide(sizeM)) * kCellM) + ".tif";
+  return "mining_dump_seed" + std::to_string(kSweepSeed) + "_cell" + limitText(kCellM) + "_size" +
+         limitText(double(cellsPerSide(sizeM)) * kCellM) + ".tif";
 }
 
 }  // namespace
@@ -316,11 +309,11 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
                                       {"settle", settle},
                                       {"result", result}}
                                      .dump());
-    std::cerr << "nestwalk: note: measuring the " << numberText(sizeM) << " m terrain (" << poses.size()
+    std::cerr << "nestwalk: note: measuring the " << limitText(sizeM) << " m terrain (" << poses.size()
               << " frames at " << width << "x" << height << ")\n";
     const std::string problem = runChild(request);
     if (!problem.empty()) {
-      doc.errors["size " + numberText(sizeM) + " m"] = problem;
+      doc.errors["size " + limitText(sizeM) + " m"] = problem;
       continue;
     }
     Json r = readJson(result);
@@ -373,7 +366,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   doc.text << "\n";
   printFrames(doc, " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
                    "loading)\n");
-  doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << numberText(kCellM) << " m cells, cached in " << cache << "\n\n";
+  doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << limitText(kCellM) << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);
   doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
               "set up,\n root chunk built, first render); ms p50 / p95: over all poses; loading: frames with chunks "
@@ -383,7 +376,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
               "frame, settled tris its\n median terrain triangles); load RSS, RSS MiB: the measuring process's peak resident memory once "
               "the scene\n was loaded, and in all; p50 x, p95 x: against the smallest size)\n";
   for (const Json& row : table.rows()) {
-    const std::string at = "note: at " + numberText(row["size_m"].get<double>()) + " m, ";
+    const std::string at = "note: at " + limitText(row["size_m"].get<double>()) + " m, ";
     if (row["frames_loading"].get<double>() > kLoadingNoteFraction * row["frames"].get<double>())
       doc.text << at << row["frames_loading"] << " of " << row["frames"]
                << " timed frames still had chunks wanted (chunks built during them: " << row["chunks_loaded"]
@@ -396,29 +389,26 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   const std::vector<Json>& measured = table.rows();
   if (!measured.empty() && measured.back()["size_m"].get<double>() == double(cellsPerSide(sizes.back())) * kCellM) {
     const Json& big = measured.back();
-    const std::string vs = numberText(big["size_m"].get<double>()) + " m / " +
-                           numberText(measured.front()["size_m"].get<double>()) + " m";
-    const std::string at = " at " + numberText(big["size_m"].get<double>()) + " m";
+    const std::string vs = limitText(big["size_m"].get<double>()) + " m / " +
+                           limitText(measured.front()["size_m"].get<double>()) + " m";
+    const std::string at = " at " + limitText(big["size_m"].get<double>()) + " m";
     const double p50 = big["ratio"]["p50"].get<double>(), p95 = big["ratio"]["p95"].get<double>();
     const double rss = big["peak_rss_mib"].get<double>(), first = big["first_frame_ms"].get<double>();
     // Timed frames that drew a terrain still loading are cheaper than the view they stand for: their
     // ratios cannot meet a target; the settled view's ratio is the comparable one.
     const bool loading = big["frames_loading"].get<double>() > 0 || measured.front()["frames_loading"].get<double>() > 0;
     const std::string caveat = loading ? " (timed frames still loading: not comparable)" : "";
-    doc.targets.push_back({"ms per frame p50, " + vs + caveat, "<= " + numberText(kTargetP50Ratio) + "x", p50,
+    doc.targets.push_back({"ms per frame p50, " + vs + caveat, "<= " + limitText(kTargetP50Ratio) + "x", p50,
                            !loading && p50 <= kTargetP50Ratio});
-    doc.targets.push_back({"ms per frame p95, " + vs + caveat, "<= " + numberText(kTargetP95Ratio) + "x", p95,
+    doc.targets.push_back({"ms per frame p95, " + vs + caveat, "<= " + limitText(kTargetP95Ratio) + "x", p95,
                            !loading && p95 <= kTargetP95Ratio});
     doc.targets.push_back({"peak RSS MiB" + at,
-                           "<= " + numberText(std::floor(kTargetPeakRssBytes / kBytesPerMiB)) + " (" +
-                               numberText(kTargetPeakRssBytes / 1e9) + " GB)",
+                           "<= " + limitText(std::floor(kTargetPeakRssBytes / kBytesPerMiB)) + " (" +
+                               limitText(kTargetPeakRssBytes / 1e9) + " GB)",
                            rss, rss * kBytesPerMiB <= kTargetPeakRssBytes});
-    doc.targets.push_back({"first frame ms" + at,
-                           "<= " + numberText(kTargetFirstFrameMs) + " after the scene is loaded", first,
-                           first <= kTargetFirstFrameMs});
+    doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
     const double settled = big["settled_ms_p50"].get<double>() / measured.front()["settled_ms_p50"].get<double>();
-    doc.targets.push_back({"settled view ms, " + vs, "<= " + numberText(kTargetP50Ratio) + "x", settled,
-                           settled <= kTargetP50Ratio});
+    doc.target("settled view ms, " + vs, "", settled, "<=", kTargetP50Ratio, "x");
   }
   return doc.write(out, o.json);
 }

@@ -381,18 +381,14 @@ void addTargets(Document& doc, const Table& table) {
   for (const Json& r : table.rows()) {
     const std::string name = r["name"].get<std::string>(), set = name.substr(name.find('/') + 1);
     const Json& ratio = r["ratio"];
-    if (name.rfind("ground_height/", 0) == 0 && ratio["direct_lookup"].is_number()) {
-      const double v = 1.0 / ratio["direct_lookup"].get<double>();
-      doc.targets.push_back({"ground_height_vs_direct/" + set, "nestwalk / direct <= 1.2", v, v <= kGroundVsDirect});
+    if (name.rfind("ground_height/", 0) == 0) {
+      const Json& direct = ratio["direct_lookup"];  // direct / nestwalk: the target is its inverse
+      doc.target("ground_height_vs_direct/" + set, "nestwalk / direct",
+                 direct.is_number() ? Json(1.0 / direct.get<double>()) : Json(), "<=", kGroundVsDirect);
+      doc.target("ground_height_vs_embree/" + set, "Embree / nestwalk", ratio["embree"], ">=", kGroundVsEmbree);
     }
-    if (name.rfind("ground_height/", 0) == 0 && ratio["embree"].is_number()) {
-      const double v = ratio["embree"].get<double>();
-      doc.targets.push_back({"ground_height_vs_embree/" + set, "Embree / nestwalk >= 15", v, v >= kGroundVsEmbree});
-    }
-    if (name == "intersect_ray/oblique" && ratio["embree"].is_number()) {
-      const double v = ratio["embree"].get<double>();
-      doc.targets.push_back({"oblique_vs_embree", "Embree / nestwalk >= 1", v, v >= kObliqueVsEmbree});
-    }
+    if (name == "intersect_ray/oblique")
+      doc.target("oblique_vs_embree", "Embree / nestwalk", ratio["embree"], ">=", kObliqueVsEmbree);
   }
 }
 
