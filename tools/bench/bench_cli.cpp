@@ -32,6 +32,11 @@ CLI::Option* addCount(CLI::App& cmd, const std::string& name, std::size_t& value
   return cmd.add_option(name, value, what)->check(CLI::Range(std::size_t(1), kMaxCount));
 }
 
+CLI::Option* addCounts(CLI::App& cmd, const std::string& name, std::vector<std::size_t>& values,
+                       const std::string& what) {
+  return cmd.add_option(name, values, what)->delimiter(',')->check(CLI::Range(std::size_t(1), kMaxCount));
+}
+
 void declareScene(CLI::App& cmd, std::string& scene, std::vector<std::string>& scripts, const std::string& use) {
   cmd.add_option("--scene", scene, "Scene file for " + use + " (default: the bundled mining dump)");
   cmd.add_option("--scripts", scripts, "Its flythroughs (default: the bundled ones)");
@@ -56,17 +61,13 @@ void declareOptions(CLI::App& cmd, TerrainBenchOptions& o) {
 
 void declareOptions(CLI::App& cmd, BroadPhaseBenchOptions& o) {
   declareSuite(cmd, o, "1k and 10k boxes, 10k queries, short runs", "0.3", "broadphase/<method>/<boxes>");
-  cmd.add_option("--sizes", o.sizes, "Box counts (default 1000 10000 100000 1000000)")
-      ->delimiter(',')
-      ->check(CLI::Range(std::size_t(1), kMaxCount));
+  addCounts(cmd, "--sizes", o.sizes, "Box counts (default 1000 10000 100000 1000000)");
   addCount(cmd, "--queries", o.queries, "Queries per size (default 100000)");
 }
 
 void declareOptions(CLI::App& cmd, WalkerBenchOptions& o) {
   declareCommon(cmd, o, "1k and 10k instances, 5k steps");
-  cmd.add_option("--sizes", o.sizes, "Instance counts (default 1000 100000 1000000)")
-      ->delimiter(',')
-      ->check(CLI::Range(std::size_t(1), kMaxCount));
+  addCounts(cmd, "--sizes", o.sizes, "Instance counts (default 1000 100000 1000000)");
   addCount(cmd, "--steps", o.steps, "Timed walker steps per size (default 200000)");
   declareScene(cmd, o.scene, o.scripts, "the BV-test table");
   cmd.add_flag("!--no-table2", o.table2, "Skip the BV-test table");

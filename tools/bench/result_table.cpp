@@ -2,6 +2,7 @@
 
 #include "nestwalk/core/number_text.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -77,6 +78,11 @@ void Table::add(Json row) {
     if (row.contains(Pointer(r.numerator)) && row.contains(Pointer(r.denominator)))
       row[Pointer(r.path)] = jsonNumber(numberAt(row, r.numerator) / numberAt(row, r.denominator));
   rows_.push_back(std::move(row));
+}
+
+void Table::addMeasured(Json row, const std::string& group) {
+  const Json& values = row[group];
+  if (std::any_of(values.begin(), values.end(), [](const Json& v) { return v.is_number(); })) add(std::move(row));
 }
 
 void Table::print(std::ostream& out, const std::string& indent) const {

@@ -63,6 +63,8 @@ class Table {
 
   /// Adds a row; the ratio columns' values are computed and stored in it.
   void add(Json row);
+  /// Adds the row when one of its values at "/<group>/..." is a number (a method that ran).
+  void addMeasured(Json row, const std::string& group);
   const std::vector<Json>& rows() const { return rows_; }
 
   /// The title line, then one line a row, each after `indent`.

@@ -435,12 +435,8 @@ int runBenchmark(const TerrainBenchOptions& opts, std::ostream& out) {
   Table table = Table::againstPeers({"query", "/test", 14, 0, true}, {"set", "/set", 23, 0, true},
                                     {{"hits", "/hit_fraction", 7, 3}}, "ns_per_ray", kPeers, 10, 1, 2);
   for (const SetSpec& set : kSets)
-    for (const MethodDef& m : kMethods) {
-      if (!m.row || (m.verticalOnly && !set.vertical)) continue;
-      Json row = makeRow(m, set);
-      if (std::any_of(row["ns_per_ray"].begin(), row["ns_per_ray"].end(), [](const Json& v) { return v.is_number(); }))
-        table.add(std::move(row));
-    }
+    for (const MethodDef& m : kMethods)
+      if (m.row && (set.vertical || !m.verticalOnly)) table.addMeasured(makeRow(m, set), "ns_per_ray");
 
   const Terrain& t = terrainData();
   const std::size_t triangles = 2 * std::size_t(t.grid.n - 1) * std::size_t(t.grid.n - 1);
