@@ -86,13 +86,15 @@ std::vector<ViewPose> sampleFlythroughPoses(const Scene& scene, const RenderBenc
   return poses;
 }
 
-Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& o) {
+Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& o,
+                        const Json& more) {
   Document doc(title);
   Json& j = doc.json;
   j["benchmark"] = benchmark;
   j["cpu"] = j["machine"]["cpu_model"];
   j["size"] = {o.runWidth(), o.runHeight()};
   j["scene"] = o.scene;
+  j.update(more);
   j["flythroughs"] = Json::array();
   return doc;
 }

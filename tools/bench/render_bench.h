@@ -51,9 +51,10 @@ struct RenderBenchOptions : BenchOptions {
 inline constexpr int kMaxSettleFrames = 64;
 
 /// The document of a rendering run (`benchmark`: "render" or "render terrain sweep"): its title,
-/// and in its JSON "benchmark", "cpu", "size" (the run's), "scene" and "flythroughs" (empty; filled
-/// by sampleFlythroughPoses).
-Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& opts);
+/// and in its JSON "benchmark", "cpu", "size" (the run's), "scene", the fields of `more` and
+/// "flythroughs" (empty; filled by sampleFlythroughPoses).
+Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& opts,
+                        const Json& more = Json::object());
 
 /// The text line of the frames each flythrough gave ("frames: SCRIPT N ..."), then `legend`.
 void printFrames(Document& doc, const std::string& legend);

@@ -273,9 +273,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
 
   Document doc = renderDocument("nestwalk bench render --terrain-sizes: the flythroughs of " + o.scene +
                                     " over generated terrains of several sizes",
-                                "render terrain sweep", o);
+                                "render terrain sweep", o, {{"terrain_cache", cache}});
   Json& j = doc.json;
-  j["terrain_cache"] = cache;
 
   // The poses, as heights above the bundled ground: [x, y, height, heading, pitch].
   Json poses = Json::array(), settle = Json::array();
