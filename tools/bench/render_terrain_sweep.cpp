@@ -365,7 +365,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   doc.text << "\n";
   printFrames(doc, " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
                    "loading)\n");
-  doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << limitText(kCellM) << " m cells, cached in " << cache << "\n\n";
+  doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << limitText(kCellM)
+           << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);
   doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
               "set up,\n root chunk built, first render); ms p50 / p95: over all poses; loading: frames with chunks "
