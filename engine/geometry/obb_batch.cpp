@@ -462,6 +462,360 @@ std::size_t ObbPairBatch::test(std::uint8_t* out) const {
 }
 
 // ---------------------------------------------------------------------------------------------
+// testBoxPairs: testBoxPair's three stages per lane, with the first separating axis.
+//
+// Each stage runs its axes in testBoxPair's order and classifies each axis per lane with the
+// float error bound: g > sep, surely separating in double; g < -band, surely not; else open.
+// The lane's answer for a stage is sure when every axis before the first one that is not surely
+// clear is surely clear and that one surely separates (or every axis is surely clear: no
+// separating axis). The boxes are rounded to float here, cheaply: A's centre is the origin
+// (the pair's local frame, as testBoxPair), B's centre is fl(cB - cA), the axes are rounded to
+// nearest and every half extent becomes fl(e) + kGrowCentre |fl(c)|_1 + kGrowSize (sum fl(e)) +
+// kGrowAbs, computed in float. That exceeds toFloatConservative's enlargement 2 disp +
+// (4u + 1e-12) sum e (<= 2u |c|_1 + 7.5u sum e, see above) after the roundings of fl(e) (u e),
+// of the growth's own float arithmetic (< 6u of it) and of the sum (u), so the float box contains
+// the double one; and it is at most 2.6u C + 14u S (against 2u C + 9.5u S in the analysis above).
+// Error bounds per axis, g_float against g_double (M = 2C + SX + S, C = |fl(cB - cA)|_1, S the
+// four boxes' half extents: the two OBBs' and the two AABBs'):
+//  - stage 3 (OBB-OBB): the analysis above with the larger enlargement: < 40u M + 1e-6 S;
+//  - stage 2 (AABB-OBB): the AABB's half extents sum_j |fl(A)_kj| fe_j differ from the double
+//    ones (|A| e + aabbOf's padding, ~1e-15 relative) by <= sqrt3 (2.6u C + 14u S) + u S + 5.2u S
+//    < 4.5u C + 30.5u S each, i.e. < 7.8u C + 53u S on a radius (coefficients summing to
+//    <= sqrt3), on top of the stage-3 terms (R = Y exactly rounded, t = fl(c) with no rotation):
+//    < 100u M + 1e-6 S;
+//  - stage 1 (AABB-AABB, |c_k| against hA_k + hB_k): u C + 2 (4.5u C + 30.5u S) + 2u M < 70u M.
+// kPairSepRel = 256u keeps a margin of 2.5x on the worst (stage 2), and band = sep + 1e-6 S
+// covers the epsilon difference. The stage-2 AABB is A's (or B's, when only B is axis aligned:
+// testBoxPair then swaps the roles; the sign of t does not matter to |d|).
+// Exactly parallel edges: an edge axis A_i x B_j whose R(i1, j) and R(i2, j) are both exact zeros
+// in double has d = 0 and never separates there; the kernel skips it where the float data show it:
+// stage 2, R = the OBB's axes, is exact in float (fl(x) = 0 means |x| <= 2^-150, and then |d| in
+// double is < 1e-40 |t|, far below sat.h's slack 1e-12 |t|_1); stage 3 when every product of
+// R(i1, j) and R(i2, j) has a float factor that is zero (structural zeros: boxes turned about a
+// common axis, e.g. both about z). Without this, every overlapping pair of boxes turned about
+// the vertical would be left uncertain.
+
+namespace {
+
+constexpr float kPairSepRel = 256.0f * 0x1p-24f;  // 256u, see above (unitless, relative to M)
+constexpr float kGrowCentre = 2.5f * 0x1p-24f;    // growth of a half extent per |c|_1 (see above)
+constexpr float kGrowSize = 12.0f * 0x1p-24f;     // growth per metre of summed half extents
+constexpr float kGrowAbs = 1e-36f;                // m: covers float underflow of tiny half extents
+// Lanes outside these are answered in double: products stay finite, and the axes are orthonormal
+// to 1e-6 in double (the float check, accurate to ~5u = 3e-7, is kept at 5e-7).
+constexpr float kMaxCoordinateF = 1e18f;
+constexpr float kMaxFloatAxesError = 5e-7f;
+constexpr std::int32_t kUnsure = -2;  // a stage's lane code: no sure answer (else axis or kNoAxis)
+
+/// kBatchLanes pairs in A's local frame (A's centre is the origin), rounded to float.
+struct alignas(32) PairBlock {
+  float aAxes[9][kBatchLanes];  // A(r, c) at [3 r + c]
+  float aExt[3][kBatchLanes];
+  float bCenter[3][kBatchLanes];
+  float bAxes[9][kBatchLanes];
+  float bExt[3][kBatchLanes];
+};
+
+/// The first axis of a stage that is not surely clear, per lane, and whether it surely separates.
+template <class V, class VI>
+struct FirstAxis {
+  V sep, negBand;
+  VI found{}, idx{}, sure{};
+  [[gnu::always_inline]] inline void consider(const V& g, int axis) {
+    const VI open = ~(g < negBand);  // NaN: open, and not surely separating
+    const VI fresh = open & ~found;
+    idx = fresh ? VI{} + axis : idx;
+    sure = fresh ? (g > sep) : sure;
+    found |= open;
+  }
+  /// Per lane: the surely first separating axis, kNoAxis when every axis is surely clear, else kUnsure.
+  [[gnu::always_inline]] inline VI code() const {
+    return found ? (sure ? idx : VI{} + kUnsure) : VI{} + std::int32_t(kNoAxis);
+  }
+};
+
+template <class VI>
+[[gnu::always_inline]] inline bool anyLane(const VI& m) {
+  for (int l = 0; l < int(sizeof(VI) / sizeof(std::int32_t)); ++l)
+    if (m[l]) return true;
+  return false;
+}
+
+/// The 15 axes of sat.h in its order (A's faces, B's faces, A_i x B_j), B given in A's frame by
+/// t and R; zero[i][j]: lanes where R(i, j) is an exact zero in double (see above).
+template <class V, class VI>
+[[gnu::always_inline]] inline void sat15(FirstAxis<V, VI>& f, const V (&t)[3], const V (&R)[3][3], const V (&a)[3],
+                                         const V (&b)[3], const VI (&zero)[3][3]) {
+  V q[3][3];
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) q[i][j] = vabs<V, VI>(R[i][j]) + kEpsF;
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+    f.consider(vabs<V, VI>(t[i]) - (a[i] + (b[0] * q[i][0] + b[1] * q[i][1] + b[2] * q[i][2])), i);
+#pragma GCC unroll 3
+  for (int j = 0; j < 3; ++j)
+    f.consider(vabs<V, VI>(t[0] * R[0][j] + t[1] * R[1][j] + t[2] * R[2][j]) -
+                   ((a[0] * q[0][j] + a[1] * q[1][j] + a[2] * q[2][j]) + b[j]),
+               3 + j);
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const V ra = a[i1] * q[i2][j] + a[i2] * q[i1][j];
+      const V rb = b[j1] * q[i][j2] + b[j2] * q[i][j1];
+      const V g = vabs<V, VI>(t[i2] * R[i1][j] - t[i1] * R[i2][j]) - (ra + rb);
+      const VI degenerate = zero[i1][j] & zero[i2][j];
+      f.consider(degenerate ? V{} - std::numeric_limits<float>::infinity() : g, 6 + 3 * i + j);
+    }
+  }
+}
+
+/// Lanes whose float axes X are orthonormal to kMaxFloatAxesError.
+template <class V, class VI>
+[[gnu::always_inline]] inline VI orthonormal(const V (&x)[3][3]) {
+  VI ok = VI{} - 1;
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
+    for (int j = i; j < 3; ++j) {
+      const V dot = x[0][i] * x[0][j] + x[1][i] * x[1][j] + x[2][i] * x[2][j] - (i == j ? 1.0f : 0.0f);
+      ok &= vabs<V, VI>(dot) <= kMaxFloatAxesError;
+    }
+  return ok;
+}
+
+/// Lanes l0 .. l0 + W - 1 of a block: the codes of the three stages (codes[s][lane]) and whether the
+/// float analysis applies (ok[lane]). aAligned / bAligned: bit per lane, axes exactly the identity.
+template <class V, class VI>
+[[gnu::always_inline]] inline void pairLanes(const PairBlock& p, int l0, unsigned aAligned, unsigned bAligned,
+                                             std::int32_t (*codes)[kBatchLanes], std::int32_t* ok) {
+  constexpr int kW = int(sizeof(V) / sizeof(float));
+  V a[3][3], b[3][3], ea[3], eb[3], c[3];
+#pragma GCC unroll 9
+  for (int e = 0; e < 9; ++e) {
+    a[e / 3][e % 3] = load<V>(p.aAxes[e] + l0);
+    b[e / 3][e % 3] = load<V>(p.bAxes[e] + l0);
+  }
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) {
+    ea[k] = load<V>(p.aExt[k] + l0);
+    eb[k] = load<V>(p.bExt[k] + l0);
+    c[k] = load<V>(p.bCenter[k] + l0);
+  }
+  VI lanes, one = VI{} + 1;
+  for (int l = 0; l < kW; ++l) lanes[l] = std::int32_t(l0 + l);
+  const VI aAl = ((VI{} + std::int32_t(aAligned)) >> lanes & one) != 0;
+  const VI bAl = ((VI{} + std::int32_t(bAligned)) >> lanes & one) != 0;
+
+  // The float analysis applies: finite, bounded numbers, half extents >= 0, orthonormal axes.
+  VI good = orthonormal<V, VI>(a) & orthonormal<V, VI>(b);
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) {
+    good &= vabs<V, VI>(c[k]) <= kMaxCoordinateF;
+    good &= (ea[k] >= 0.0f) & (ea[k] <= kMaxCoordinateF) & (eb[k] >= 0.0f) & (eb[k] <= kMaxCoordinateF);
+  }
+  std::memcpy(ok + l0, &good, sizeof good);
+
+  // The outward rounding of the half extents, and the AABBs' half extents |A| e.
+  const V cmag = vabs<V, VI>(c[0]) + vabs<V, VI>(c[1]) + vabs<V, VI>(c[2]);
+  const V growA = kGrowSize * (ea[0] + ea[1] + ea[2]) + kGrowAbs;
+  const V growB = kGrowCentre * cmag + kGrowSize * (eb[0] + eb[1] + eb[2]) + kGrowAbs;
+  V ha[3], hb[3];
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) {
+    ea[k] += growA;
+    eb[k] += growB;
+  }
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) {
+    ha[k] = vabs<V, VI>(a[k][0]) * ea[0] + vabs<V, VI>(a[k][1]) * ea[1] + vabs<V, VI>(a[k][2]) * ea[2];
+    hb[k] = vabs<V, VI>(b[k][0]) * eb[0] + vabs<V, VI>(b[k][1]) * eb[1] + vabs<V, VI>(b[k][2]) * eb[2];
+  }
+  const V sizes = ((ea[0] + ea[1] + ea[2]) + (eb[0] + eb[1] + eb[2])) + ((ha[0] + ha[1] + ha[2]) + (hb[0] + hb[1] + hb[2]));
+  const V sep = kPairSepRel * ((cmag + cmag) + sizes) + kAbsSlack;
+  const V negBand = -(sep + kEpsF * sizes);
+
+  // Stage 1: the AABBs (A's centred on the origin, B's on c).
+  FirstAxis<V, VI> f1{sep, negBand};
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) f1.consider(vabs<V, VI>(c[k]) - (ha[k] + hb[k]), k);
+  const VI code1 = f1.code();
+  std::memcpy(codes[0] + l0, &code1, sizeof code1);
+
+  // Stage 2, where some lane gets there: AABB of A against B, or of B against A when only B is
+  // axis aligned (testBoxPair's swap; the axis is renamed by the caller).
+  const VI reach2 = (code1 == std::int32_t(kNoAxis)) & ~(aAl & bAl);
+  VI code2 = VI{} + kUnsure;
+  if (anyLane(reach2)) {
+    const VI swap = bAl & ~aAl;
+    V y[3][3], ey[3], hx[3];
+    VI zero[3][3];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      ey[i] = swap ? ea[i] : eb[i];
+      hx[i] = swap ? hb[i] : ha[i];
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) {
+        y[i][j] = swap ? a[i][j] : b[i][j];
+        zero[i][j] = y[i][j] == 0.0f;
+      }
+    }
+    FirstAxis<V, VI> f2{sep, negBand};
+    sat15<V, VI>(f2, c, y, hx, ey, zero);
+    code2 = f2.code();
+  }
+  std::memcpy(codes[1] + l0, &code2, sizeof code2);
+
+  // Stage 3, where some lane gets there: the OBBs, t = A^T c, R = A^T B.
+  const VI reach3 = reach2 & (code2 == std::int32_t(kNoAxis)) & ~aAl & ~bAl;
+  VI code3 = VI{} + kUnsure;
+  if (anyLane(reach3)) {
+    V t[3], R[3][3];
+    VI zero[3][3];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      t[i] = a[0][i] * c[0] + a[1][i] * c[1] + a[2][i] * c[2];
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) {
+        R[i][j] = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
+        zero[i][j] = ((a[0][i] == 0.0f) | (b[0][j] == 0.0f)) & ((a[1][i] == 0.0f) | (b[1][j] == 0.0f)) &
+                     ((a[2][i] == 0.0f) | (b[2][j] == 0.0f));
+      }
+    }
+    FirstAxis<V, VI> f3{sep, negBand};
+    sat15<V, VI>(f3, t, R, ea, eb, zero);
+    code3 = f3.code();
+  }
+  std::memcpy(codes[2] + l0, &code3, sizeof code3);
+}
+
+/// An axis of the test (B, A) renamed for (A, B), as testBoxPair does after its swap.
+constexpr std::int8_t kSwappedAxis[15] = {3, 4, 5, 0, 1, 2, 6, 9, 12, 7, 10, 13, 8, 11, 14};
+
+/// Double decision of one pair, kept out of line (testBoxPair is compiled for the base instruction set).
+[[gnu::noinline]] NestedResult boxPairInDouble(const Obb<double>& a, const Obb<double>& b) { return testBoxPair(a, b); }
+
+PairBlock paddingPairBlock() {
+  PairBlock p{};
+  for (int l = 0; l < kBatchLanes; ++l)
+    for (int k = 0; k < 3; ++k) {
+      p.aAxes[4 * k][l] = p.bAxes[4 * k][l] = 1.0f;
+      p.aExt[k][l] = p.bExt[k][l] = 1.0f;
+    }
+  return p;
+}
+
+/// Axes exactly the identity (Obb::isAxisAligned), without branches.
+[[gnu::always_inline]] inline bool identityAxes(const Mat3<double>& m) {
+  const double* x = m.data();
+  return ((x[0] == 1.0) & (x[4] == 1.0) & (x[8] == 1.0) & (x[1] == 0.0) & (x[2] == 0.0) & (x[3] == 0.0) &
+          (x[5] == 0.0) & (x[6] == 0.0) & (x[7] == 0.0)) != 0;
+}
+
+/// Blocks gathered before any is tested: the scalar stores of a gather have left the store buffer
+/// by the time the kernel loads them as vectors (testing each block right after its gather stalls
+/// on store forwarding). 16 blocks are 17 KB, within L1.
+constexpr int kChunkBlocks = 16;
+
+/// The whole run on W lanes at a time: per chunk of blocks, gather and round the pairs, run the
+/// kernel, read the codes out in testBoxPair's order of stages, and answer the rest in double.
+template <class V, class VI>
+[[gnu::always_inline]] inline std::size_t boxPairBlocks(const BoxPairsView& pairs, NestedResult* out) {
+  constexpr int kW = int(sizeof(V) / sizeof(float));
+  struct Chunk {
+    PairBlock p[kChunkBlocks];
+    unsigned aAligned[kChunkBlocks], bAligned[kChunkBlocks];
+    alignas(32) std::int32_t codes[kChunkBlocks][3][kBatchLanes];
+    alignas(32) std::int32_t ok[kChunkBlocks][kBatchLanes];
+  };
+  thread_local Chunk ch;  // (17 KB: kept off the stack)
+  for (PairBlock& p : ch.p) p = paddingPairBlock();
+  std::size_t uncertain = 0;
+  constexpr std::size_t kChunkPairs = std::size_t(kChunkBlocks) * kBatchLanes;
+  for (std::size_t start = 0; start < pairs.count; start += kChunkPairs) {
+    const std::size_t inChunk = std::min(kChunkPairs, pairs.count - start);
+    const int blocks = int((inChunk + kBatchLanes - 1) / kBatchLanes);
+    for (int blk = 0; blk < blocks; ++blk) {
+      PairBlock& p = ch.p[blk];
+      const std::size_t base = start + std::size_t(blk) * kBatchLanes;
+      const int lanes = int(std::min<std::size_t>(kBatchLanes, pairs.count - base));
+      unsigned aAligned = 0, bAligned = 0;
+      for (int l = 0; l < lanes; ++l) {
+        const Obb<double>& A = pairs.first(base + std::size_t(l));
+        const Obb<double>& B = pairs.second(base + std::size_t(l));
+        for (int r = 0; r < 3; ++r) {
+          for (int col = 0; col < 3; ++col) {
+            p.aAxes[3 * r + col][l] = float(A.axes(r, col));
+            p.bAxes[3 * r + col][l] = float(B.axes(r, col));
+          }
+          p.aExt[r][l] = float(A.halfExtents[r]);
+          p.bExt[r][l] = float(B.halfExtents[r]);
+          p.bCenter[r][l] = float(B.center[r] - A.center[r]);
+        }
+        aAligned |= unsigned(identityAxes(A.axes)) << l;
+        bAligned |= unsigned(identityAxes(B.axes)) << l;
+      }
+      ch.aAligned[blk] = aAligned;
+      ch.bAligned[blk] = bAligned;
+    }
+    for (int blk = 0; blk < blocks; ++blk)
+      for (int l0 = 0; l0 < kBatchLanes; l0 += kW)
+        pairLanes<V, VI>(ch.p[blk], l0, ch.aAligned[blk], ch.bAligned[blk], ch.codes[blk], ch.ok[blk]);
+    for (std::size_t i = 0; i < inChunk; ++i) {
+      const std::size_t k = start + i, blk = i / kBatchLanes, l = i % kBatchLanes;
+      const bool aAl = (ch.aAligned[blk] >> l) & 1u, bAl = (ch.bAligned[blk] >> l) & 1u;
+      const std::int32_t c1 = ch.codes[blk][0][l], c2 = ch.codes[blk][1][l], c3 = ch.codes[blk][2][l];
+      NestedResult r{true, OverlapStage::AabbAabb, std::int8_t(kNoAxis)};
+      bool sure = ch.ok[blk][l] != 0 && c1 != kUnsure;
+      if (sure) {
+        if (c1 >= 0 || (aAl && bAl)) {
+          r = {c1 < 0, OverlapStage::AabbAabb, std::int8_t(c1)};
+        } else if (c2 == kUnsure) {
+          sure = false;
+        } else if (bAl) {
+          r = {c2 < 0, OverlapStage::AabbObb, c2 < 0 ? std::int8_t(kNoAxis) : kSwappedAxis[c2]};
+        } else if (c2 >= 0 || aAl) {
+          r = {c2 < 0, OverlapStage::AabbObb, std::int8_t(c2)};
+        } else if (c3 == kUnsure) {
+          sure = false;
+        } else {
+          r = {c3 < 0, OverlapStage::ObbObb, std::int8_t(c3)};
+        }
+      }
+      if (!sure) {
+        r = boxPairInDouble(pairs.first(k), pairs.second(k));
+        ++uncertain;
+      }
+      out[k] = r;
+    }
+  }
+  return uncertain;
+}
+
+std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
+  return boxPairBlocks<v4f, v4i>(pairs, out);
+}
+
+#ifdef NESTWALK_HAVE_AVX2_PATH
+[[gnu::target("avx2,fma")]] std::size_t boxPairsAvx2(const BoxPairsView& pairs, NestedResult* out) {
+  return boxPairBlocks<v8f, v8i>(pairs, out);
+}
+#endif
+
+}  // namespace
+
+std::size_t testBoxPairs(const BoxPairsView& pairs, NestedResult* out) {
+#ifdef NESTWALK_HAVE_AVX2_PATH
+  if (useAvx2()) return boxPairsAvx2(pairs, out);
+#endif
+  return boxPairsPortable(pairs, out);
+}
+
+// ---------------------------------------------------------------------------------------------
 // NestedBoxSet
 
 namespace {

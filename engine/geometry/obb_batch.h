@@ -73,6 +73,34 @@ class ObbPairBatch {
   std::vector<std::uint8_t> perm_;    // per block: lanes whose two boxes have signed-permutation axes
 };
 
+/// Pairs of boxes read where they lie: pair k is (a[k], b[k]) with a[k] the Obb at byte offset
+/// k * stride from `a` (likewise b), so that the boxes can be members of the caller's own records
+/// (stride = sizeof the record) or two plain arrays (stride = sizeof(Obb<double>)).
+struct BoxPairsView {
+  const Obb<double>* a = nullptr;
+  const Obb<double>* b = nullptr;
+  std::size_t count = 0;
+  std::size_t stride = sizeof(Obb<double>);
+
+  const Obb<double>& first(std::size_t k) const { return at(a, k); }
+  const Obb<double>& second(std::size_t k) const { return at(b, k); }
+
+ private:
+  const Obb<double>& at(const Obb<double>* base, std::size_t k) const {
+    return *reinterpret_cast<const Obb<double>*>(reinterpret_cast<const char*>(base) + k * stride);
+  }
+};
+
+/// testBoxPair on many pairs at once (`nestwalk query overlap`): out[k] = testBoxPair(a[k], b[k]),
+/// the verdict, the deciding stage and the first separating axis in that stage's own order,
+/// identical field for field. The pairs are read kBatchLanes at a time, moved to A's local frame,
+/// rounded outward to float and run through all three stages in SIMD lanes (the ordering of the
+/// axes kept per lane); a lane whose answer the float analysis cannot vouch for (some axis before
+/// the first surely separating one is not surely clear, or the data are outside the analysis) is
+/// answered by testBoxPair itself. Returns the number of pairs so re-decided in double.
+/// No allocation; `out` has room for pairs.count results.
+std::size_t testBoxPairs(const BoxPairsView& pairs, NestedResult* out);
+
 /// The equipment's nested volumes, stored for one-vs-many queries against the viewer.
 /// Coordinates are in the local frame of the scene (double originals, float blocks).
 class NestedBoxSet {

@@ -2,6 +2,8 @@
 // the verdicts of ObbPairBatch and NestedBoxSet, which must be exactly those of the scalar double
 // tests of sat.h / nested.h, on both SIMD paths (AVX2 where the machine has it, and the portable one).
 #include "nestwalk/geometry/obb_batch.h"
+#include "tests/geometry/box_pair_generators.h"
+#include "tests/geometry/scoped_simd.h"
 
 #include <gtest/gtest.h>
 
@@ -22,141 +24,11 @@
 namespace nestwalk {
 namespace {
 
-using Pair = std::pair<Obb<double>, Obb<double>>;
+using namespace boxgen;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kFloatU = 0x1p-24;
 
-/// Selects the SIMD path of the batches for the scope: "portable" forces SSE; null lets the
-/// library choose (AVX2 + FMA where available).
-class ScopedSimd {
- public:
-  explicit ScopedSimd(const char* value) {
-    if (const char* old = std::getenv("NESTWALK_SIMD")) old_ = old;
-    if (value)
-      setenv("NESTWALK_SIMD", value, 1);
-    else
-      unsetenv("NESTWALK_SIMD");
-  }
-  ~ScopedSimd() {
-    if (old_)
-      setenv("NESTWALK_SIMD", old_->c_str(), 1);
-    else
-      unsetenv("NESTWALK_SIMD");
-  }
-
- private:
-  std::optional<std::string> old_;
-};
-
-const std::array<const char*, 2> kSimdPaths = {nullptr, "portable"};
-const char* pathName(const char* p) { return p ? p : "auto"; }
-
-class Gen {
- public:
-  explicit Gen(std::uint64_t seed) : rng_(seed) {}
-
-  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
-  double logUniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
-  bool chance(double p) { return uniform(0, 1) < p; }
-  int index(int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng_); }
-  Vec3<double> inCube(double half) { return {uniform(-half, half), uniform(-half, half), uniform(-half, half)}; }
-  Vec3<double> unitVector() {
-    std::normal_distribution<double> n;
-    Vec3<double> v(n(rng_), n(rng_), n(rng_));
-    return v.normalized();
-  }
-
-  /// A uniformly random rotation (normalized quaternion of four normal samples).
-  Mat3<double> rotation() {
-    std::normal_distribution<double> n;
-    Eigen::Quaterniond q(n(rng_), n(rng_), n(rng_), n(rng_));
-    return q.normalized().toRotationMatrix();
-  }
-  /// A rotation by a small angle in [lo, hi] radians about a random axis.
-  Mat3<double> smallRotation(double lo, double hi) {
-    return Eigen::AngleAxisd(logUniform(lo, hi), unitVector()).toRotationMatrix();
-  }
-  /// A signed permutation matrix (exact; keeps the box, or swaps its axes).
-  Mat3<double> signedPermutation() {
-    std::array<int, 3> p = {0, 1, 2};
-    std::shuffle(p.begin(), p.end(), rng_);
-    Mat3<double> m = Mat3<double>::Zero();
-    for (int k = 0; k < 3; ++k) m(p[k], k) = chance(0.5) ? 1.0 : -1.0;
-    return m;
-  }
-  /// Half extents in [0.01, 10] m (log-uniform), each zero with probability pZero.
-  Vec3<double> halfExtents(double pZero = 0.1) {
-    Vec3<double> e;
-    for (int k = 0; k < 3; ++k) e[k] = chance(pZero) ? 0.0 : logUniform(0.01, 10.0);
-    return e;
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
-
-// Radius of a box's projection on unit direction L.
-double radiusAlong(const Obb<double>& b, const Vec3<double>& l) {
-  return (b.axes.transpose() * l).cwiseAbs().dot(b.halfExtents);
-}
-
-/// Places B so that its projection on L is `gap` away from A's (negative: overlapping by -gap).
-void placeAlong(const Obb<double>& a, Obb<double>& b, const Vec3<double>& l, double gap) {
-  b.center = a.center + l * (radiusAlong(a, l) + radiusAlong(b, l) + gap);
-}
-
-/// One of the 15 SAT axes of the pair, normalized (a random direction when the chosen edge
-/// axis is degenerate).
-Vec3<double> satAxis(Gen& g, const Obb<double>& a, const Obb<double>& b) {
-  const int k = g.index(15);
-  if (k < 3) return a.axes.col(k);
-  if (k < 6) return b.axes.col(k - 3);
-  const Vec3<double> c = a.axes.col((k - 6) / 3).cross(b.axes.col((k - 6) % 3));
-  return c.norm() > 1e-3 ? Vec3<double>(c.normalized()) : g.unitVector();
-}
-
-double signedGap(Gen& g) { return (g.chance(0.5) ? 1.0 : -1.0) * g.logUniform(1e-7, 1e-3); }
-
-// The categories of pairs, each around `origin` (A's centre lies within 1 km of it).
-Pair randomPair(Gen& g, const Vec3<double>& origin) {
-  // Centres at a random distance up to 0.45 x the sum of the half diagonals: about half overlap.
-  Obb<double> a{origin + g.inCube(1000), g.rotation(), g.halfExtents()};
-  Obb<double> b{Vec3<double>::Zero(), g.rotation(), g.halfExtents()};
-  b.center = a.center + g.unitVector() * g.uniform(0, 0.45) * (a.halfExtents.norm() + b.halfExtents.norm());
-  return {a, b};
-}
-
-Pair nearTouchingPair(Gen& g, const Vec3<double>& origin) {
-  Obb<double> a{origin + g.inCube(1000), g.rotation(), g.halfExtents()};
-  Obb<double> b{Vec3<double>::Zero(), g.chance(0.2) ? Mat3<double>(a.axes * g.smallRotation(1e-9, 1e-3)) : g.rotation(),
-                g.halfExtents()};
-  placeAlong(a, b, satAxis(g, a, b), signedGap(g));
-  return {a, b};
-}
-
-Pair parallelPair(Gen& g, const Vec3<double>& origin) {
-  Obb<double> a{origin + g.inCube(1000), g.rotation(), g.halfExtents()};
-  Obb<double> b{Vec3<double>::Zero(), a.axes * g.signedPermutation(), g.halfExtents()};
-  if (g.chance(0.5))
-    b.center = a.center + g.inCube(9.0);
-  else
-    placeAlong(a, b, satAxis(g, a, b), signedGap(g));
-  return {a, b};
-}
-
-Pair identityPair(Gen& g, const Vec3<double>& origin) {
-  // Multiples of 1/64 m: exact in float, so touching stays exactly touching.
-  auto q = [](double x) { return std::round(x * 64) / 64; };
-  Vec3<double> ea = g.halfExtents(), eb = g.halfExtents();
-  Obb<double> a{origin + g.inCube(1000).unaryExpr(q), Mat3<double>::Identity(), ea.unaryExpr(q)};
-  Obb<double> b{Vec3<double>::Zero(), Mat3<double>::Identity(), eb.unaryExpr(q)};
-  const int axis = g.index(3);
-  const double gap = g.chance(0.3) ? 0.0 : signedGap(g);
-  b.center = a.center + g.inCube(1.0).unaryExpr(q);
-  b.center[axis] = a.center[axis] + (g.chance(0.5) ? 1 : -1) * (a.halfExtents[axis] + b.halfExtents[axis] + gap);
-  return {a, b};
-}
 
 // Optimized builds check over a million pairs (about 1.5 s); unoptimized ones a quarter of that.
 #ifdef NDEBUG
@@ -209,10 +81,10 @@ std::pair<std::size_t, std::size_t> checkBatch(const std::vector<Pair>& pairs, c
       if (out[k] != expected[k]) {
         if (mismatches++ == 0) firstBad = k;
       }
-    EXPECT_EQ(mismatches, 0u) << what << " [" << pathName(path) << "]: first mismatch at pair " << firstBad;
+    EXPECT_EQ(mismatches, 0u) << what << " [" << simdPathName(path) << "]: first mismatch at pair " << firstBad;
     EXPECT_LE(uncertain, pairs.size());
     std::printf("  %-28s %-9s %8zu pairs, %5.1f%% overlap, %6zu uncertain lanes (%.2e)\n", what.c_str(),
-                pathName(path), pairs.size(), 100.0 * double(overlaps) / double(std::max<std::size_t>(1, pairs.size())),
+                simdPathName(path), pairs.size(), 100.0 * double(overlaps) / double(std::max<std::size_t>(1, pairs.size())),
                 uncertain, double(uncertain) / double(std::max<std::size_t>(1, pairs.size())));
   }
   return {firstUncertain, overlaps};
@@ -435,9 +307,9 @@ StageCounters checkQueries(const NestedBoxSet& set, const std::vector<NestedVolu
       StageCounters counters;
       counters.tests[2] = 5;
       set.queryOverlaps(viewer, hits, &counters);
-      EXPECT_EQ(hits, expected) << what << " [" << pathName(path) << "] viewer " << q;
-      EXPECT_EQ(counters.tests, expectedCounters.tests) << what << " [" << pathName(path) << "] viewer " << q;
-      EXPECT_EQ(counters.separated, expectedCounters.separated) << what << " [" << pathName(path) << "] viewer " << q;
+      EXPECT_EQ(hits, expected) << what << " [" << simdPathName(path) << "] viewer " << q;
+      EXPECT_EQ(counters.tests, expectedCounters.tests) << what << " [" << simdPathName(path) << "] viewer " << q;
+      EXPECT_EQ(counters.separated, expectedCounters.separated) << what << " [" << simdPathName(path) << "] viewer " << q;
       std::vector<std::uint32_t> hits2;
       set.queryOverlaps(viewer, hits2);  // without counters
       EXPECT_EQ(hits2, std::vector<std::uint32_t>(expected.begin() + 1, expected.end()));
