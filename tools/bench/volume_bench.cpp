@@ -36,6 +36,7 @@ constexpr double kMaxScale = 1e6;     // m, where the search for the scale's upp
 constexpr int kViewerHalvings = 40;   // bisection steps of the viewer's size
 constexpr double kBatchVsFcl = 6.0;       // target: FCL ns / ObbPairBatch ns
 constexpr double kQueryNsPerBox = 3.0;    // target: ns per stored box of the 1% one-vs-many query
+constexpr double kBoxPairsVsScalar = 5.0; // target: testBoxPair ns / testBoxPairs ns (query overlap)
 
 struct Config {
   std::size_t pairs = 1'000'000, stored = 1'000'000;
@@ -270,6 +271,20 @@ Pass<std::uint8_t> batchPass(const BoxSet& s, Facts& facts, bool portable) {
   };
 }
 
+/// testBoxPairs over the pairs, the path of `query overlap` (stage and axis computed, the overlap
+/// kept as the verdict); its facts get the fraction of lanes it re-decided in double.
+Pass<std::uint8_t> boxPairsPass(const BoxSet& s, Facts& facts) {
+  auto results = std::make_shared<std::vector<NestedResult>>(s.n);
+  const BoxPairsView view{s.a.data(), s.b.data(), s.n, sizeof(Obb<double>)};
+  facts["uncertain_fraction"] = double(testBoxPairs(view, results->data())) / double(s.n);
+  return [view, results](std::uint8_t* verdicts) {
+    const double uncertain = double(testBoxPairs(view, results->data()));
+    if (verdicts)
+      for (std::size_t k = 0; k < view.count; ++k) verdicts[k] = (*results)[k].overlap ? 1 : 0;
+    return uncertain;
+  };
+}
+
 /// NestedBoxSet::queryOverlaps of the viewer; its facts get the fraction of stored boxes its float
 /// stage 1 passed on (the set's own fraction is the exact one).
 Pass<std::uint8_t> nestedQueryPass(const BoxSet& s, Facts& facts) {
@@ -298,6 +313,11 @@ struct MethodDef {
   Pass<std::uint8_t> (*make)(const BoxSet& s, Facts& facts);
 };
 const MethodDef kMethods[] = {
+    {"box_pairs_batch", "query overlap batch", false, true, boxPairsPass},
+    {"box_pair_scalar", "query overlap scalar", false, true,
+     [](const BoxSet& s, Facts&) {
+       return pairPass(own(s.a), own(s.b), [](const auto& x, const auto& y) { return testBoxPair(x, y).overlap; });
+     }},
     {"aabb_aabb_double", "AABB-AABB double", false, false,
      [](const BoxSet& s, Facts&) {
        return pairPass(convert<Aabb<double>>(s.a, kAabb), convert<Aabb<double>>(s.b, kAabb), kAabbAabb);
@@ -455,6 +475,12 @@ int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
       const double ratio = r["ratio"]["fcl"].get<double>();
       doc.targets.push_back({"obb_obb_batch_vs_fcl/" + r["set"].get<std::string>(), "FCL / ObbPairBatch >= 6", ratio,
                              ratio >= kBatchVsFcl});
+    }
+    if (name.rfind("box_pairs_batch/", 0) == 0 && r["ns_per_op"]["nestwalk"].is_number()) {
+      const double scalar = s.ns("box_pair_scalar", name.substr(name.find('/') + 1));
+      const double ratio = scalar / r["ns_per_op"]["nestwalk"].get<double>();
+      doc.targets.push_back({"box_pairs_batch_vs_scalar/" + r["set"].get<std::string>(),
+                             "testBoxPair / testBoxPairs >= 5", ratio, ratio >= kBoxPairsVsScalar});
     }
     if (name == "query_nested_set/survive_1pct" && r["ns_per_op"]["nestwalk"].is_number()) {
       const double ns = r["ns_per_op"]["nestwalk"].get<double>();
