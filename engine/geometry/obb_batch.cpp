@@ -507,32 +507,29 @@ constexpr float kMaxCoordinateF = 1e18f;
 constexpr float kMaxFloatAxesError = 5e-7f;
 constexpr std::int32_t kUnsure = -2;  // a stage's lane code: no sure answer (else axis or kNoAxis)
 
-/// kBatchLanes pairs in A's local frame (A's centre is the origin), rounded to float.
+/// kBatchLanes pairs in A's local frame, rounded to float: row r holds field r of every lane, the
+/// fields in the memory order of Obb<double> (centre, axes column by column, half extents): rows
+/// 0..14 box A (its centre rows are not used: A's centre is the origin), rows 16..30 box B, with
+/// B's centre replaced by cB - cA (computed in double).
 struct alignas(32) PairBlock {
-  float aAxes[9][kBatchLanes];  // A(r, c) at [3 r + c]
-  float aExt[3][kBatchLanes];
-  float bCenter[3][kBatchLanes];
-  float bAxes[9][kBatchLanes];
-  float bExt[3][kBatchLanes];
+  float row[32][kBatchLanes];
 };
+constexpr int kRowAxes = 3, kRowExtents = 12, kRowB = 16;  // (axes(r, c) at kRowAxes + 3 c + r)
+static_assert(sizeof(Obb<double>) == 15 * sizeof(double), "Obb<double>: centre, axes, half extents, unpadded");
 
-/// The first axis of a stage that is not surely clear, per lane, and whether it surely separates.
-template <class V, class VI>
-struct FirstAxis {
-  V sep, negBand;
-  VI found{}, idx{}, sure{};
-  [[gnu::always_inline]] inline void consider(const V& g, int axis) {
-    const VI open = ~(g < negBand);  // NaN: open, and not surely separating
-    const VI fresh = open & ~found;
-    idx = fresh ? VI{} + axis : idx;
-    sure = fresh ? (g > sep) : sure;
-    found |= open;
+/// A stage's answer per lane from its axes' g = |d| - r in testing order: the first axis that is not
+/// surely clear (g >= -band) if it surely separates (g > sep), kNoAxis when every axis is surely
+/// clear, else kUnsure. Scanned backwards, two compares and two selects per axis. NaN: kUnsure.
+template <class V, class VI, int N>
+[[gnu::always_inline]] inline VI stageCode(const V (&g)[N], const V& sep, const V& negBand) {
+  VI code = VI{} + std::int32_t(kNoAxis);
+#pragma GCC unroll 15
+  for (int i = N - 1; i >= 0; --i) {
+    const VI candidate = g[i] > sep ? VI{} + i : VI{} + kUnsure;
+    code = g[i] < negBand ? code : candidate;
   }
-  /// Per lane: the surely first separating axis, kNoAxis when every axis is surely clear, else kUnsure.
-  [[gnu::always_inline]] inline VI code() const {
-    return found ? (sure ? idx : VI{} + kUnsure) : VI{} + std::int32_t(kNoAxis);
-  }
-};
+  return code;
+}
 
 template <class VI>
 [[gnu::always_inline]] inline bool anyLane(const VI& m) {
@@ -541,10 +538,11 @@ template <class VI>
   return false;
 }
 
-/// The 15 axes of sat.h in its order (A's faces, B's faces, A_i x B_j), B given in A's frame by
-/// t and R; zero[i][j]: lanes where R(i, j) is an exact zero in double (see above).
+/// g = |d| - (rA + rB) on the 15 axes of sat.h in its order (A's faces, B's faces, A_i x B_j), B
+/// given in A's frame by t and R; zero[i][j]: lanes where R(i, j) is an exact zero in double (see
+/// above), whose degenerate edge axes get g = -inf.
 template <class V, class VI>
-[[gnu::always_inline]] inline void sat15(FirstAxis<V, VI>& f, const V (&t)[3], const V (&R)[3][3], const V (&a)[3],
+[[gnu::always_inline]] inline void sat15(V (&g)[15], const V (&t)[3], const V (&R)[3][3], const V (&a)[3],
                                          const V (&b)[3], const VI (&zero)[3][3]) {
   V q[3][3];
 #pragma GCC unroll 3
@@ -552,13 +550,11 @@ template <class V, class VI>
 #pragma GCC unroll 3
     for (int j = 0; j < 3; ++j) q[i][j] = vabs<V, VI>(R[i][j]) + kEpsF;
 #pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i)
-    f.consider(vabs<V, VI>(t[i]) - (a[i] + (b[0] * q[i][0] + b[1] * q[i][1] + b[2] * q[i][2])), i);
+  for (int i = 0; i < 3; ++i) g[i] = vabs<V, VI>(t[i]) - (a[i] + (b[0] * q[i][0] + b[1] * q[i][1] + b[2] * q[i][2]));
 #pragma GCC unroll 3
   for (int j = 0; j < 3; ++j)
-    f.consider(vabs<V, VI>(t[0] * R[0][j] + t[1] * R[1][j] + t[2] * R[2][j]) -
-                   ((a[0] * q[0][j] + a[1] * q[1][j] + a[2] * q[2][j]) + b[j]),
-               3 + j);
+    g[3 + j] = vabs<V, VI>(t[0] * R[0][j] + t[1] * R[1][j] + t[2] * R[2][j]) -
+               ((a[0] * q[0][j] + a[1] * q[1][j] + a[2] * q[2][j]) + b[j]);
 #pragma GCC unroll 3
   for (int i = 0; i < 3; ++i) {
     const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
@@ -567,9 +563,9 @@ template <class V, class VI>
       const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
       const V ra = a[i1] * q[i2][j] + a[i2] * q[i1][j];
       const V rb = b[j1] * q[i][j2] + b[j2] * q[i][j1];
-      const V g = vabs<V, VI>(t[i2] * R[i1][j] - t[i1] * R[i2][j]) - (ra + rb);
+      const V gij = vabs<V, VI>(t[i2] * R[i1][j] - t[i1] * R[i2][j]) - (ra + rb);
       const VI degenerate = zero[i1][j] & zero[i2][j];
-      f.consider(degenerate ? V{} - std::numeric_limits<float>::infinity() : g, 6 + 3 * i + j);
+      g[6 + 3 * i + j] = degenerate ? V{} - std::numeric_limits<float>::infinity() : gij;
     }
   }
 }
@@ -595,16 +591,18 @@ template <class V, class VI>
                                              std::int32_t (*codes)[kBatchLanes], std::int32_t* ok) {
   constexpr int kW = int(sizeof(V) / sizeof(float));
   V a[3][3], b[3][3], ea[3], eb[3], c[3];
-#pragma GCC unroll 9
-  for (int e = 0; e < 9; ++e) {
-    a[e / 3][e % 3] = load<V>(p.aAxes[e] + l0);
-    b[e / 3][e % 3] = load<V>(p.bAxes[e] + l0);
-  }
+#pragma GCC unroll 3
+  for (int r = 0; r < 3; ++r)
+#pragma GCC unroll 3
+    for (int col = 0; col < 3; ++col) {
+      a[r][col] = load<V>(p.row[kRowAxes + 3 * col + r] + l0);
+      b[r][col] = load<V>(p.row[kRowB + kRowAxes + 3 * col + r] + l0);
+    }
 #pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
-    ea[k] = load<V>(p.aExt[k] + l0);
-    eb[k] = load<V>(p.bExt[k] + l0);
-    c[k] = load<V>(p.bCenter[k] + l0);
+    ea[k] = load<V>(p.row[kRowExtents + k] + l0);
+    eb[k] = load<V>(p.row[kRowB + kRowExtents + k] + l0);
+    c[k] = load<V>(p.row[kRowB + k] + l0);
   }
   VI lanes, one = VI{} + 1;
   for (int l = 0; l < kW; ++l) lanes[l] = std::int32_t(l0 + l);
@@ -640,10 +638,10 @@ template <class V, class VI>
   const V negBand = -(sep + kEpsF * sizes);
 
   // Stage 1: the AABBs (A's centred on the origin, B's on c).
-  FirstAxis<V, VI> f1{sep, negBand};
+  V g1[3];
 #pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) f1.consider(vabs<V, VI>(c[k]) - (ha[k] + hb[k]), k);
-  const VI code1 = f1.code();
+  for (int k = 0; k < 3; ++k) g1[k] = vabs<V, VI>(c[k]) - (ha[k] + hb[k]);
+  const VI code1 = stageCode<V, VI>(g1, sep, negBand);
   std::memcpy(codes[0] + l0, &code1, sizeof code1);
 
   // Stage 2, where some lane gets there: AABB of A against B, or of B against A when only B is
@@ -664,9 +662,9 @@ template <class V, class VI>
         zero[i][j] = y[i][j] == 0.0f;
       }
     }
-    FirstAxis<V, VI> f2{sep, negBand};
-    sat15<V, VI>(f2, c, y, hx, ey, zero);
-    code2 = f2.code();
+    V g[15];
+    sat15<V, VI>(g, c, y, hx, ey, zero);
+    code2 = stageCode<V, VI>(g, sep, negBand);
   }
   std::memcpy(codes[1] + l0, &code2, sizeof code2);
 
@@ -686,9 +684,9 @@ template <class V, class VI>
                      ((a[2][i] == 0.0f) | (b[2][j] == 0.0f));
       }
     }
-    FirstAxis<V, VI> f3{sep, negBand};
-    sat15<V, VI>(f3, t, R, ea, eb, zero);
-    code3 = f3.code();
+    V g[15];
+    sat15<V, VI>(g, t, R, ea, eb, zero);
+    code3 = stageCode<V, VI>(g, sep, negBand);
   }
   std::memcpy(codes[2] + l0, &code3, sizeof code3);
 }
@@ -702,10 +700,11 @@ constexpr std::int8_t kSwappedAxis[15] = {3, 4, 5, 0, 1, 2, 6, 9, 12, 7, 10, 13,
 PairBlock paddingPairBlock() {
   PairBlock p{};
   for (int l = 0; l < kBatchLanes; ++l)
-    for (int k = 0; k < 3; ++k) {
-      p.aAxes[4 * k][l] = p.bAxes[4 * k][l] = 1.0f;
-      p.aExt[k][l] = p.bExt[k][l] = 1.0f;
-    }
+    for (int k = 0; k < 3; ++k)
+      for (const int box : {0, kRowB}) {
+        p.row[box + kRowAxes + 4 * k][l] = 1.0f;
+        p.row[box + kRowExtents + k][l] = 1.0f;
+      }
   return p;
 }
 
@@ -716,93 +715,154 @@ PairBlock paddingPairBlock() {
           (x[5] == 0.0) & (x[6] == 0.0) & (x[7] == 0.0)) != 0;
 }
 
-/// Blocks gathered before any is tested: the scalar stores of a gather have left the store buffer
-/// by the time the kernel loads them as vectors (testing each block right after its gather stalls
-/// on store forwarding). 16 blocks are 17 KB, within L1.
-constexpr int kChunkBlocks = 16;
+/// The fields of one box (15 doubles from `d`, the Obb's memory order) into lane l of rows
+/// first..first + 14; B's centre as its difference from A's.
+[[gnu::always_inline]] inline void gatherLane(PairBlock& p, int l, const Obb<double>& A, const Obb<double>& B) {
+  const double* a = A.center.data();
+  const double* b = B.center.data();
+  for (int f = 0; f < 15; ++f) {
+    p.row[f][l] = float(a[f]);
+    p.row[kRowB + f][l] = float(f < 3 ? b[f] - a[f] : b[f]);
+  }
+}
 
-/// The whole run on W lanes at a time: per chunk of blocks, gather and round the pairs, run the
-/// kernel, read the codes out in testBoxPair's order of stages, and answer the rest in double.
-template <class V, class VI>
-[[gnu::always_inline]] inline std::size_t boxPairBlocks(const BoxPairsView& pairs, NestedResult* out) {
-  constexpr int kW = int(sizeof(V) / sizeof(float));
-  struct Chunk {
-    PairBlock p[kChunkBlocks];
-    unsigned aAligned[kChunkBlocks], bAligned[kChunkBlocks];
-    alignas(32) std::int32_t codes[kChunkBlocks][3][kBatchLanes];
-    alignas(32) std::int32_t ok[kChunkBlocks][kBatchLanes];
-  };
-  thread_local Chunk ch;  // (17 KB: kept off the stack)
-  for (PairBlock& p : ch.p) p = paddingPairBlock();
+/// Gathers lanes [0, lanes) of the block from pairs base..: the portable way, field by field.
+/// Returns the identity-axes bits of A and B.
+[[gnu::always_inline]] inline void gatherScalar(const BoxPairsView& pairs, std::size_t base, int lanes, PairBlock& p,
+                                                unsigned& aAligned, unsigned& bAligned) {
+  aAligned = bAligned = 0;
+  for (int l = 0; l < lanes; ++l) {
+    const Obb<double>& A = pairs.first(base + std::size_t(l));
+    const Obb<double>& B = pairs.second(base + std::size_t(l));
+    gatherLane(p, l, A, B);
+    aAligned |= unsigned(identityAxes(A.axes)) << l;
+    bAligned |= unsigned(identityAxes(B.axes)) << l;
+  }
+}
+
+/// Reads a block's codes out in testBoxPair's order of stages; lanes without a sure answer are
+/// answered by testBoxPair. Returns how many.
+[[gnu::always_inline]] inline std::size_t answerBlock(const BoxPairsView& pairs, std::size_t base, int lanes,
+                                                      unsigned aAligned, unsigned bAligned,
+                                                      const std::int32_t (*codes)[kBatchLanes], const std::int32_t* ok,
+                                                      NestedResult* out) {
   std::size_t uncertain = 0;
-  constexpr std::size_t kChunkPairs = std::size_t(kChunkBlocks) * kBatchLanes;
-  for (std::size_t start = 0; start < pairs.count; start += kChunkPairs) {
-    const std::size_t inChunk = std::min(kChunkPairs, pairs.count - start);
-    const int blocks = int((inChunk + kBatchLanes - 1) / kBatchLanes);
-    for (int blk = 0; blk < blocks; ++blk) {
-      PairBlock& p = ch.p[blk];
-      const std::size_t base = start + std::size_t(blk) * kBatchLanes;
-      const int lanes = int(std::min<std::size_t>(kBatchLanes, pairs.count - base));
-      unsigned aAligned = 0, bAligned = 0;
-      for (int l = 0; l < lanes; ++l) {
-        const Obb<double>& A = pairs.first(base + std::size_t(l));
-        const Obb<double>& B = pairs.second(base + std::size_t(l));
-        for (int r = 0; r < 3; ++r) {
-          for (int col = 0; col < 3; ++col) {
-            p.aAxes[3 * r + col][l] = float(A.axes(r, col));
-            p.bAxes[3 * r + col][l] = float(B.axes(r, col));
-          }
-          p.aExt[r][l] = float(A.halfExtents[r]);
-          p.bExt[r][l] = float(B.halfExtents[r]);
-          p.bCenter[r][l] = float(B.center[r] - A.center[r]);
-        }
-        aAligned |= unsigned(identityAxes(A.axes)) << l;
-        bAligned |= unsigned(identityAxes(B.axes)) << l;
+  for (int l = 0; l < lanes; ++l) {
+    const std::size_t k = base + std::size_t(l);
+    const bool aAl = (aAligned >> l) & 1u, bAl = (bAligned >> l) & 1u;
+    const std::int32_t c1 = codes[0][l], c2 = codes[1][l], c3 = codes[2][l];
+    NestedResult r{true, OverlapStage::AabbAabb, std::int8_t(kNoAxis)};
+    bool sure = ok[l] != 0 && c1 != kUnsure;
+    if (sure) {
+      if (c1 >= 0 || (aAl && bAl)) {
+        r = {c1 < 0, OverlapStage::AabbAabb, std::int8_t(c1)};
+      } else if (c2 == kUnsure) {
+        sure = false;
+      } else if (bAl) {
+        r = {c2 < 0, OverlapStage::AabbObb, c2 < 0 ? std::int8_t(kNoAxis) : kSwappedAxis[c2]};
+      } else if (c2 >= 0 || aAl) {
+        r = {c2 < 0, OverlapStage::AabbObb, std::int8_t(c2)};
+      } else if (c3 == kUnsure) {
+        sure = false;
+      } else {
+        r = {c3 < 0, OverlapStage::ObbObb, std::int8_t(c3)};
       }
-      ch.aAligned[blk] = aAligned;
-      ch.bAligned[blk] = bAligned;
     }
-    for (int blk = 0; blk < blocks; ++blk)
-      for (int l0 = 0; l0 < kBatchLanes; l0 += kW)
-        pairLanes<V, VI>(ch.p[blk], l0, ch.aAligned[blk], ch.bAligned[blk], ch.codes[blk], ch.ok[blk]);
-    for (std::size_t i = 0; i < inChunk; ++i) {
-      const std::size_t k = start + i, blk = i / kBatchLanes, l = i % kBatchLanes;
-      const bool aAl = (ch.aAligned[blk] >> l) & 1u, bAl = (ch.bAligned[blk] >> l) & 1u;
-      const std::int32_t c1 = ch.codes[blk][0][l], c2 = ch.codes[blk][1][l], c3 = ch.codes[blk][2][l];
-      NestedResult r{true, OverlapStage::AabbAabb, std::int8_t(kNoAxis)};
-      bool sure = ch.ok[blk][l] != 0 && c1 != kUnsure;
-      if (sure) {
-        if (c1 >= 0 || (aAl && bAl)) {
-          r = {c1 < 0, OverlapStage::AabbAabb, std::int8_t(c1)};
-        } else if (c2 == kUnsure) {
-          sure = false;
-        } else if (bAl) {
-          r = {c2 < 0, OverlapStage::AabbObb, c2 < 0 ? std::int8_t(kNoAxis) : kSwappedAxis[c2]};
-        } else if (c2 >= 0 || aAl) {
-          r = {c2 < 0, OverlapStage::AabbObb, std::int8_t(c2)};
-        } else if (c3 == kUnsure) {
-          sure = false;
-        } else {
-          r = {c3 < 0, OverlapStage::ObbObb, std::int8_t(c3)};
-        }
-      }
-      if (!sure) {
-        r = boxPairInDouble(pairs.first(k), pairs.second(k));
-        ++uncertain;
-      }
-      out[k] = r;
+    if (!sure) {
+      r = boxPairInDouble(pairs.first(k), pairs.second(k));
+      ++uncertain;
     }
+    out[k] = r;
+  }
+  return uncertain;
+}
+
+/// The whole run, W lanes at a time: per block, gather and round the pairs, run the kernel, answer.
+template <class V, class VI, class FullGather>
+[[gnu::always_inline]] inline std::size_t boxPairBlocks(const BoxPairsView& pairs, NestedResult* out,
+                                                        const FullGather& gatherFull) {
+  constexpr int kW = int(sizeof(V) / sizeof(float));
+  PairBlock p = paddingPairBlock();
+  alignas(32) std::int32_t codes[3][kBatchLanes], ok[kBatchLanes];
+  std::size_t uncertain = 0;
+  for (std::size_t base = 0; base < pairs.count; base += kBatchLanes) {
+    const int lanes = int(std::min<std::size_t>(kBatchLanes, pairs.count - base));
+    unsigned aAligned = 0, bAligned = 0;
+    if (lanes == kBatchLanes)
+      gatherFull(pairs, base, p, aAligned, bAligned);
+    else
+      gatherScalar(pairs, base, lanes, p, aAligned, bAligned);
+    for (int l0 = 0; l0 < kBatchLanes; l0 += kW) pairLanes<V, VI>(p, l0, aAligned, bAligned, codes, ok);
+    uncertain += answerBlock(pairs, base, lanes, aAligned, bAligned, codes, ok, out);
   }
   return uncertain;
 }
 
 std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
-  return boxPairBlocks<v4f, v4i>(pairs, out);
+  return boxPairBlocks<v4f, v4i>(pairs, out,
+                                 [](const BoxPairsView& v, std::size_t base, PairBlock& p, unsigned& aAl, unsigned& bAl) {
+                                   gatherScalar(v, base, kBatchLanes, p, aAl, bAl);
+                                 });
 }
 
 #ifdef NESTWALK_HAVE_AVX2_PATH
+/// A full block gathered with AVX2: each box's 15 doubles are loaded as four vectors (the last
+/// masked, so that nothing past the box is read), converted to float, and the 8 lanes' rows
+/// transposed in registers (the scalar gather costs about as much as the kernel). The identity
+/// test of the axes is made on the doubles.
+[[gnu::target("avx2,fma")]] inline void gatherAvx2(const BoxPairsView& v, std::size_t base, PairBlock& p,
+                                                   unsigned& aAligned, unsigned& bAligned) {
+  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const __m256d keepLast = _mm256_castsi256_pd(_mm256_setr_epi64x(0, 0, 0, -1));
+  const __m256d ident0 = _mm256_setr_pd(0, 0, 0, 1);  // (c, c, c, A00) and (A10, A20, A01, A11), (A21, A02, A12, A22)
+  __m256 q[4][8];                                     // [A 0-7, A 8-15, B 0-7, B 8-15][lane]
+  aAligned = bAligned = 0;
+  for (int l = 0; l < 8; ++l) {
+    const double* a = v.first(base + std::size_t(l)).center.data();
+    const double* b = v.second(base + std::size_t(l)).center.data();
+    const __m256d a0 = _mm256_loadu_pd(a), a1 = _mm256_loadu_pd(a + 4), a2 = _mm256_loadu_pd(a + 8),
+                  a3 = _mm256_maskload_pd(a + 12, first3);
+    const __m256d b0 = _mm256_loadu_pd(b), b1 = _mm256_loadu_pd(b + 4), b2 = _mm256_loadu_pd(b + 8),
+                  b3 = _mm256_maskload_pd(b + 12, first3);
+    const __m256d d0 = _mm256_sub_pd(b0, _mm256_andnot_pd(keepLast, a0));  // (cB - cA, B00)
+    q[0][l] = _mm256_set_m128(_mm256_cvtpd_ps(a1), _mm256_cvtpd_ps(a0));
+    q[1][l] = _mm256_set_m128(_mm256_cvtpd_ps(a3), _mm256_cvtpd_ps(a2));
+    q[2][l] = _mm256_set_m128(_mm256_cvtpd_ps(b1), _mm256_cvtpd_ps(d0));
+    q[3][l] = _mm256_set_m128(_mm256_cvtpd_ps(b3), _mm256_cvtpd_ps(b2));
+    const int ia = (_mm256_movemask_pd(_mm256_cmp_pd(a0, ident0, _CMP_EQ_OQ)) & 8) &
+                   (_mm256_movemask_pd(_mm256_cmp_pd(a1, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0) &
+                   (_mm256_movemask_pd(_mm256_cmp_pd(a2, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0);
+    const int ib = (_mm256_movemask_pd(_mm256_cmp_pd(b0, ident0, _CMP_EQ_OQ)) & 8) &
+                   (_mm256_movemask_pd(_mm256_cmp_pd(b1, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0) &
+                   (_mm256_movemask_pd(_mm256_cmp_pd(b2, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0);
+    aAligned |= unsigned(ia != 0) << l;
+    bAligned |= unsigned(ib != 0) << l;
+  }
+  for (int g = 0; g < 4; ++g) {  // 8 x 8 transposes: row 8 g + i gets element i of every lane
+    const __m256* r = q[g];
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    const __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
+    const __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
+    const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
+    const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
+    const __m256 u4 = _mm256_shuffle_ps(t4, t6, 0x44), u5 = _mm256_shuffle_ps(t4, t6, 0xEE);
+    const __m256 u6 = _mm256_shuffle_ps(t5, t7, 0x44), u7 = _mm256_shuffle_ps(t5, t7, 0xEE);
+    float* out = p.row[8 * g];
+    _mm256_store_ps(out + 0 * kBatchLanes, _mm256_permute2f128_ps(u0, u4, 0x20));
+    _mm256_store_ps(out + 1 * kBatchLanes, _mm256_permute2f128_ps(u1, u5, 0x20));
+    _mm256_store_ps(out + 2 * kBatchLanes, _mm256_permute2f128_ps(u2, u6, 0x20));
+    _mm256_store_ps(out + 3 * kBatchLanes, _mm256_permute2f128_ps(u3, u7, 0x20));
+    _mm256_store_ps(out + 4 * kBatchLanes, _mm256_permute2f128_ps(u0, u4, 0x31));
+    _mm256_store_ps(out + 5 * kBatchLanes, _mm256_permute2f128_ps(u1, u5, 0x31));
+    _mm256_store_ps(out + 6 * kBatchLanes, _mm256_permute2f128_ps(u2, u6, 0x31));
+    _mm256_store_ps(out + 7 * kBatchLanes, _mm256_permute2f128_ps(u3, u7, 0x31));
+  }
+}
+
 [[gnu::target("avx2,fma")]] std::size_t boxPairsAvx2(const BoxPairsView& pairs, NestedResult* out) {
-  return boxPairBlocks<v8f, v8i>(pairs, out);
+  static_assert(kBatchLanes == 8, "gatherAvx2 transposes 8 lanes");
+  return boxPairBlocks<v8f, v8i>(pairs, out, gatherAvx2);
 }
 #endif
 
