@@ -289,11 +289,10 @@ double nsPerQuery(std::size_t queries, const F& run) {
   return 1e9 * secondsSince(t0) / double(passes * std::max<std::size_t>(1, queries));
 }
 
-/// The static nested test of each query's viewer against its candidates, three ways on the same
-/// queries: scalar testNested per candidate (CollisionWorld::overlapping's narrow phase), a
-/// NestedBoxSet built over the candidates (they change every step), and testBoxPairs on the
-/// viewer's and the candidates' inner boxes (the pair batch's cost at that size). A row of the
-/// narrow-phase table.
+/// The static nested test of each query's viewer against its candidates, two ways on the same
+/// queries: scalar testNested per candidate (CollisionWorld::overlapping's narrow phase), and
+/// testBoxPairs on the viewer's and the candidates' inner boxes (the float batch's cost at that
+/// size). A row of the narrow-phase table.
 Json narrowRow(const std::string& what, const CollisionWorld& world,
                const std::vector<CandidateRecorder::Query>& qs) {
   std::vector<double> counts;
@@ -302,18 +301,6 @@ Json narrowRow(const std::string& what, const CollisionWorld& world,
     std::size_t hits = 0;
     for (const auto& q : qs)
       for (std::uint32_t u : q.candidates) hits += testNested(q.viewer, world.unit(u)).overlap ? 1 : 0;
-    return hits;
-  });
-  const double set = nsPerQuery(qs.size(), [&] {
-    std::size_t hits = 0;
-    std::vector<std::uint32_t> found;
-    for (const auto& q : qs) {
-      std::vector<NestedVolume<double>> volumes;
-      for (std::uint32_t u : q.candidates) volumes.push_back(world.unit(u));
-      found.clear();
-      NestedBoxSet(std::move(volumes)).queryOverlaps(q.viewer, found);
-      hits += found.size();
-    }
     return hits;
   });
   const double pairs = nsPerQuery(qs.size(), [&] {
@@ -332,7 +319,7 @@ Json narrowRow(const std::string& what, const CollisionWorld& world,
   });
   return {{"queries", what},       {"count", qs.size()},       {"mean_candidates", mean(counts)},
           {"p99_candidates", percentile(counts, 99)}, {"max_candidates", percentile(counts, 100)},
-          {"scalar_ns", scalar},  {"set_ns", set},            {"pairs_ns", pairs}};
+          {"scalar_ns", scalar},  {"pairs_ns", pairs}};
 }
 
 /// Part 4: the walker's narrow phase at the candidate counts it sees on the bundled flythroughs,
@@ -353,7 +340,7 @@ void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
   table.column({"queries", "/queries", 22, 0, true}).column({"count", "/count", 8});
   table.column({"cand mean", "/mean_candidates", 10, 2}).column({"cand p99", "/p99_candidates", 9, 0});
   table.column({"cand max", "/max_candidates", 9, 0}).column({"scalar ns", "/scalar_ns", 10, 1});
-  table.column({"set ns", "/set_ns", 10, 1}).column({"pairs ns", "/pairs_ns", 10, 1});
+  table.column({"pairs ns", "/pairs_ns", 10, 1});
   table.add(narrowRow("flythrough sweeps", world, recorder.queries));
   for (const std::size_t k : {1, 2, 4, 8, 16, 32, 64}) {
     if (k > world.size()) break;
@@ -371,8 +358,7 @@ void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
   }
   doc.text << "\nnarrow phase per query: the viewer's static nested test against its broad-phase candidates"
               " (bundled flythroughs' sweeps; then each 16th viewer against its k nearest units):"
-              " scalar testNested per candidate, a NestedBoxSet built over them, testBoxPairs on the inner"
-              " boxes; ns per query, same run\n";
+              " scalar testNested per candidate, testBoxPairs on the inner boxes; ns per query, same run\n";
   doc.table("narrow_phase", table);
 }
 
