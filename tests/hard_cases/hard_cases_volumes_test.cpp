@@ -58,11 +58,21 @@ bool floatPathOverlaps(const Obb<double>& a, const Obb<double>& b) {
   return satObbObb(toFloatConservative(shifted(a, -c)), toFloatConservative(shifted(b, -c))).overlap;
 }
 
-bool batchOverlaps(const Obb<double>& a, const Obb<double>& b) {
-  const ObbPairBatch batch(std::vector<std::pair<Obb<double>, Obb<double>>>{std::make_pair(a, b)});
-  std::uint8_t out = 2;
-  batch.test(&out);
-  return out == 1;
+/// The pair through testBoxPairs (query overlap's batch), as the only pair of its call and as one
+/// lane of a full block of copies; both answers must be testBoxPair's, field for field.
+NestedResult batchResult(const Obb<double>& a, const Obb<double>& b) {
+  const NestedResult want = testBoxPair(a, b);
+  std::vector<Obb<double>> as(kBatchLanes, a), bs(kBatchLanes, b);
+  for (const std::size_t n : {std::size_t(1), std::size_t(kBatchLanes)}) {
+    std::vector<NestedResult> out(n);
+    testBoxPairs({as.data(), bs.data(), n}, out.data());
+    for (const NestedResult& r : out) {
+      EXPECT_EQ(r.overlap, want.overlap);
+      EXPECT_EQ(r.stage, want.stage);
+      EXPECT_EQ(r.axis, want.axis);
+    }
+  }
+  return want;
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -136,14 +146,14 @@ TEST(HardCase, FloatVsDoubleSat_NearParallelEdges) {
         const bool dbl = satObbObb(p.a, p.b).overlap;
         const bool dblLocal = satObbObb(aL, bL).overlap;
         const bool flt = floatPathOverlaps(p.a, p.b);
-        const bool batch = batchOverlaps(p.a, p.b);
         const NestedResult pair = testBoxPair(p.a, p.b);
+        const bool batch = batchResult(p.a, p.b).overlap;
         expectVerdict("satObbObb<double> (map frame)", dbl, needDouble, where);
         expectVerdict("satObbObb<double> (local frame)", dblLocal, needDouble, where);
         expectVerdict("testBoxPair", pair.overlap, needDouble, where);
         expectVerdict("satObbObb<float> (conservative)", flt, needFloat, where);
-        expectVerdict("ObbPairBatch", batch, needDouble, where);
-        EXPECT_EQ(batch, dblLocal) << "ObbPairBatch must return satObbObb<double>'s verdict -- " << where;
+        expectVerdict("testBoxPairs", batch, needDouble, where);
+        EXPECT_EQ(batch, pair.overlap) << "testBoxPairs must return testBoxPair's verdict -- " << where;
         if (!flt) {
           EXPECT_FALSE(dblLocal) << "float separated a pair double calls overlapping -- " << where;
         }
@@ -251,7 +261,7 @@ TEST(HardCase, FloatVsDoubleSat_TouchingAndFlatBoxes) {
     EXPECT_EQ(testBoxPair(a, b).overlap, gap <= 0) << c.name << ": testBoxPair";
     EXPECT_EQ(testNested(NestedVolume<double>::fromObb(a), NestedVolume<double>::fromObb(b)).overlap, gap <= 0)
         << c.name << ": testNested";
-    EXPECT_EQ(batchOverlaps(a, b), gap <= 0) << c.name << ": ObbPairBatch";
+    EXPECT_EQ(batchResult(a, b).overlap, gap <= 0) << c.name << ": testBoxPairs";
     // Float: never a missed contact; separated beyond its band (2^-10 m here); either inside it.
     const bool flt = floatPathOverlaps(a, b);
     if (gap <= 0) {

@@ -1,5 +1,5 @@
 // What a benchmark sets or reads of its own process: an environment variable it sets for a while
-// (the kernel ObbPairBatch picks, the model cache's folder) and its resident memory as Linux
+// (the kernel testBoxPairs picks, the model cache's folder) and its resident memory as Linux
 // reports it (/proc/self/status).
 // Thread safety: ScopedEnvironment calls setenv: not while other threads read the environment.
 #pragma once

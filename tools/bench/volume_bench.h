@@ -1,11 +1,13 @@
 // The bounding-volume benchmark: nestwalk's overlap tests (sat.h, nested.h, obb_batch.h) timed in
 // nanoseconds per test on fixed, seeded sets of random box pairs, next to three peers answering the
-// same OBB-OBB question on the same pairs: FCL, libccd and Bullet (peers/box_peers.h).
+// same OBB-OBB question on the same pairs: FCL, libccd and Bullet (peers/box_peers.h). The product's
+// own path comes first: testBoxPairs, what `query overlap` runs (both SIMD paths), then the scalar
+// testBoxPair it replaced, on the same pairs in the same run.
 //
 // Pair sets: 1M pairs (20k with quick) of randomly sized and rotated boxes, the centre distance
-// scaled so that ~50% or ~5% of the pairs overlap by satObbObb<double>. One-vs-many: one viewer
-// against 1M stored boxes (NestedBoxSet::queryOverlaps, and FCL's cascade), sized so that ~1% or
-// ~10% of the stored boxes survive the AABB stage. Benchmarks are named "volumes/<test>/<set>".
+// scaled so that ~50% or ~5% of the pairs overlap by satObbObb<double>. (The one-vs-many sets went
+// with the nested set the product never ran; their generator is still here, unused by any set.)
+// Benchmarks are named "volumes/<test>/<set>".
 // The output: a table of ns/op per test and set with the peers' figures and the ratios peer /
 // nestwalk, each test's disagreements with satObbObb<double> (testNested<double> for the queries),
 // the machine, and the targets (bench_document.h).

@@ -8,6 +8,7 @@
 #include "nestwalk/core/random.h"
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/core/stopwatch.h"
+#include "nestwalk/geometry/obb_batch.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/flythrough.h"
@@ -252,6 +253,114 @@ bool table2(Document& doc, const WalkerBenchOptions& o) {
   return identical;
 }
 
+/// Part 4's recorder: every sweep's broad-phase candidates (the swept outer box's query, as
+/// CollisionWorld::sweep runs it; repeated sweeps, answered from the world's cache, included).
+class CandidateRecorder : public SweepObserver {
+ public:
+  struct Query {
+    NestedVolume<double> viewer;
+    std::vector<std::uint32_t> candidates;
+  };
+  explicit CandidateRecorder(const CollisionWorld& w) : world_(w) {}
+  void onSweep(const NestedVolume<double>& viewer, const Vec3<double>& d, const SweepHit&) override {
+    Aabb<double> swept = viewer.outer;
+    swept.extend(Aabb<double>{viewer.outer.min + d, viewer.outer.max + d});
+    Query q{viewer, {}};
+    world_.tree().query(swept, q.candidates);
+    queries.push_back(std::move(q));
+  }
+  std::vector<Query> queries;
+
+ private:
+  const CollisionWorld& world_;
+};
+
+/// ns per query of `run` over all queries, repeated for at least 0.2 s.
+template <class F>
+double nsPerQuery(std::size_t queries, const F& run) {
+  std::size_t passes = 0, sink = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  do {
+    sink += run();
+    ++passes;
+  } while (secondsSince(t0) < 0.2);
+  benchmark::DoNotOptimize(sink);
+  return 1e9 * secondsSince(t0) / double(passes * std::max<std::size_t>(1, queries));
+}
+
+/// The static nested test of each query's viewer against its candidates, two ways on the same
+/// queries: scalar testNested per candidate (CollisionWorld::overlapping's narrow phase), and
+/// testBoxPairs on the viewer's and the candidates' inner boxes (the float batch's cost at that
+/// size). A row of the narrow-phase table.
+Json narrowRow(const std::string& what, const CollisionWorld& world,
+               const std::vector<CandidateRecorder::Query>& qs) {
+  std::vector<double> counts;
+  for (const auto& q : qs) counts.push_back(double(q.candidates.size()));
+  const double scalar = nsPerQuery(qs.size(), [&] {
+    std::size_t hits = 0;
+    for (const auto& q : qs)
+      for (std::uint32_t u : q.candidates) hits += testNested(q.viewer, world.unit(u)).overlap ? 1 : 0;
+    return hits;
+  });
+  const double pairs = nsPerQuery(qs.size(), [&] {
+    std::size_t hits = 0;
+    std::vector<Obb<double>> a, b;
+    std::vector<NestedResult> r;
+    for (const auto& q : qs) {
+      a.assign(q.candidates.size(), q.viewer.inner);
+      b.clear();
+      for (std::uint32_t u : q.candidates) b.push_back(world.unit(u).inner);
+      r.resize(b.size());
+      testBoxPairs({a.data(), b.data(), b.size()}, r.data());
+      for (const NestedResult& x : r) hits += x.overlap ? 1 : 0;
+    }
+    return hits;
+  });
+  return {{"queries", what},       {"count", qs.size()},       {"mean_candidates", mean(counts)},
+          {"p99_candidates", percentile(counts, 99)}, {"max_candidates", percentile(counts, 100)},
+          {"scalar_ns", scalar},  {"pairs_ns", pairs}};
+}
+
+/// Part 4: the walker's narrow phase at the candidate counts it sees on the bundled flythroughs,
+/// and at fixed counts (each recorded viewer against its k nearest units) to find where a batch
+/// pays. Recorded on the scene's own method and hierarchy.
+void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
+  const Scene scene = loadScene(o.scene);
+  WalkerOptions wo;
+  wo.viewer = scene.spec.viewer;
+  wo.timeParts = false;
+  CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
+  CandidateRecorder recorder(world);
+  {
+    const ObservedSweeps observed(world, recorder);
+    for (const auto& p : o.scripts) runFlythrough(scene, world, readScript(p), wo);
+  }
+  Table table;
+  table.column({"queries", "/queries", 22, 0, true}).column({"count", "/count", 8});
+  table.column({"cand mean", "/mean_candidates", 10, 2}).column({"cand p99", "/p99_candidates", 9, 0});
+  table.column({"cand max", "/max_candidates", 9, 0}).column({"scalar ns", "/scalar_ns", 10, 1});
+  table.column({"pairs ns", "/pairs_ns", 10, 1});
+  table.add(narrowRow("flythrough sweeps", world, recorder.queries));
+  for (const std::size_t k : {1, 2, 4, 8, 16, 32, 64}) {
+    if (k > world.size()) break;
+    std::vector<CandidateRecorder::Query> fixed;
+    for (std::size_t i = 0; i < recorder.queries.size(); i += 16) {
+      CandidateRecorder::Query q{recorder.queries[i].viewer, {}};
+      std::vector<std::pair<double, std::uint32_t>> byDistance;
+      for (std::uint32_t u = 0; u < world.size(); ++u)
+        byDistance.emplace_back((world.unit(u).inner.center - q.viewer.inner.center).squaredNorm(), u);
+      std::partial_sort(byDistance.begin(), byDistance.begin() + std::ptrdiff_t(k), byDistance.end());
+      for (std::size_t j = 0; j < k; ++j) q.candidates.push_back(byDistance[j].second);
+      fixed.push_back(std::move(q));
+    }
+    table.add(narrowRow(std::to_string(k) + " nearest units", world, fixed));
+  }
+  doc.text << "\nnarrow phase per query: the viewer's static nested test against its broad-phase candidates"
+              " (bundled flythroughs' sweeps; then each 16th viewer against its k nearest units):"
+              " scalar testNested per candidate, testBoxPairs on the inner boxes; ns per query, same run\n";
+  doc.table("narrow_phase", table);
+}
+
 }  // namespace
 
 int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
@@ -269,6 +378,7 @@ int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
   }
   if (o.table2 && !o.scene.empty() && !o.scripts.empty() && !table2(doc, o))
     doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
+  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) narrowPhase(doc, o);
   return doc.write(out, o.json);
 }
 

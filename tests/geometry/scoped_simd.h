@@ -1,0 +1,37 @@
+// The SIMD path of the float batches (engine/geometry/obb_batch.h) for a test's scope.
+#pragma once
+
+#include <array>
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+namespace nestwalk {
+
+/// Selects the SIMD path of the batches for the scope: "portable" forces SSE; null lets the
+/// library choose (AVX2 + FMA where available).
+class ScopedSimd {
+ public:
+  explicit ScopedSimd(const char* value) {
+    if (const char* old = std::getenv("NESTWALK_SIMD")) old_ = old;
+    if (value)
+      setenv("NESTWALK_SIMD", value, 1);
+    else
+      unsetenv("NESTWALK_SIMD");
+  }
+  ~ScopedSimd() {
+    if (old_)
+      setenv("NESTWALK_SIMD", old_->c_str(), 1);
+    else
+      unsetenv("NESTWALK_SIMD");
+  }
+
+ private:
+  std::optional<std::string> old_;
+};
+
+/// Both paths: the library's choice (AVX2 + FMA where available), then the portable one.
+inline const std::array<const char*, 2> kSimdPaths = {nullptr, "portable"};
+inline const char* simdPathName(const char* p) { return p ? p : "auto"; }
+
+}  // namespace nestwalk
