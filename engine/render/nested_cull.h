@@ -15,6 +15,7 @@
 #pragma once
 
 #include "nestwalk/geometry/volumes.h"
+#include "nestwalk/render/frame_stats.h"
 
 #include <osg/BoundingSphere>
 #include <osg/Group>
@@ -55,16 +56,6 @@ struct Frustum {
   static Frustum fromMatrices(const osg::Matrixd& viewLocal, const osg::Matrixd& projection);
 };
 
-/// What one culling frame did.
-struct CullCounts {
-  std::uint64_t instances = 0;    // tested
-  std::uint64_t aabbOutside = 0;  // culled by the outer AABB test
-  std::uint64_t aabbInside = 0;   // accepted by the AABB (fully inside every plane), OBB not tested
-  std::uint64_t obbTested = 0;    // undecided by the AABB, went to the OBB
-  std::uint64_t obbOutside = 0;   // culled by the OBB
-  std::uint64_t visible = 0;      // drawn
-  double micros = 0;              // time of the test (update() or sphereCull), microseconds
-};
 
 /// Per-instance visibility of the equipment against the view frustum, by the nested volumes, and
 /// cull callbacks that make OSG's cull traversal obey it.

@@ -34,6 +34,8 @@
 // destructor stops the loader thread.
 #pragma once
 
+#include "nestwalk/render/frame_stats.h"
+#include "nestwalk/render/view_options.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
 
@@ -68,8 +70,6 @@ inline constexpr double kMinEyeDistanceM = 0.01;
 /// 409k / 370k / 357k; bench render's bundled flythroughs: 0.5 150k, 1 114k, 1.5 103k.
 inline constexpr double kTerrainSimplifyFraction = 1.5;
 
-enum class TerrainLoading { Background, Complete };
-const char* terrainLoadingName(TerrainLoading l);  // "background", "complete"
 
 /// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
 std::size_t defaultTerrainBudgetBytes();
@@ -88,24 +88,6 @@ struct PagedTerrainOptions {
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
 };
 
-/// What the last cull drew and what the cache holds.
-struct PagedTerrainStats {
-  std::size_t chunksDrawn = 0;       // chunk quadrants drawn
-  std::size_t trianglesDrawn = 0;    // surface and skirt triangles of the drawn chunks
-  std::size_t skirtTrianglesDrawn = 0;
-  std::size_t refinedTrianglesDrawn = 0;  // of level-0 quadrants drawn as a refinement (terrain_chunk.h)
-  std::size_t exactTrianglesDrawn = 0;    // of level-0 quadrants drawn as their exact grid
-  double maxErrorM = 0;              // largest exact error of a drawn quadrant, metres
-  double maxErrorPx = 0;             // its largest projected error, pixels (the rule above)
-  std::size_t standIns = 0;          // drawn quadrants over maxPixels whose child was not resident
-  std::size_t chunksResident = 0;
-  std::size_t residentBytes = 0;     // counted as above (twice the arrays)
-  std::size_t chunksWanted = 0;      // asked for and not yet resident
-  std::uint64_t chunksLoaded = 0;    // built since the node was made
-  std::uint64_t chunksEvicted = 0;
-  double loadSeconds = 0;            // time spent building chunks since the node was made
-  int finestLevel = -1, coarsestLevel = -1;  // of the drawn chunks
-};
 
 /// A drawn part of the terrain: quadrant `quadrant` (a + 2b: the cells of child (2x + a, 2y + b)) of
 /// chunk `key`.

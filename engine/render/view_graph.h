@@ -28,11 +28,13 @@
 // model nodes (ref_ptr). Thread safety: build, update and draw it on one thread.
 #pragma once
 
+#include "nestwalk/render/frame_stats.h"
 #include "nestwalk/render/nested_cull.h"
 #include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
-#include "nestwalk/scene/scene.h"
 #include "nestwalk/render/scene_graph.h"
+#include "nestwalk/render/view_options.h"
+#include "nestwalk/scene/scene.h"
 
 #include <osg/Camera>
 #include <osg/Geometry>
@@ -51,33 +53,8 @@ class Text;
 
 namespace nestwalk {
 
-// Which view-bounded terrain draws the chunks (see above).
-enum class TerrainPaging { OwnQuadtree, OsgPagedLod };
-const char* terrainPagingName(TerrainPaging p);  // "own-quadtree", "osg-paged-lod"
 
-struct RenderOptions {
-  int width = 1280, height = 720;
-  double fovYDegrees = 60.0;
-  double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
-  int terrainChunkCells = 64;    // cells per terrain chunk side (power of two, paged_terrain.h)
-  std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
-  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h (own quadtree only;
-                                                              // the DatabasePager always loads in the background)
-  TerrainPaging terrainPaging = TerrainPaging::OwnQuadtree;
-  bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
-  bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
-  bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
-  bool blockedOverlay = true;    // a red frame and the blocker's name while blocked
-  bool idPass = false;           // render IDs instead of colours (see above)
-};
 
-// Where the walker is and what it sees (map frame).
-struct ViewPose {
-  Eigen::Vector3d eye = Eigen::Vector3d::Zero();
-  double headingDeg = 0, pitchDeg = 0;
-  bool blocked = false;
-  std::string blockedBy;
-};
 
 // The camera's view matrix (map frame -> eye) for a pose: eye at pose.eye looking along the heading
 // and pitch, up tilted with the pitch.

@@ -1,6 +1,8 @@
 // The offscreen view renderer (view_renderer.h).
 #include "nestwalk/render/view_renderer.h"
 
+#include "nestwalk/render/view_graph.h"
+
 #include <osg/Geode>
 #include <osg/Polytope>
 #include <osg/Timer>
@@ -109,6 +111,14 @@ ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
     if (context_->route() == OffscreenRoute::X11Pbuffer) gc->releaseContext();
   }
 }
+
+osg::Matrixd ViewRenderer::viewMatrix(const ViewPose& pose) const { return graph_->viewMatrix(pose); }
+const osg::Matrixd& ViewRenderer::projectionMatrix() const { return graph_->projectionMatrix(); }
+double ViewRenderer::nearPlane() const { return graph_->nearPlane(); }
+double ViewRenderer::farPlane() const { return graph_->farPlane(); }
+Frustum ViewRenderer::frustumLocal() const { return graph_->frustumLocal(); }
+const SceneGraphParts& ViewRenderer::parts() const { return graph_->parts(); }
+std::string ViewRenderer::overlayFontFile() const { return graph_->overlayFontFile(); }
 
 ViewRenderer::~ViewRenderer() {
   if (viewer_) {

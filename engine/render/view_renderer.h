@@ -6,17 +6,21 @@
 //
 // Threading: SingleThreaded, on the creating thread (the offscreen context is current there).
 //
-// Ownership: the renderer keeps a reference to `scene`, which must outlive it; its graph shares the
-// scene's model nodes (ref_ptr) and compiles GL objects into them for its own context. Several
-// renderers may live on one thread (render() makes its context current again), but see
-// offscreen_context.h on destroying one while another lives.
+// Ownership: the renderer keeps a reference to `scene`, which must outlive it; its graph has model
+// nodes of its own (rebuilt from the scene's .osgb bytes, model_nodes.h) and compiles GL objects
+// into them for its own context. Several renderers may live on one thread (render() makes its
+// context current again), but see offscreen_context.h on destroying one while another lives.
+// This header shows only the vocabulary (view_options.h, frame_stats.h): the graph, the terrain
+// paging and the culler (view_graph.h) stay the drawing side's own, reached through graph().
 #pragma once
 
+#include "nestwalk/render/frame_stats.h"
 #include "nestwalk/render/offscreen_context.h"
-#include "nestwalk/render/view_graph.h"
+#include "nestwalk/render/view_options.h"
 
-#include <osg/Geometry>
+#include <osg/BoundingSphere>
 #include <osg/Image>
+#include <osg/Matrixd>
 #include <osg/ref_ptr>
 #include <osgViewer/Viewer>
 
@@ -26,21 +30,16 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace nestwalk {
 
-struct RenderFrameStats {
-  double cullMs = 0;       // event, update and cull traversals (nested culling included)
-  double drawMs = 0;       // draw traversal until the GL has finished (glFinish)
-  double readbackMs = 0;   // glReadPixels into the image
-  double totalMs = 0;      // the whole frame
-  std::uint64_t triangles = 0;    // triangles drawn (OSG's scene statistics)
-  std::uint64_t terrainTiles = 0; // terrain chunks drawn
-  double terrainErrorM = 0;       // largest vertical error (m) of the terrain chunks drawn
-  double terrainErrorPx = 0;      // largest projected vertical error of a drawn chunk, pixels
-  PagedTerrainStats terrain;      // the paged terrain's own figures for this frame (paged_terrain.h)
-  CullCounts cull;                // nested culling's counts (all zero when it is off)
-};
+struct Frustum;          // nested_cull.h
+struct Scene;            // scene/scene.h
+struct SceneGraphParts;  // scene_graph.h
+class ViewGraph;         // view_graph.h
+
 
 class ViewRenderer {
  public:
@@ -64,16 +63,16 @@ class ViewRenderer {
   // The ray (map frame, unit direction) through pixel (x, y) (same convention) of the last frame.
   std::pair<Eigen::Vector3d, Eigen::Vector3d> pixelRay(double x, double y) const;
   // The camera's matrices for a pose: view (map frame -> eye) and projection.
-  osg::Matrixd viewMatrix(const ViewPose& pose) const { return graph_->viewMatrix(pose); }
-  const osg::Matrixd& projectionMatrix() const { return graph_->projectionMatrix(); }
-  double nearPlane() const { return graph_->nearPlane(); }
-  double farPlane() const { return graph_->farPlane(); }
+  osg::Matrixd viewMatrix(const ViewPose& pose) const;
+  const osg::Matrixd& projectionMatrix() const;
+  double nearPlane() const;
+  double farPlane() const;
 
   // The last frame's view frustum in the local frame (nested_cull.h).
-  Frustum frustumLocal() const { return graph_->frustumLocal(); }
+  Frustum frustumLocal() const;
   // The equipment instances' bounding spheres as OSG sees them (local frame), for comparisons.
   std::vector<osg::BoundingSphere> instanceSpheres() const;
-  const SceneGraphParts& parts() const { return graph_->parts(); }
+  const SceneGraphParts& parts() const;
   const ViewGraph& graph() const { return *graph_; }
 
   OffscreenRoute route() const { return context_->route(); }
@@ -81,7 +80,7 @@ class ViewRenderer {
   const RenderOptions& options() const { return options_; }
   // The file of the overlay text's font (kUiFontPath; empty without an overlay text font: ID pass,
   // or blockedOverlay off).
-  std::string overlayFontFile() const { return graph_->overlayFontFile(); }
+  std::string overlayFontFile() const;
   // The ID pass colour of a thing: 0 sky, 1 terrain, i + 2 instance i (see above).
   static std::uint32_t idAt(const osg::Image& image, int x, int yFromTop);
 

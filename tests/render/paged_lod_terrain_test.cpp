@@ -10,6 +10,7 @@
 // leaves no gap the skirts do not close) and the frames are complete.
 #include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
+#include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"

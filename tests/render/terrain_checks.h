@@ -3,6 +3,7 @@
 #pragma once
 
 #include "nestwalk/render/paged_terrain.h"
+#include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"

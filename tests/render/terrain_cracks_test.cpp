@@ -4,6 +4,7 @@
 // with every frame complete and again under a tiny cache budget (coarser chunks next to finer
 // ones). The bundled DEM has no nodata, so a sky pixel under terrain in the same image column can
 // only be a gap in the drawn surface.
+#include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"

@@ -5,6 +5,7 @@
 #include "tools/bench/render_terrain_sweep.h"
 
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"

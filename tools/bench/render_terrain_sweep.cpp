@@ -7,6 +7,7 @@
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/core/stopwatch.h"
+#include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/json_fields.h"

@@ -1,0 +1,49 @@
+// What a view of the scene is asked to draw: the renderer's options (size, field of view, the
+// terrain's error bound, paging and cache, shading, culling, overlays, the ID pass) and the
+// walker's pose. The public vocabulary of rendering (view_renderer.h, view_graph.h), free of the
+// drawing internals.
+// Units: pixels, degrees, metres; the pose in the map frame.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <string>
+
+namespace nestwalk {
+
+// How the own quadtree loads chunks: on its loader thread while frames go on (Background), or every
+// chunk a frame wants before it is drawn (Complete: for measurements and tests; paged_terrain.h).
+enum class TerrainLoading { Background, Complete };
+const char* terrainLoadingName(TerrainLoading l);  // "background", "complete"
+
+// Which view-bounded terrain draws the chunks: the own quadtree (paged_terrain.h) or OpenSceneGraph's
+// PagedLOD tree, for comparison (paged_lod_terrain.h).
+enum class TerrainPaging { OwnQuadtree, OsgPagedLod };
+const char* terrainPagingName(TerrainPaging p);  // "own-quadtree", "osg-paged-lod"
+
+struct RenderOptions {
+  int width = 1280, height = 720;
+  double fovYDegrees = 60.0;
+  double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
+  int terrainChunkCells = 64;    // cells per terrain chunk side (power of two, paged_terrain.h)
+  std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
+  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h (own quadtree only;
+                                                              // the DatabasePager always loads in the background)
+  TerrainPaging terrainPaging = TerrainPaging::OwnQuadtree;
+  bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
+  bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
+  bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
+  bool blockedOverlay = true;    // a red frame and the blocker's name while blocked
+  bool idPass = false;           // render IDs instead of colours (view_graph.h)
+};
+
+// Where the walker is and what it sees (map frame).
+struct ViewPose {
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+  double headingDeg = 0, pitchDeg = 0;
+  bool blocked = false;
+  std::string blockedBy;
+};
+
+}  // namespace nestwalk
