@@ -23,13 +23,6 @@ namespace {
 using test::weatherStation;
 using Json = nlohmann::json;
 
-/// Where the terrain's north-west corner is: at the origin, and at UTM magnitudes (zone 51N-like).
-struct Place {
-  const char* name;
-  double west, north;
-};
-const Place kPlaces[] = {{"origin", 0.0, 65.0}, {"utm", 550000.0, 4650065.0}};
-void PrintTo(const Place& p, std::ostream* os) { *os << p.name; }
 
 /// Every Geometry under a node with its local-to-world matrix (all LOD children, all paths).
 class GeometryFinder : public osg::NodeVisitor {
@@ -56,22 +49,13 @@ osg::Node* childNamed(osg::Group& g, const std::string& name) {
   return nullptr;
 }
 
-class SceneGraph : public test::TempFolderTest, public ::testing::WithParamInterface<Place> {
+class SceneGraph : public test::PlaneTerrainTest {
  protected:
-  void SetUp() override {
-    TempFolderTest::SetUp();
-    terrain_.west = GetParam().west;
-    terrain_.north = GetParam().north;
-    test::writePlaneTiff(dir() / "terrain.tif", terrain_);
-  }
   /// Writes scene.json (terrain.tif beside it) with these equipment entries and loads it.
   Scene load(const Json& equipment) {
     test::writeText(dir() / "scene.json", Json{{"terrain", "terrain.tif"}, {"equipment", equipment}}.dump(2));
     return loadScene((dir() / "scene.json").string());
   }
-  /// Map position of fractional sample (c, r).
-  Json at(double c, double r) const { return Json::array({terrain_.sampleX(c), terrain_.sampleY(r)}); }
-  test::PlaneTerrain terrain_;
 };
 
 TEST_P(SceneGraph, SharedNodeAndTerrainCoincideInTheGraph) {
@@ -169,7 +153,7 @@ TEST_P(SceneGraph, SharedNodeAndTerrainCoincideInTheGraph) {
   EXPECT_NE(other.modelNodes[0].get(), parts.modelNodes[0].get());
 }
 
-INSTANTIATE_TEST_SUITE_P(Places, SceneGraph, ::testing::ValuesIn(kPlaces),
+INSTANTIATE_TEST_SUITE_P(Places, SceneGraph, ::testing::ValuesIn(test::kTerrainPlaces),
                          [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -25,13 +25,6 @@ using test::weatherStation;
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-/// Where the terrain's north-west corner is: at the origin, and at UTM magnitudes (zone 51N-like).
-struct Place {
-  const char* name;
-  double west, north;
-};
-const Place kPlaces[] = {{"origin", 0.0, 65.0}, {"utm", 550000.0, 4650065.0}};
-void PrintTo(const Place& p, std::ostream* os) { *os << p.name; }
 
 /// Tolerance of comparisons between two double computations of the same local-frame point (tens
 /// of metres from the origin): a few ulps of 100 m is ~1e-13; 1e-9 m leaves a wide margin while
@@ -66,14 +59,8 @@ double standingZ(const std::vector<Vec3<double>>& modelVertices, const Eigen::Af
 }
 
 
-class SceneLoad : public test::TempFolderTest, public ::testing::WithParamInterface<Place> {
+class SceneLoad : public test::PlaneTerrainTest {
  protected:
-  void SetUp() override {
-    TempFolderTest::SetUp();
-    terrain_.west = GetParam().west;
-    terrain_.north = GetParam().north;
-    test::writePlaneTiff(dir() / "terrain.tif", terrain_);
-  }
   /// Writes scene.json (terrain.tif beside it) with these equipment entries and loads it.
   Scene load(const Json& equipment, const SceneLoadOptions& options = {}, Json extra = Json::object()) {
     extra["terrain"] = "terrain.tif";
@@ -82,9 +69,6 @@ class SceneLoad : public test::TempFolderTest, public ::testing::WithParamInterf
     return loadScene((dir() / "scene.json").string(), options);
   }
   std::string scenePath() const { return (dir() / "scene.json").string(); }
-  /// Map position of fractional sample (c, r).
-  Json at(double c, double r) const { return Json::array({terrain_.sampleX(c), terrain_.sampleY(r)}); }
-  test::PlaneTerrain terrain_;
 };
 
 TEST_P(SceneLoad, GroundHeightOriginAndModelsLoadedOnce) {
@@ -311,7 +295,7 @@ TEST_P(SceneLoad, UnreadableEmptyAndGroundlessAreErrors) {
   EXPECT_EQ(e, scenePath() + ": terrain: file not found: " + (dir() / "terrain.tif").string());
 }
 
-INSTANTIATE_TEST_SUITE_P(Places, SceneLoad, ::testing::ValuesIn(kPlaces),
+INSTANTIATE_TEST_SUITE_P(Places, SceneLoad, ::testing::ValuesIn(test::kTerrainPlaces),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // The real models (shared data): every format they come in, each loaded once, volumes containing

@@ -1,5 +1,6 @@
 // Shared by the scene tests: a per-test temporary folder fixture, a small planar GeoTIFF terrain
-// written with GDAL, and catching an InputError's message.
+// written with GDAL (and a fixture writing it at the origin and at UTM magnitudes), and catching an
+// InputError's message.
 #pragma once
 
 #include "nestwalk/core/input_error.h"
@@ -11,9 +12,11 @@
 
 #include <gdal.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -64,5 +67,28 @@ inline void writePlaneTiff(const fs::path& path, const PlaneTerrain& t) {
   writeBands(ds, t.cols, t.rows, values, std::nullopt, 1);
   GDALClose(ds);
 }
+
+/// Where a test terrain's north-west corner is: at the origin, and at UTM magnitudes (zone 51N-like).
+struct TerrainPlace {
+  const char* name;
+  double west, north;
+};
+inline const TerrainPlace kTerrainPlaces[] = {{"origin", 0.0, 65.0}, {"utm", 550000.0, 4650065.0}};
+inline void PrintTo(const TerrainPlace& p, std::ostream* os) { *os << p.name; }
+
+/// A fixture with the planar terrain written as terrain.tif in its folder, at each TerrainPlace
+/// (INSTANTIATE_TEST_SUITE_P over kTerrainPlaces).
+class PlaneTerrainTest : public TempFolderTest, public ::testing::WithParamInterface<TerrainPlace> {
+ protected:
+  void SetUp() override {
+    TempFolderTest::SetUp();
+    terrain_.west = GetParam().west;
+    terrain_.north = GetParam().north;
+    writePlaneTiff(dir() / "terrain.tif", terrain_);
+  }
+  /// Map position of fractional sample (c, r), as a scene file writes it.
+  nlohmann::json at(double c, double r) const { return nlohmann::json::array({terrain_.sampleX(c), terrain_.sampleY(r)}); }
+  PlaneTerrain terrain_;
+};
 
 }  // namespace nestwalk::test
