@@ -37,12 +37,9 @@ TEST(BenchVolumes, QuickRunAgreesWithTheDoubleSatAndPeersAnswerTheSameQuestion) 
   for (const auto& b : run["benchmarks"]) {
     SCOPED_TRACE(b["name"].get<std::string>());
     const std::string test = b["test"].get<std::string>(), set = b["set"].get<std::string>();
-    const double pairs = 20000;  // --quick: pairs per set, and stored boxes per query set
+    const double pairs = 20000;  // --quick: pairs per set
     if (setTargets.count(set)) {
       EXPECT_NEAR(b["overlap_fraction"].get<double>(), setTargets.at(set), kOverlapTolerance);
-    }
-    if (b.contains("hit_fraction")) {
-      EXPECT_LE(b["hit_fraction"].get<double>(), b["overlap_fraction"].get<double>());
     }
     const auto& disagreements = b["disagreements"];
     if (disagreements["nestwalk"].is_number()) {

@@ -46,8 +46,8 @@ void declareScene(CLI::App& cmd, std::string& scene, std::vector<std::string>& s
 }  // namespace
 
 void declareOptions(CLI::App& cmd, VolumeBenchOptions& o) {
-  declareSuite(cmd, o, "20k pairs and stored boxes, short runs (a few seconds)", "0.5", "volumes/<test>/<set>");
-  addCount(cmd, "--pairs", o.pairs, "Pairs per set, and stored boxes per query set (default 1000000)");
+  declareSuite(cmd, o, "20k pairs per set, short runs (a few seconds)", "0.5", "volumes/<test>/<set>");
+  addCount(cmd, "--pairs", o.pairs, "Pairs per set (default 1000000)");
 }
 
 void declareOptions(CLI::App& cmd, TerrainBenchOptions& o) {

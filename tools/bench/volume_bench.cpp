@@ -31,11 +31,10 @@ constexpr double kMinHalf = 0.1, kMaxHalf = 2.0;
 constexpr std::size_t kCalibrationPairs = 100'000;  // pairs the centre-distance scale is bisected on
 constexpr int kScaleHalvings = 50;    // bisection steps of the pairs' centre-distance scale
 constexpr double kMaxScale = 1e6;     // m, where the search for the scale's upper bound gives up
-constexpr int kViewerHalvings = 40;   // bisection steps of the viewer's size
 constexpr double kBoxPairsVsScalar = 5.0; // target: testBoxPair ns / testBoxPairs ns (query overlap)
 
 struct Config {
-  std::size_t pairs = 1'000'000, stored = 1'000'000;
+  std::size_t pairs = 1'000'000;
 };
 Config& config() {
   static Config c;
@@ -70,24 +69,21 @@ class Rng : public SplitMix64 {
 struct SetSpec {
   const char* key;    // "overlap_50pct"
   const char* label;  // "50%"
-  double target;  // pairs: wanted OBB-OBB overlap fraction; queries: stored boxes surviving stage 1
+  double target;  // wanted OBB-OBB overlap fraction
   std::uint64_t seed;
-  bool query;  // one viewer against stored boxes (else pairs)
 };
 constexpr SetSpec kSets[] = {
-    {"overlap_50pct", "50%", 0.50, 0x6e657374'00000050ull, false},
-    {"overlap_5pct", "5%", 0.05, 0x6e657374'00000005ull, false},
+    {"overlap_50pct", "50%", 0.50, 0x6e657374'00000050ull},
+    {"overlap_5pct", "5%", 0.05, 0x6e657374'00000005ull},
 };
 
-/// A data set: n pairs (a[k], b[k]) or n stored boxes and a viewer, the reference verdicts
-/// (satObbObb<double> per pair, testNested<double> per stored box) and the methods' passes.
+/// A data set: n pairs (a[k], b[k]), the reference verdicts (satObbObb<double> per pair) and the
+/// methods' passes.
 struct BoxSet {
   const SetSpec* spec = nullptr;
   std::size_t n = 0;
-  double fraction = 0;  // measured: the pairs' overlap, or the stored boxes' exact stage-1 survival
+  double fraction = 0;  // measured: the pairs' overlap
   std::vector<Obb<double>> a, b;
-  std::vector<NestedVolume<double>> stored;
-  NestedVolume<double> viewer;
   std::vector<std::uint8_t> reference;
   std::map<std::string, Pass<std::uint8_t>> passes;
 };
@@ -132,33 +128,6 @@ void makePairs(BoxSet& s, Rng& rng) {
   }
 }
 
-// The stored boxes: centres uniform in a cube of side 200 m * cbrt(n / 1M) (one box per 8 m^3),
-// sizes and rotations as for the pairs. The viewer: a randomly rotated box at the origin with half
-// extents s * (1, 0.7, 0.4), s bisected so that the wanted fraction of outer boxes meet its outer box.
-void makeQuery(BoxSet& s, Rng& rng) {
-  const double half = 100.0 * std::cbrt(double(s.n) / 1e6);
-  for (std::size_t k = 0; k < s.n; ++k) {
-    const Vec3<double> c(rng.uniform(-half, half), rng.uniform(-half, half), rng.uniform(-half, half));
-    s.stored.push_back(NestedVolume<double>::fromObb(rng.box(c)));
-  }
-  Obb<double> v;
-  v.axes = rng.rotation();
-  auto viewerAt = [&](double size) {
-    v.halfExtents = size * Vec3<double>(1.0, 0.7, 0.4);
-    return NestedVolume<double>::fromObb(v);
-  };
-  auto stage1At = [&](double size) {
-    const Aabb<double> outer = viewerAt(size).outer;
-    return double(std::count_if(s.stored.begin(), s.stored.end(),
-                                [&](const auto& b) { return satAabbAabb(outer, b.outer).overlap; })) /
-           double(s.n);
-  };
-  const double size = bisect(0, 2 * half, kViewerHalvings, [&](double x) { return stage1At(x) < s.spec->target; });
-  s.viewer = viewerAt(size);
-  s.fraction = stage1At(size);
-  for (const auto& b : s.stored) s.reference.push_back(testNested(s.viewer, b).overlap ? 1 : 0);
-}
-
 std::unique_ptr<BoxSet>& currentSet() {
   static std::unique_ptr<BoxSet> s;
   return s;
@@ -167,19 +136,15 @@ std::unique_ptr<BoxSet>& currentSet() {
 /// The set of `spec` at the configured size; only one set is kept at a time.
 BoxSet& boxSet(const SetSpec& spec) {
   std::unique_ptr<BoxSet>& s = currentSet();
-  const std::size_t n = spec.query ? config().stored : config().pairs;
+  const std::size_t n = config().pairs;
   if (!s || s->spec != &spec || s->n != n) {
     s.reset();
     s = std::make_unique<BoxSet>();
     s->spec = &spec;
     s->n = n;
     Rng rng(spec.seed);
-    if (spec.query) {
-      makeQuery(*s, rng);
-    } else {
-      makePairs(*s, rng);
-      s->fraction = double(std::count(s->reference.begin(), s->reference.end(), 1)) / double(n);
-    }
+    makePairs(*s, rng);
+    s->fraction = double(std::count(s->reference.begin(), s->reference.end(), 1)) / double(n);
   }
   return *s;
 }
@@ -244,44 +209,43 @@ Pass<std::uint8_t> boxPairsPass(const BoxSet& s, Facts& facts, bool portable) {
 struct MethodDef {
   const char* key;
   const char* label;  // nestwalk's tests: the row's title (its name is "<key>/<set>"); null: a peer
-  bool query;         // runs on the query sets (else on the pair sets)
   bool compared;  // verdicts compared with the reference, and the peers' figures on its row (the
                   // AABB tests answer another question)
   Pass<std::uint8_t> (*make)(const BoxSet& s, Facts& facts);
 };
 const MethodDef kMethods[] = {
-    {"box_pairs_batch", "query overlap batch", false, true,
+    {"box_pairs_batch", "query overlap batch", true,
      [](const BoxSet& s, Facts& f) { return boxPairsPass(s, f, false); }},
-    {"box_pairs_batch_portable", "query overlap portable", false, true,
+    {"box_pairs_batch_portable", "query overlap portable", true,
      [](const BoxSet& s, Facts& f) { return boxPairsPass(s, f, true); }},
-    {"box_pair_scalar", "query overlap scalar", false, true,
+    {"box_pair_scalar", "query overlap scalar", true,
      [](const BoxSet& s, Facts&) {
        return pairPass(own(s.a), own(s.b), [](const auto& x, const auto& y) { return testBoxPair(x, y).overlap; });
      }},
-    {"aabb_aabb_double", "AABB-AABB double", false, false,
+    {"aabb_aabb_double", "AABB-AABB double", false,
      [](const BoxSet& s, Facts&) {
        return pairPass(convert<Aabb<double>>(s.a, kAabb), convert<Aabb<double>>(s.b, kAabb), kAabbAabb);
      }},
-    {"aabb_aabb_float", "AABB-AABB float", false, false,
+    {"aabb_aabb_float", "AABB-AABB float", false,
      [](const BoxSet& s, Facts&) {
        return pairPass(convert<Aabb<float>>(s.a, kAabbFloat), convert<Aabb<float>>(s.b, kAabbFloat), kAabbAabb);
      }},
-    {"aabb_obb_double", "AABB-OBB double", false, false,
+    {"aabb_obb_double", "AABB-OBB double", false,
      [](const BoxSet& s, Facts&) { return pairPass(convert<Aabb<double>>(s.a, kAabb), own(s.b), kAabbObb); }},
-    {"obb_obb_double", "OBB-OBB double scalar", false, true,
+    {"obb_obb_double", "OBB-OBB double scalar", true,
      [](const BoxSet& s, Facts&) { return pairPass(own(s.a), own(s.b), kObbObb); }},
-    {"obb_obb_float", "OBB-OBB float scalar", false, true,
+    {"obb_obb_float", "OBB-OBB float scalar", true,
      [](const BoxSet& s, Facts&) {
        return pairPass(convert<Obb<float>>(s.a, kObbFloat), convert<Obb<float>>(s.b, kObbFloat), kObbObb);
      }},
-    {"nested_double", "nested double (3-stage)", false, true,
+    {"nested_double", "nested double (3-stage)", true,
      [](const BoxSet& s, Facts&) {
        using V = NestedVolume<double>;
        return pairPass(convert<V>(s.a, kNestedVolume), convert<V>(s.b, kNestedVolume), kNested);
      }},
-    {"peer_fcl_obb", nullptr, false, true, [](const BoxSet& s, Facts&) { return fclBoxPairs(s.a, s.b); }},
-    {"peer_ccd_mpr", nullptr, false, true, [](const BoxSet& s, Facts&) { return ccdBoxPairs(s.a, s.b); }},
-    {"peer_bullet_boxbox", nullptr, false, true, [](const BoxSet& s, Facts&) { return bulletBoxPairs(s.a, s.b); }},
+    {"peer_fcl_obb", nullptr, true, [](const BoxSet& s, Facts&) { return fclBoxPairs(s.a, s.b); }},
+    {"peer_ccd_mpr", nullptr, true, [](const BoxSet& s, Facts&) { return ccdBoxPairs(s.a, s.b); }},
+    {"peer_bullet_boxbox", nullptr, true, [](const BoxSet& s, Facts&) { return bulletBoxPairs(s.a, s.b); }},
 };
 
 /// The facts of a method's verdicts: their fraction, their disagreements with the reference.
@@ -293,16 +257,15 @@ void judge(const BoxSet& s, bool compared, const std::vector<std::uint8_t>& verd
   }
   facts["verdict_fraction"] = double(hits) / double(s.n);
   if (compared) facts["disagreements"] = double(differ);
-  if (s.spec->query) facts["hit_fraction"] = double(hits) / double(s.n);
   facts.emplace("overlap_fraction", s.fraction);  // unless the method measured its own
 }
 
 Suite& suite() { return Suite::named("volumes"); }
 
-/// Registers every method on every set of its kind.
+/// Registers every method on every set.
 void registerBenchmarks() {
   suite().addEach(
-      kSets, kMethods, [](const SetSpec& set, const MethodDef& m) { return m.query == set.query; },
+      kSets, kMethods, [](const SetSpec&, const MethodDef&) { return true; },
       [](const SetSpec& set, const MethodDef& m, benchmark::State& state, Facts& facts) {
         BoxSet& s = boxSet(set);
         auto pass = s.passes.find(m.key);
@@ -317,7 +280,6 @@ void registerBenchmarks() {
 
 const std::vector<Peer> kPeers = {{"fcl", "FCL"}, {"ccd_mpr", "ccd MPR"}, {"bullet", "Bullet"}};
 constexpr const char* kPairPeers[] = {"peer_fcl_obb", "peer_ccd_mpr", "peer_bullet_boxbox"};
-constexpr const char* kQueryPeers[] = {"peer_fcl_query", nullptr, nullptr};
 
 /// The row of nestwalk's test m on `set`: the fractions, ns/op and disagreements of nestwalk and the
 /// peers.
@@ -326,14 +288,13 @@ Json makeRow(const MethodDef& m, const SetSpec& set) {
   Json row = {{"name", std::string(m.key) + "/" + set.key}, {"test", m.label}, {"set", set.label}};
   std::vector<std::pair<std::string, const char*>> methods = {{"nestwalk", m.key}};
   for (std::size_t p = 0; p < kPeers.size(); ++p)
-    methods.emplace_back(kPeers[p].key, m.compared ? (set.query ? kQueryPeers : kPairPeers)[p] : nullptr);
+    methods.emplace_back(kPeers[p].key, m.compared ? kPairPeers[p] : nullptr);
   double overlap = s.fact(m.key, set.key, "overlap_fraction");
   for (const auto& [key, method] : methods)
     if (std::isnan(overlap) && method) overlap = s.fact(method, set.key, "overlap_fraction");
   row["overlap_fraction"] = jsonNumber(overlap);
   row["verdict_fraction"] = jsonNumber(s.fact(m.key, set.key, "verdict_fraction"));
-  for (const char* fact : {"hit_fraction", "uncertain_fraction"})
-    if (!std::isnan(s.fact(m.key, set.key, fact))) row[fact] = s.fact(m.key, set.key, fact);
+  if (const double f = s.fact(m.key, set.key, "uncertain_fraction"); !std::isnan(f)) row["uncertain_fraction"] = f;
   for (const auto& [key, method] : methods) {
     row["ns_per_op"][key] = method ? jsonNumber(s.ns(method, set.key)) : Json();
     row["disagreements"][key] = method ? countJson(s.fact(method, set.key, "disagreements")) : Json();
@@ -341,13 +302,10 @@ Json makeRow(const MethodDef& m, const SetSpec& set) {
   return row;
 }
 
-/// The fractions a row's disagreement note adds, in %: JSON key, text.
-constexpr std::pair<const char*, const char*> kNoteFractions[] = {{"uncertain_fraction", "uncertain lanes"},
-                                                                  {"hit_fraction", "final hits"}};
 
 /// Per row, the disagreements with the reference, the uncertain lanes and the final hits.
 void printDisagreements(std::ostream& out, const Table& table) {
-  out << "\ndisagreements with satObbObb<double> (queries: with testNested<double> per stored box), counted once per"
+  out << "\ndisagreements with satObbObb<double>, counted once per"
          " benchmark outside the timed loop, not an assertion:\n";
   for (const Json& r : table.rows()) {
     std::string line;
@@ -355,8 +313,8 @@ void printDisagreements(std::ostream& out, const Table& table) {
       if (r["disagreements"][key].is_number())
         line += (line.empty() ? " " : ", ") + title + " " + std::to_string(r["disagreements"][key].get<long long>());
     if (line.empty()) continue;
-    for (const auto& [key, what] : kNoteFractions)
-      if (r.contains(key)) line += std::string("; ") + what + " " + fixedText(100 * r[key].get<double>(), 3) + "%";
+    if (r.contains("uncertain_fraction"))
+      line += "; uncertain lanes " + fixedText(100 * r["uncertain_fraction"].get<double>(), 3) + "%";
     out << "  " << std::left << std::setw(26) << r["test"].get<std::string>() << std::setw(8)
         << r["set"].get<std::string>() << std::right << line << "\n";
   }
@@ -366,7 +324,6 @@ void printDisagreements(std::ostream& out, const Table& table) {
 
 int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
   config().pairs = opts.pairs ? opts.pairs : (opts.quick ? 20'000 : 1'000'000);
-  config().stored = opts.storedBoxes ? opts.storedBoxes : config().pairs;
   const double minTime = opts.minTime(0.5);
   registerBenchmarks();
   struct Release {  // the data sets take up to a few GB at 1M pairs
@@ -380,7 +337,7 @@ int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
                                     "ns_per_op", kPeers, 10, 2, 1);
   for (const SetSpec& set : kSets)
     for (const MethodDef& m : kMethods)
-      if (m.label && m.query == set.query) table.addMeasured(makeRow(m, set), "ns_per_op");
+      if (m.label) table.addMeasured(makeRow(m, set), "ns_per_op");
 
   Document doc("nestwalk bench volumes: ns per test (CPU time);"
                " ratio = peer ns / nestwalk ns (> 1: nestwalk faster)");
@@ -388,14 +345,13 @@ int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
   Json& m = doc.json["machine"];
   m["batch_kernel"] = batchKernel();
   m["pairs_per_set"] = config().pairs;
-  m["stored_boxes"] = config().stored;
   doc.text << "testBoxPairs kernel: " << batchKernel() << " (the 'portable' row forces NESTWALK_SIMD=portable)\n"
            << "peers: FCL " << m["libraries"]["fcl"].get<std::string>() << " OBB<double>::overlap; libccd MPR ("
            << m["libraries"]["ccd"].get<std::string>() << ", tolerance 1e-6); Bullet "
            << m["libraries"]["bullet"].get<std::string>() << " btBoxBoxDetector\n"
-           << "pairs per set: " << config().pairs << "; stored boxes per query set: " << config().stored << "; "
+           << "pairs per set: " << config().pairs << "; "
            << doc.runSettings(minTime, opts.quick, s.repetitions()) << "\n"
-           << "overlap: the set's measured fraction (pairs: satObbObb<double> overlap; queries: stage-1 survivors);"
+           << "overlap: the set's measured fraction (satObbObb<double> overlap);"
               " hits: this test's own overlap answers\n\n";
   doc.table("benchmarks", table);
   printDisagreements(doc.text, table);

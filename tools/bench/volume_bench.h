@@ -22,7 +22,6 @@ namespace nestwalk::bench {
 
 struct VolumeBenchOptions : SuiteOptions {
   std::size_t pairs = 0;        // pairs per set; 0: 1'000'000 (20'000 with quick)
-  std::size_t storedBoxes = 0;  // boxes of the one-vs-many sets; 0: as pairs
 };
 
 /// Registers the "volumes/..." benchmarks (once per process), runs those that match the filter and

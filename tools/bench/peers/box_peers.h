@@ -1,6 +1,6 @@
 // The peers of the bounding-volume benchmark (volume_bench.h): other libraries answering the same
-// OBB-OBB question on the same pairs (do the closed boxes a[k] and b[k] meet? touching counts) and
-// the same one-vs-many query. Each factory converts the boxes to the peer's own types once, outside
+// OBB-OBB question on the same pairs (do the closed boxes a[k] and b[k] meet? touching counts).
+// Each factory converts the boxes to the peer's own types once, outside
 // any timing, and returns a Pass (bench_runner.h) over all pairs: verdict k is 1 for overlap.
 #pragma once
 
@@ -15,11 +15,6 @@ namespace nestwalk::bench {
 
 /// FCL: fcl::OBB<double>::overlap (peers/fcl_boxes.cpp).
 Pass<std::uint8_t> fclBoxPairs(const std::vector<Obb<double>>& a, const std::vector<Obb<double>>& b);
-
-/// FCL answering nestwalk's one-vs-many query, the nested cascade without its AABB-OBB stage:
-/// fcl::AABB<double>::overlap with the viewer's outer box, then fcl::OBB<double>::overlap with its
-/// inner box on the survivors; verdict k for stored box k (peers/fcl_boxes.cpp).
-Pass<std::uint8_t> fclBoxQuery(const NestedVolume<double>& viewer, const std::vector<NestedVolume<double>>& stored);
 
 /// libccd: ccdMPRIntersect (Minkowski portal refinement) with box support functions
 /// (peers/ccd_boxes.cpp). It reads the boxes in place: `a` and `b` must outlive the pass.

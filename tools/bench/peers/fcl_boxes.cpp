@@ -33,24 +33,4 @@ Pass<std::uint8_t> fclBoxPairs(const std::vector<Obb<double>>& a, const std::vec
   };
 }
 
-Pass<std::uint8_t> fclBoxQuery(const NestedVolume<double>& viewer, const std::vector<NestedVolume<double>>& stored) {
-  struct Boxes {
-    fcl::AABB<double> viewerOuter;
-    fcl::OBB<double> viewerInner;
-    std::vector<fcl::AABB<double>> outer;
-    std::vector<fcl::OBB<double>> inner;
-  };
-  auto s = std::make_shared<Boxes>(Boxes{{viewer.outer.min, viewer.outer.max}, toFcl(viewer.inner), {}, {}});
-  for (const NestedVolume<double>& b : stored) {
-    s->outer.emplace_back(b.outer.min, b.outer.max);
-    s->inner.push_back(toFcl(b.inner));
-  }
-  return [s](std::uint8_t* verdicts) {
-    const Boxes& b = *s;
-    return answerAll(b.outer.size(), verdicts, [&](std::size_t k) {
-      return b.outer[k].overlap(b.viewerOuter) && b.viewerInner.overlap(b.inner[k]);
-    });
-  };
-}
-
 }  // namespace nestwalk::bench
