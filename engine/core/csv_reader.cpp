@@ -8,9 +8,21 @@ namespace {
 
 bool isBlank(char c) { return c == ' ' || c == '\t'; }
 
-std::string trimmed(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+/// A byte that only adds itself to an unquoted field (blanks included: they are trimmed at its end).
+bool isPlain(char c) { return c != ',' && c != '\n' && c != '\r' && c != '"'; }
+
+bool onlyBlanks(const std::string& s) { return s.find_first_not_of(" \t") == std::string::npos; }
+
+/// Drops the spaces and tabs around `s`, in place.
+void trimBlanks(std::string& s) {
+  if (!s.empty() && !isBlank(s.front()) && !isBlank(s.back())) return;
+  const auto e = s.find_last_not_of(" \t");
+  if (e == std::string::npos) {
+    s.clear();
+    return;
+  }
+  s.erase(e + 1);
+  s.erase(0, s.find_first_not_of(" \t"));
 }
 
 }  // namespace
@@ -19,26 +31,55 @@ CsvReader::CsvReader(std::istream& in, std::string name) : in_(in), name_(std::m
   // A UTF-8 byte order mark (EF BB BF) before the header is dropped; a file that starts with only
   // part of one is not text.
   for (int bomByte : {0xEF, 0xBB, 0xBF}) {
-    if (in_.peek() != bomByte) {
+    if (peek() != bomByte) {
       if (bomByte != 0xEF) throw InputError(name_ + ": starts with a broken UTF-8 byte order mark; not a CSV file");
       break;
     }
-    in_.get();
+    get();
   }
   if (!readRow(header_)) throw InputError(name_ + ": empty file, expected a header row");
 }
 
+int CsvReader::get() {
+  if (pos_ == end_ && !refill()) return std::char_traits<char>::eof();
+  return static_cast<unsigned char>(buffer_[pos_++]);
+}
+
+int CsvReader::peek() {
+  if (pos_ == end_ && !refill()) return std::char_traits<char>::eof();
+  return static_cast<unsigned char>(buffer_[pos_]);
+}
+
+bool CsvReader::refill() {
+  if (buffer_.empty()) buffer_.resize(kReadBlockBytes);
+  in_.read(buffer_.data(), std::streamsize(buffer_.size()));
+  pos_ = 0;
+  end_ = std::size_t(in_.gcount());
+  return end_ > 0;
+}
+
 bool CsvReader::readRow(std::vector<std::string>& fields) {
   for (;;) {
-    fields.clear();
+    // Fields are written over the strings `fields` already holds, so a reader that passes the same
+    // vector row after row reuses their storage.
+    std::size_t count = 0;
+    const auto nextField = [&]() -> std::string& {
+      if (count == fields.size()) fields.emplace_back();
+      std::string& f = fields[count++];
+      f.clear();
+      return f;
+    };
     line_ = nextLine_;
-    std::string field;
+    int c = get();
+    if (c == std::char_traits<char>::eof()) {
+      fields.clear();
+      return false;
+    }
+    std::string* field = &nextField();
     bool quoted = false;       // inside a quoted field
     bool wasQuoted = false;    // the current field was quoted (kept as written)
     bool any = false;          // the row holds something other than blanks
-    int c = in_.get();
-    if (c == std::char_traits<char>::eof()) return false;
-    for (;; c = in_.get()) {
+    for (;; c = get()) {
       if (c == std::char_traits<char>::eof()) {
         if (quoted) throw errorAtLine("a quoted field is not closed before the end of the file");
         break;
@@ -46,32 +87,32 @@ bool CsvReader::readRow(std::vector<std::string>& fields) {
       const char ch = char(c);
       if (quoted) {
         if (ch == '"') {
-          if (in_.peek() == '"') {
-            in_.get();
-            field += '"';
+          if (peek() == '"') {
+            get();
+            field->push_back('"');
           } else {
             quoted = false;
           }
         } else {
           if (ch == '\n') ++nextLine_;
-          field += ch;
+          field->push_back(ch);
         }
         continue;
       }
       if (ch == '\n' || ch == '\r') {
-        if (ch == '\r' && in_.peek() == '\n') in_.get();
+        if (ch == '\r' && peek() == '\n') get();
         ++nextLine_;
         break;
       }
       if (ch == ',') {
-        fields.push_back(wasQuoted ? field : trimmed(field));
-        field.clear();
+        if (!wasQuoted) trimBlanks(*field);
+        field = &nextField();
         wasQuoted = false;
         any = true;
         continue;
       }
-      if (ch == '"' && trimmed(field).empty() && !wasQuoted) {
-        field.clear();  // blanks before the opening quote
+      if (ch == '"' && !wasQuoted && onlyBlanks(*field)) {
+        field->clear();  // blanks before the opening quote
         quoted = wasQuoted = any = true;
         continue;
       }
@@ -79,11 +120,18 @@ bool CsvReader::readRow(std::vector<std::string>& fields) {
         if (isBlank(ch)) continue;  // blanks after the closing quote
         throw errorAtLine("text after a quoted field's closing quote");
       }
-      if (!isBlank(ch)) any = true;
-      field += ch;
+      field->push_back(ch);
+      if (isBlank(ch)) continue;
+      any = true;
+      // The rest of the field's run of plain bytes in the buffer, at once (what a number is).
+      std::size_t run = pos_;
+      while (run < end_ && isPlain(buffer_[run])) ++run;
+      field->append(buffer_.data() + pos_, run - pos_);
+      pos_ = run;
     }
     if (!any) continue;  // a blank line
-    fields.push_back(wasQuoted ? field : trimmed(field));
+    if (!wasQuoted) trimBlanks(*field);
+    fields.resize(count);
     return true;
   }
 }

@@ -1,53 +1,59 @@
 #include "nestwalk/geometry/box_pairs_csv.h"
 
-#include "nestwalk/core/csv_reader.h"
+#include <limits>
 
 namespace nestwalk {
-namespace {
 
-struct BoxColumns {
-  int c[3], axes[3][3], e[3];
-};
-
-BoxColumns boxColumns(const CsvReader& csv, char prefix) {
+BoxPairsReader::BoxColumns BoxPairsReader::boxColumns(const CsvReader& csv, char prefix) {
   BoxColumns cols;
   const std::string p(1, prefix);
   const char* xyz[3] = {"x", "y", "z"};
   const char* uvw[3] = {"u", "v", "w"};
   // Looked up in the order the columns are documented, so the first missing one is named.
-  for (int k = 0; k < 3; ++k) cols.c[k] = csv.column(p + "c" + xyz[k]);
+  for (int k = 0; k < 3; ++k) cols.centre[k] = csv.column(p + "c" + xyz[k]);
   for (int a = 0; a < 3; ++a)
     for (int k = 0; k < 3; ++k) cols.axes[a][k] = csv.column(p + uvw[a] + xyz[k]);
-  for (int k = 0; k < 3; ++k) cols.e[k] = csv.column(p + "e" + xyz[k]);
+  for (int k = 0; k < 3; ++k) cols.halfExtents[k] = csv.column(p + "e" + xyz[k]);
   return cols;
 }
 
-Obb<double> readBox(const CsvReader& csv, const std::vector<std::string>& fields, const BoxColumns& cols, char name) {
+BoxPairsReader::BoxPairsReader(std::istream& in, const std::string& name)
+    : csv_(in, name), id_(csv_.column("id")), a_(boxColumns(csv_, 'a')), b_(boxColumns(csv_, 'b')) {}
+
+Obb<double> BoxPairsReader::box(const BoxColumns& cols, char name) const {
   Obb<double> box;
   for (int k = 0; k < 3; ++k) {
-    box.center[k] = csv.number(fields, cols.c[k]);
-    box.halfExtents[k] = csv.number(fields, cols.e[k]);
-    for (int a = 0; a < 3; ++a) box.axes(k, a) = csv.number(fields, cols.axes[a][k]);
+    box.center[k] = csv_.number(fields_, cols.centre[k]);
+    box.halfExtents[k] = csv_.number(fields_, cols.halfExtents[k]);
+    for (int a = 0; a < 3; ++a) box.axes(k, a) = csv_.number(fields_, cols.axes[a][k]);
   }
   if ((box.halfExtents.array() < 0.0).any())
-    throw csv.errorAtLine(std::string("box ") + name + " has a negative half extent");
+    throw csv_.errorAtLine(std::string("box ") + name + " has a negative half extent");
   const double err = axesError(box.axes);
   if (!(err <= kAxesRefuseTolerance))  // NaN included
-    throw csv.errorAtLine(std::string("the axes of box ") + name + " are not orthonormal (|A^T A - I| = " +
-                          std::to_string(err) + ")");
+    throw csv_.errorAtLine(std::string("the axes of box ") + name + " are not orthonormal (|A^T A - I| = " +
+                           std::to_string(err) + ")");
   if (err > kAxesTolerance<double>) box.axes = orthonormalized(box.axes);
   return box;
 }
 
-}  // namespace
+bool BoxPairsReader::read(std::vector<BoxPair>& out, std::size_t most) {
+  std::size_t count = 0;
+  for (; count < most && csv_.next(fields_); ++count) {
+    if (count == out.size()) out.emplace_back();
+    BoxPair& pair = out[count];
+    pair.id = fields_[std::size_t(id_)];
+    pair.a = box(a_, 'A');
+    pair.b = box(b_, 'B');
+  }
+  out.resize(count);
+  return count > 0;
+}
 
 std::vector<BoxPair> readBoxPairs(std::istream& in, const std::string& name) {
-  CsvReader csv(in, name);
-  const int id = csv.column("id");
-  const BoxColumns a = boxColumns(csv, 'a'), b = boxColumns(csv, 'b');
+  BoxPairsReader reader(in, name);
   std::vector<BoxPair> pairs;
-  std::vector<std::string> fields;
-  while (csv.next(fields)) pairs.push_back({fields[std::size_t(id)], readBox(csv, fields, a, 'A'), readBox(csv, fields, b, 'B')});
+  reader.read(pairs, std::numeric_limits<std::size_t>::max());
   return pairs;
 }
 

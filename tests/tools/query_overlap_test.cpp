@@ -1,6 +1,10 @@
 // `nestwalk query overlap`: verdicts on pairs whose answer is known by construction, at the
-// origin and at UTM magnitudes, and the errors for malformed input.
+// origin and at UTM magnitudes, thousands of hard pairs against testBoxPair called here, and the
+// errors for malformed input.
 #include "tests/common/run_command.h"
+#include "tests/geometry/box_pair_generators.h"
+
+#include "nestwalk/geometry/nested.h"
 
 #include <Eigen/Geometry>
 
@@ -95,6 +99,59 @@ TEST(QueryOverlap, KnownPairsAtUtmMagnitudes) {
   const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(lines(r.out), kExpected);
+}
+
+Box boxOf(const Obb<double>& b) { return {b.center, b.axes, b.halfExtents}; }
+
+/// 3,000 pairs near touching, turned about the vertical, with an axis-aligned box, flat or
+/// random, at UTM magnitudes (the command reads and tests them in several chunks), and the
+/// command's expected output from testBoxPair called here one pair at a time.
+std::pair<std::string, std::vector<std::string>> hardPairs() {
+  const Vec3<double> origin(612345.678, 7012345.678, 321.0);
+  boxgen::Gen g(2211);
+  std::string csv = header();
+  std::vector<std::string> expected = {"id,overlap,stage,axis"};
+  for (int k = 0; k < 3000; ++k) {
+    boxgen::Pair p;
+    switch (k % 5) {
+      case 0: p = boxgen::nearTouchingPair(g, origin); break;
+      case 1: p = boxgen::verticalPair(g, origin, true); break;
+      case 2: p = boxgen::oneAlignedPair(g, origin, true); break;
+      case 3: p = boxgen::degeneratePair(g, origin); break;
+      default: p = boxgen::randomPair(g, origin); break;
+    }
+    const std::string id = "p" + std::to_string(k);
+    const std::string line = row(id, boxOf(p.first), boxOf(p.second));
+    csv += line;
+    // The pair as the command reads it back (printed with 17 digits: the same doubles).
+    const NestedResult r = testBoxPair(p.first, p.second);
+    const char* axis = r.stage == OverlapStage::AabbAabb ? aabbAxisName(r.axis) : satAxisName(r.axis);
+    expected.push_back(id + (r.overlap ? ",1," : ",0,") + stageName(r.stage) + "," + axis);
+  }
+  return {csv, expected};
+}
+
+TEST(QueryOverlap, ThousandsOfHardPairsAnswerAsTestBoxPair) {
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  const auto [csv, expected] = hardPairs();
+  writeText(dir / "pairs.csv", csv);
+  const CommandResult r = runNestwalk("query overlap --timing '" + (dir / "pairs.csv").string() + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(lines(r.out), expected);
+  EXPECT_NE(r.err.find("query overlap: 3000 pairs;"), std::string::npos) << r.err;
+}
+
+TEST(QueryOverlap, BadRowAfterSeveralChunksPrintsNothing) {
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  std::string csv = hardPairs().first;
+  csv += "late,1,2\n";
+  writeText(dir / "pairs.csv", csv);
+  const CommandResult r = runNestwalk("query overlap '" + (dir / "pairs.csv").string() + "'");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("pairs.csv:3002: 3 fields, but the header has 31"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "") << "the chunks answered before the bad row are not printed";
 }
 
 TEST(QueryOverlap, MalformedRowNamesTheLine) {
