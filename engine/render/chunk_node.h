@@ -1,6 +1,6 @@
 // The OSG nodes of a terrain chunk (terrain/terrain_chunk.h) for both ways of paging it: the own
 // quadtree (paged_terrain.h) draws one node per quadrant surface, the PagedLOD tree
-// (paged_lod_terrain.h) one node per chunk (its quadrants' ranges together).
+// (the benchmarks' peer, tools/bench/peers/osg_paged_lod_terrain.h) one node per chunk (its quadrants' ranges together).
 //
 // A node is the chunk's offset as a MatrixTransform over one Geode with one Geometry: the chunk's
 // float positions (metres, relative to the offset) drawn from vertex buffer objects, with the given

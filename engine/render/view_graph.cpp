@@ -90,7 +90,8 @@ osg::ref_ptr<osg::Geometry> quads(osg::Vec3Array* vertices, osg::Vec4Array* colo
 
 }  // namespace
 
-ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(scene), options_(options) {
+ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const TerrainNodeMaker& makeTerrain)
+    : scene_(scene), options_(options) {
   if (options_.width < 16 || options_.height < 16)
     throw std::invalid_argument("render size must be at least 16 x 16 pixels");
   if (!scene_.terrain) throw std::invalid_argument("the scene has no terrain to render");
@@ -140,9 +141,10 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options) : scene_(
   }
   osg::ref_ptr<osg::MatrixTransform> terrain =
       new osg::MatrixTransform(osg::Matrixd::translate(hf.origin().x(), hf.origin().y(), 0.0));
-  if (options_.terrainPaging == TerrainPaging::OsgPagedLod) {
-    lodTerrain_ = new PagedLodTerrain(scene_.terrain, std::move(terrainOptions));  // the same chunks
-    terrain->addChild(lodTerrain_.get());
+  if (makeTerrain) {
+    madeTerrain_ = makeTerrain(scene_.terrain, terrainOptions);  // the same chunks and rule
+    if (!madeTerrain_) throw std::logic_error("ViewGraph: the terrain maker made no terrain");
+    terrain->addChild(madeTerrain_.get());
   } else {
     terrain_ = new PagedTerrain(scene_.terrain, std::move(terrainOptions));
     terrain->addChild(terrain_.get());
@@ -168,20 +170,16 @@ void ViewGraph::setViewportSize(int width, int height) {
   rule.screenHeightPx = height;
   pixelsPerRadian_ = rule.pixelsPerRadian();
   if (terrain_) terrain_->setPixelsPerRadian(pixelsPerRadian_);
-  if (lodTerrain_) lodTerrain_->setPixelsPerRadian(pixelsPerRadian_);
-}
-
-const char* terrainPagingName(TerrainPaging p) {
-  return p == TerrainPaging::OsgPagedLod ? "osg-paged-lod" : "own-quadtree";
+  if (madeTerrain_) madeTerrain_->setPixelsPerRadian(pixelsPerRadian_);
 }
 
 PagedTerrain& ViewGraph::pagedTerrain() const {
-  if (!terrain_) throw std::logic_error("ViewGraph::pagedTerrain: the terrain is paged by osg::PagedLOD");
+  if (!terrain_) throw std::logic_error("ViewGraph::pagedTerrain: the terrain is a made one (terrain_node.h)");
   return *terrain_;
 }
 
 PagedTerrainStats ViewGraph::terrainStats() const {
-  return terrain_ ? terrain_->lastStats() : lodTerrain_->asPagedTerrainStats();
+  return terrain_ ? terrain_->lastStats() : madeTerrain_->frameStats();
 }
 
 void ViewGraph::attachTo(osg::View& view) const {

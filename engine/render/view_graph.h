@@ -18,8 +18,8 @@
 // come), far reaches past the terrain's farthest corner.
 //
 // Terrain paging: the engine's own quadtree (paged_terrain.h, the default and the window's), or
-// for comparison OpenSceneGraph's osg::PagedLOD tree paged by the viewer's DatabasePager
-// (paged_lod_terrain.h; options.terrainPaging), under the same "terrain" transform.
+// or a terrain the caller makes (terrain_node.h: a peer measured beside ours), under the same
+// "terrain" transform.
 //
 // Culling: equipment is culled with the nested volumes (nested_cull.h) unless
 // options.nestedCulling is off (then OSG's bounding spheres decide).
@@ -30,10 +30,11 @@
 
 #include "nestwalk/render/frame_stats.h"
 #include "nestwalk/render/nested_cull.h"
-#include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/render/scene_graph.h"
+#include "nestwalk/render/terrain_node.h"
 #include "nestwalk/render/view_options.h"
+#include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 
 #include <osg/Camera>
@@ -65,7 +66,8 @@ class ViewGraph {
   // Builds the graph. Throws std::invalid_argument for a size under 16 x 16 or a scene without
   // terrain, InputError (naming the file) when the overlay's font or the scene's imagery cannot be
   // loaded (terrain/terrain_imagery.h).
-  ViewGraph(const Scene& scene, const RenderOptions& options);
+  // With makeTerrain, the terrain is the node it makes instead of the own quadtree.
+  ViewGraph(const Scene& scene, const RenderOptions& options, const TerrainNodeMaker& makeTerrain = {});
   ~ViewGraph();
   ViewGraph(const ViewGraph&) = delete;
   ViewGraph& operator=(const ViewGraph&) = delete;
@@ -98,12 +100,12 @@ class ViewGraph {
   // parts().terrain is the paged terrain's transform (mesh frame -> map); the scene graph's own
   // static terrain tiles are not built (terrainMesh and terrainTiles stay empty).
   const SceneGraphParts& parts() const { return parts_; }
-  // The own quadtree (TerrainPaging::OwnQuadtree); throws std::logic_error with OsgPagedLod.
+  // The own quadtree; throws std::logic_error when the terrain is a made one.
   PagedTerrain& pagedTerrain() const;
   // The terrain that draws, whichever it is: exactly one of the two is non-null.
   PagedTerrain* ownQuadtreeTerrain() const { return terrain_.get(); }
-  PagedLodTerrain* pagedLodTerrain() const { return lodTerrain_.get(); }
-  // The last cull's terrain figures, in PagedTerrain's terms for either paging.
+  TerrainNode* madeTerrain() const { return madeTerrain_.get(); }
+  // The last cull's terrain figures, in PagedTerrain's terms for either terrain.
   PagedTerrainStats terrainStats() const;
   const RenderOptions& options() const { return options_; }
   const Scene& scene() const { return scene_; }
@@ -126,8 +128,8 @@ class ViewGraph {
   osg::ref_ptr<osg::Node> blockedFrame_;
   osg::ref_ptr<osgText::Text> blockedText_;
   std::unique_ptr<NestedFrustumCuller> culler_;
-  osg::ref_ptr<PagedTerrain> terrain_;       // OwnQuadtree
-  osg::ref_ptr<PagedLodTerrain> lodTerrain_;  // OsgPagedLod
+  osg::ref_ptr<PagedTerrain> terrain_;      // the own quadtree
+  osg::ref_ptr<TerrainNode> madeTerrain_;   // or the made one
   osg::Matrixd projection_, view_;
   osg::Matrixd localToMap_;  // translation by the scene's origin
   double pixelsPerRadian_ = 0;

@@ -1,5 +1,5 @@
 // What a view of the scene is asked to draw: the renderer's options (size, field of view, the
-// terrain's error bound, paging and cache, shading, culling, overlays, the ID pass) and the
+// terrain's error bound, loading and cache, shading, culling, overlays, the ID pass) and the
 // walker's pose. The public vocabulary of rendering (view_renderer.h, view_graph.h), free of the
 // drawing internals.
 // Units: pixels, degrees, metres; the pose in the map frame.
@@ -17,20 +17,13 @@ namespace nestwalk {
 enum class TerrainLoading { Background, Complete };
 const char* terrainLoadingName(TerrainLoading l);  // "background", "complete"
 
-// Which view-bounded terrain draws the chunks: the own quadtree (paged_terrain.h) or OpenSceneGraph's
-// PagedLOD tree, for comparison (paged_lod_terrain.h).
-enum class TerrainPaging { OwnQuadtree, OsgPagedLod };
-const char* terrainPagingName(TerrainPaging p);  // "own-quadtree", "osg-paged-lod"
-
 struct RenderOptions {
   int width = 1280, height = 720;
   double fovYDegrees = 60.0;
   double lodMaxPixels = 1.0;     // terrain LOD: the largest vertical error allowed on screen, pixels
   int terrainChunkCells = 64;    // cells per terrain chunk side (power of two, paged_terrain.h)
   std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
-  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h (own quadtree only;
-                                                              // the DatabasePager always loads in the background)
-  TerrainPaging terrainPaging = TerrainPaging::OwnQuadtree;
+  TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h
   bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
   bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
   bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes

@@ -61,8 +61,11 @@ struct FinishMarker : osg::Drawable {
 }  // namespace
 
 ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options)
+    : ViewRenderer(scene, options, TerrainNodeMaker()) {}
+
+ViewRenderer::ViewRenderer(const Scene& scene, const RenderOptions& options, const TerrainNodeMaker& makeTerrain)
     : scene_(scene), options_(options), timing_(std::make_shared<Timing>()) {
-  graph_ = std::make_unique<ViewGraph>(scene_, options_);  // checks the size and the terrain first
+  graph_ = std::make_unique<ViewGraph>(scene_, options_, makeTerrain);  // checks the size and the terrain first
   context_ = OffscreenContext::create(options_.width, options_.height);
 
   viewer_ = new osgViewer::Viewer;
@@ -143,7 +146,7 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
     stats_.drawMs = millis(t.drawStart, t.drawEnd);
     stats_.readbackMs = millis(t.drawEnd, t.readEnd);
   }
-  const PagedTerrainStats terrain = graph_->terrainStats();  // either paging (view_graph.h)
+  const PagedTerrainStats terrain = graph_->terrainStats();  // whichever terrain draws (view_graph.h)
   stats_.terrain = terrain;
   stats_.terrainTiles = terrain.chunksDrawn;
   stats_.triangles += terrain.trianglesDrawn;

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,10 +36,20 @@
 
 namespace nestwalk {
 
-struct Frustum;          // nested_cull.h
-struct Scene;            // scene/scene.h
-struct SceneGraphParts;  // scene_graph.h
-class ViewGraph;         // view_graph.h
+struct Frustum;              // nested_cull.h
+struct Scene;                // scene/scene.h
+struct SceneGraphParts;      // scene_graph.h
+class ViewGraph;             // view_graph.h
+class TerrainNode;           // terrain_node.h
+struct PagedTerrainOptions;  // paged_terrain.h
+namespace terrain {
+class Heightfield;  // terrain/heightfield.h
+}
+
+/// Makes the terrain a view draws instead of its own quadtree, from the options the quadtree would
+/// have had (terrain_node.h: a peer measured beside ours).
+using TerrainNodeMaker = std::function<osg::ref_ptr<TerrainNode>(std::shared_ptr<const terrain::Heightfield>,
+                                                                 const PagedTerrainOptions&)>;
 
 
 class ViewRenderer {
@@ -47,6 +58,8 @@ class ViewRenderer {
   // viewer. Throws std::runtime_error when no context can be had, InputError (naming the file)
   // when the overlay's font cannot be loaded.
   explicit ViewRenderer(const Scene& scene, const RenderOptions& options = {});
+  // The same, drawing the terrain that `makeTerrain` makes (terrain_node.h).
+  ViewRenderer(const Scene& scene, const RenderOptions& options, const TerrainNodeMaker& makeTerrain);
   ~ViewRenderer();
   ViewRenderer(const ViewRenderer&) = delete;
   ViewRenderer& operator=(const ViewRenderer&) = delete;

@@ -2,6 +2,7 @@
 #include "tools/bench/render_bench.h"
 
 #include "tools/bench/bench_process.h"
+#include "tools/bench/peers/osg_paged_lod_terrain.h"
 #include "tools/bench/render_terrain_sweep.h"
 
 #include "nestwalk/core/statistics.h"
@@ -38,7 +39,7 @@ struct Config {
   double lodPixels;
   bool nestedCulling;
   int chunkCells = RenderOptions{}.terrainChunkCells;
-  TerrainPaging paging = TerrainPaging::OwnQuadtree;
+  bool osgPagedLod = false;  // the peer's terrain (peers/osg_paged_lod_terrain.h) instead of ours
   // Before each timed frame, render the pose until the terrain is the rule's full answer (the own
   // quadtree: once, it builds in the cull; PagedLOD: until the pager has loaded what the cull wants),
   // so the timed frame draws and loads nothing new. Also measures the time to the first complete
@@ -122,9 +123,9 @@ bool complete(const RenderFrameStats& s) { return s.terrain.chunksWanted == 0 &&
 
 /// From a renderer just made (background loading, as in the window), frames of one pose until one is
 /// complete: milliseconds and frames (-1 ms when it gave up).
-std::pair<double, int> firstCompleteFrame(const Scene& scene, RenderOptions ro, const ViewPose& pose) {
+std::pair<double, int> firstCompleteFrame(const Scene& scene, RenderOptions ro, bool osgPagedLod, const ViewPose& pose) {
   ro.terrainLoading = TerrainLoading::Background;
-  ViewRenderer renderer(scene, ro);
+  ViewRenderer renderer(scene, ro, osgPagedLod ? osgPagedLodMaker(nullptr) : TerrainNodeMaker());
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   for (int frames = 1;; ++frames) {
     const bool done = complete(renderer.render(pose));
@@ -143,17 +144,17 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   ro.lodMaxPixels = c.lodPixels;
   ro.nestedCulling = c.nestedCulling;
   ro.terrainChunkCells = c.chunkCells;
-  ro.terrainPaging = c.paging;
   // Every frame the error rule's full answer: the steady state, whatever the loader's timing (the
   // own quadtree's Complete loading; the PagedLOD tree is settled before each frame instead).
   ro.terrainLoading = TerrainLoading::Complete;
   std::pair<double, int> firstComplete{0.0, 0};
-  if (c.settle) firstComplete = firstCompleteFrame(scene, ro, poses.front());
+  if (c.settle) firstComplete = firstCompleteFrame(scene, ro, c.osgPagedLod, poses.front());
   // Settled rows: the process's peak resident memory while this configuration renders, over what it
   // held before (the scene; earlier renderers gone and their memory given back).
   const std::optional<double> residentBefore = c.settle ? restartPeakResident() : std::nullopt;
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
-  ViewRenderer renderer(scene, ro);
+  osg::ref_ptr<PagedLodTerrain> lod;  // the peer's terrain, when it draws
+  ViewRenderer renderer(scene, ro, c.osgPagedLod ? osgPagedLodMaker(&lod) : TerrainNodeMaker());
   const double setupMs = osg::Timer::instance()->delta_m(t0, osg::Timer::instance()->tick());
   doc["route"] = offscreenRouteName(renderer.route());
   doc["gl_renderer"] = renderer.glRenderer();
@@ -161,7 +162,6 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
   double maxErrorPx = 0, maxErrorM = 0;
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
-  const PagedLodTerrain* lod = renderer.graph().pagedLodTerrain();
   std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
     if (c.settle) {
@@ -188,7 +188,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
     if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
   }
   Json row = {{"config", c.name},
-          {"paging", terrainPagingName(c.paging)},
+          {"paging", c.osgPagedLod ? "osg-paged-lod" : "own-quadtree"},
           {"lod_max_px", c.lodPixels},
           {"nested_culling", c.nestedCulling},
           {"chunk_cells", c.chunkCells},
@@ -234,11 +234,11 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   std::vector<Config> configs = {{"LOD 1 px, nested culling", 1.0, true}, {"LOD 1 px, OSG sphere culling", 1.0, false}};
   if (!o.quick) {
     // The two ways of paging the terrain, each pose settled before its timed frame.
-    configs.push_back({"LOD 1 px, own quadtree, settled", 1.0, true, 64, TerrainPaging::OwnQuadtree, true});
-    configs.push_back({"LOD 1 px, osg::PagedLOD + DatabasePager", 1.0, true, 64, TerrainPaging::OsgPagedLod, true});
+    configs.push_back({"LOD 1 px, own quadtree, settled", 1.0, true, 64, false, true});
+    configs.push_back({"LOD 1 px, osg::PagedLOD + DatabasePager", 1.0, true, 64, true, true});
     // ... and with smaller chunks, where PagedLOD's whole-chunk refinement costs less.
-    configs.push_back({"LOD 1 px, own quadtree, 32 cells, settled", 1.0, true, 32, TerrainPaging::OwnQuadtree, true});
-    configs.push_back({"LOD 1 px, PagedLOD + pager, 32 cells", 1.0, true, 32, TerrainPaging::OsgPagedLod, true});
+    configs.push_back({"LOD 1 px, own quadtree, 32 cells, settled", 1.0, true, 32, false, true});
+    configs.push_back({"LOD 1 px, PagedLOD + pager, 32 cells", 1.0, true, 32, true, true});
     configs.push_back({"full resolution (no LOD), nested", 0.0, true});
     configs.push_back({"LOD 0.5 px, nested", 0.5, true});
     configs.push_back({"LOD 2 px, nested", 2.0, true});

@@ -7,7 +7,7 @@
 // against error), and the two ways of paging the terrain on the same poses, each pose
 // settled (rendered until the terrain is the error rule's full answer) before its timed frame: the
 // own quadtree (paged_terrain.h) and osg::PagedLOD with the viewer's DatabasePager
-// (paged_lod_terrain.h), each with the time from a new renderer to its first complete frame
+// (peers/osg_paged_lod_terrain.h, drawn through the renderer's terrain hook), each with the time from a new renderer to its first complete frame
 // (background loading). The view culling itself is compared on the same frames: instances kept and µs
 // per frame for the nested volumes and for OSG's spheres. Target: 30 frames per second.
 #pragma once

@@ -1,14 +1,13 @@
-// The osg::PagedLOD terrain (render/paged_lod_terrain.h), paged by a real osgDB::DatabasePager
+// The osg::PagedLOD terrain, the peer of `bench render` (tools/bench/peers/osg_paged_lod_terrain.h), paged by a real osgDB::DatabasePager
 // through OSG cull traversals (osgUtil::SceneView, no GL needed): the first frame draws the root and
 // asks for more; paging settles within a frame a level; then every drawn chunk shows at most a pixel
 // of projected vertical error (recomputed here by brute force over its fine samples), no drawn chunk
 // overlaps another, the view is covered, and the drawn error by PagedTerrain's block measure is
 // within the pixel too; chunks of holes are never drawn. At UTM magnitudes (the heightfield's origin
 // is at 500 km, 6900 km; the graph works in the mesh frame). And in the offscreen renderer
-// (RenderOptions::terrainPaging): the ID pass along the bundled flythroughs, each pose settled, shows
+// (through its terrain hook, render/terrain_node.h): the ID pass along the bundled flythroughs, each pose settled, shows
 // no sky below the terrain's silhouette (terrain_cracks_test.cpp's check: whole-chunk replacement
 // leaves no gap the skirts do not close) and the frames are complete.
-#include "nestwalk/render/paged_lod_terrain.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
@@ -22,6 +21,7 @@
 #include "nestwalk/walker/script_file.h"
 
 #include "tests/common/test_data.h"
+#include "tools/bench/peers/osg_paged_lod_terrain.h"
 
 #include <osg/FrameStamp>
 #include <osg/Polytope>
@@ -45,6 +45,7 @@
 namespace nestwalk {
 namespace {
 
+using bench::PagedLodTerrain;
 using terrain::ChunkKey;
 
 constexpr double kPixelsPerRadian = 623.5;
@@ -281,12 +282,13 @@ TEST(PagedLodTerrain, NoSkyBelowTheTerrainAlongTheBundledFlythroughsInTheRendere
   wo.viewer = scene.spec.viewer;
   RenderOptions ro;
   ro.idPass = true;
-  ro.terrainPaging = TerrainPaging::OsgPagedLod;
-  ViewRenderer renderer(scene, ro);
-  ASSERT_NE(renderer.graph().pagedLodTerrain(), nullptr);
+  osg::ref_ptr<PagedLodTerrain> made;
+  ViewRenderer renderer(scene, ro, bench::osgPagedLodMaker(&made));
+  ASSERT_NE(made, nullptr);
+  EXPECT_EQ(renderer.graph().madeTerrain(), made.get());
   EXPECT_EQ(renderer.graph().ownQuadtreeTerrain(), nullptr);
   EXPECT_THROW(renderer.graph().pagedTerrain(), std::logic_error);
-  const PagedLodTerrain& lod = *renderer.graph().pagedLodTerrain();
+  const PagedLodTerrain& lod = *made;
   std::size_t frames = 0, crackPixels = 0;
   for (const char* name : {"bench_patrol.txt", "ramp_descent.txt", "low_flight.txt", "equipment_walk.txt",
                            "equipment_fly.txt"}) {

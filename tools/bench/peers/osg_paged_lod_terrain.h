@@ -1,9 +1,9 @@
 // View-bounded terrain the OpenSceneGraph way: the terrain's chunk quadtree (terrain/terrain_chunk.h)
 // as a tree of osg::PagedLOD nodes paged by the viewer's osgDB::DatabasePager, next to the engine's
 // own quadtree (paged_terrain.h) so that the two can be measured side by side (both were tried,
-// and the quadtree kept: it draws fewer triangles at the same 1 px error). Only the offscreen
-// renderer builds it, on request (RenderOptions::terrainPaging, view_graph.h); the window and the
-// default runs use PagedTerrain.
+// and the quadtree kept: it draws fewer triangles at the same 1 px error). A peer: only `nestwalk
+// bench render` draws it, through the renderer's terrain hook (render/terrain_node.h,
+// osgPagedLodMaker below); the product always draws PagedTerrain.
 //
 // The tree: each non-empty chunk is a PagedLOD (ChunkLod below) with
 //   child 0: the chunk's whole mesh (one osg::Geometry: float positions relative to the chunk's
@@ -56,6 +56,8 @@
 #pragma once
 
 #include "nestwalk/render/paged_terrain.h"
+#include "nestwalk/render/terrain_node.h"
+#include "nestwalk/render/view_renderer.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
 
@@ -66,7 +68,7 @@
 #include <memory>
 #include <vector>
 
-namespace nestwalk {
+namespace nestwalk::bench {
 
 /// What the last cull drew (per frame) and what is resident (since the node was made).
 struct PagedLodTerrainStats {
@@ -85,7 +87,7 @@ struct PagedLodTerrainStats {
   double loadSeconds = 0;            // time spent building chunks since the node was made
 };
 
-class PagedLodTerrain : public osg::Group {
+class PagedLodTerrain : public TerrainNode {
  public:
   /// The shared state the pseudo-loader builds from (defined in the .cpp).
   class Source;
@@ -106,13 +108,13 @@ class PagedLodTerrain : public osg::Group {
 
   const PagedLodTerrainStats& lastStats() const { return stats_; }
   /// The last cull's figures in PagedTerrain's terms (standIns = chunksWanted), for the renderer.
-  PagedTerrainStats asPagedTerrainStats() const;
+  PagedTerrainStats frameStats() const override;
   const terrain::ChunkLayout& layout() const;
   std::size_t budgetBytes() const { return budget_; }
   /// The pager's target number of PagedLODs derived from the budget (see "Memory").
   unsigned maxPagedLods() const { return maxPagedLods_; }
   /// The screen changed: the ranges follow at the next cull.
-  void setPixelsPerRadian(double pixelsPerRadian);
+  void setPixelsPerRadian(double pixelsPerRadian) override;
   /// Waits until the pager that the last cull used has no request left to load (or compile), at most
   /// maxSeconds; true when it is idle (also when no cull has run yet or there is no pager). What it
   /// loaded is merged by the next frame's update traversal.
@@ -128,4 +130,8 @@ class PagedLodTerrain : public osg::Group {
   std::vector<terrain::ChunkKey> drawn_;
 };
 
-}  // namespace nestwalk
+/// A maker for ViewRenderer that draws a PagedLodTerrain and hands it to `made` (the caller's, to
+/// wait on its pager and read its own figures).
+TerrainNodeMaker osgPagedLodMaker(osg::ref_ptr<PagedLodTerrain>* made);
+
+}  // namespace nestwalk::bench

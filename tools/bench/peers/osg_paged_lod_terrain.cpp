@@ -1,5 +1,5 @@
 // View-bounded terrain through osg::PagedLOD and osgDB::DatabasePager (paged_lod_terrain.h).
-#include "nestwalk/render/paged_lod_terrain.h"
+#include "tools/bench/peers/osg_paged_lod_terrain.h"
 
 #include "nestwalk/render/chunk_node.h"
 
@@ -28,7 +28,7 @@
 #include <thread>
 #include <utility>
 
-namespace nestwalk {
+namespace nestwalk::bench {
 
 using terrain::ChunkKey;
 
@@ -362,7 +362,7 @@ void PagedLodTerrain::traverse(osg::NodeVisitor& nv) {
   drawn_ = s.drawn;
 }
 
-PagedTerrainStats PagedLodTerrain::asPagedTerrainStats() const {
+PagedTerrainStats PagedLodTerrain::frameStats() const {
   PagedTerrainStats p;
   p.chunksDrawn = stats_.chunksDrawn;
   p.trianglesDrawn = stats_.trianglesDrawn;
@@ -396,4 +396,12 @@ bool PagedLodTerrain::waitUntilIdle(double maxSeconds) const {
   }
 }
 
-}  // namespace nestwalk
+TerrainNodeMaker osgPagedLodMaker(osg::ref_ptr<PagedLodTerrain>* made) {
+  return [made](std::shared_ptr<const terrain::Heightfield> heightfield, const PagedTerrainOptions& options) {
+    osg::ref_ptr<PagedLodTerrain> terrain = new PagedLodTerrain(std::move(heightfield), options);
+    if (made) *made = terrain;
+    return osg::ref_ptr<TerrainNode>(terrain.get());
+  };
+}
+
+}  // namespace nestwalk::bench
