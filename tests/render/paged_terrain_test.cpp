@@ -31,15 +31,8 @@ constexpr double kPixelsPerRadian = 623.5;
 using test::hills;
 using test::terraces;
 
-struct View {
-  osg::Matrixd view, projection;
-  osg::Vec3d eye;
-};
-
-View viewFrom(const osg::Vec3d& eye, const osg::Vec3d& at) {
-  return {osg::Matrixd::lookAt(eye, at, osg::Vec3d(0, 0, 1)), osg::Matrixd::perspective(60.0, 16.0 / 9.0, 0.5, 5000.0),
-          eye};
-}
+using test::View;
+using test::viewFrom;
 
 void cullOnce(osg::Node* root, const View& v) {
   osg::ref_ptr<osgUtil::SceneView> sv = new osgUtil::SceneView;

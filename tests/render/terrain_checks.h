@@ -1,5 +1,6 @@
 // Independent checks shared by the terrain rendering tests: the brute-force projected error of a
-// chunk over a fine sample range, and the sky pixels of an ID frame below the terrain's silhouette.
+// chunk over a fine sample range, and the sky pixels of an ID frame below the terrain's silhouette;
+// and the views the cull tests look from.
 #pragma once
 
 #include "nestwalk/render/paged_terrain.h"
@@ -9,6 +10,7 @@
 #include "nestwalk/terrain/terrain_chunk.h"
 
 #include <osg/Image>
+#include <osg/Matrixd>
 #include <osg/Vec3d>
 
 #include <algorithm>
@@ -17,6 +19,17 @@
 #include <optional>
 
 namespace nestwalk::test {
+
+/// A camera for a cull traversal: view and projection matrices (60 degrees, 16:9) and the eye.
+struct View {
+  osg::Matrixd view, projection;
+  osg::Vec3d eye;
+};
+
+inline View viewFrom(const osg::Vec3d& eye, const osg::Vec3d& at) {
+  return {osg::Matrixd::lookAt(eye, at, osg::Vec3d(0, 0, 1)), osg::Matrixd::perspective(60.0, 16.0 / 9.0, 0.5, 5000.0),
+          eye};
+}
 
 /// The largest projected error of a chunk's grid surface over fine columns [c0, c1] and rows
 /// [r0, r1], by brute force: at every fine sample, |fine - coarse| * pixelsPerRadian / distance from

@@ -58,15 +58,8 @@ constexpr double kPixelSlack = 1e-6;
 
 using test::hills;
 
-struct View {
-  osg::Matrixd view, projection;
-  osg::Vec3d eye;
-};
-
-View viewFrom(const osg::Vec3d& eye, const osg::Vec3d& at) {
-  return {osg::Matrixd::lookAt(eye, at, osg::Vec3d(0, 0, 1)), osg::Matrixd::perspective(60.0, 16.0 / 9.0, 0.5, 5000.0),
-          eye};
-}
+using test::View;
+using test::viewFrom;
 
 /// A scene view whose cull visitor asks a DatabasePager of its own for files, as osgViewer's does;
 /// frame() merges what the pager has loaded (the update traversal's part), then culls.
