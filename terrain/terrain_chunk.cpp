@@ -1,5 +1,22 @@
 // Terrain chunks: the quadtree layout, a chunk's mesh with its exact error, skirts and baked
 // shading (terrain_chunk.h).
+//
+// Why the maximum of |fine - coarse| over a chunk of square coarse cells is attained at fine samples:
+// level k keeps the samples (i s, j s), s = 2^k, and splits every coarse cell along its north-west
+// to south-east diagonal, the same direction as the fine rule. Every coarse edge therefore runs
+// along fine edges: horizontal and vertical coarse edges lie on fine grid lines, and the coarse
+// diagonal from (c, r) to (c+s, r+s) is the chain of fine diagonals through the fine samples
+// (c+i, r+i), each of which is a fine cell's own diagonal since the directions agree. So the fine
+// triangulation refines the coarse one: every fine triangle lies inside one coarse triangle. On a
+// fine triangle both surfaces are linear, so their difference is linear there and |difference|
+// reaches its maximum over the (closed) fine triangle at one of its three vertices, which are fine
+// samples. The surfaces' common domain is the union of such fine triangles, plus fine edges and
+// isolated valid samples (heightfield.h counts valid edges and samples as ground), on which the
+// same argument holds with segments and points. Hence the maximum equals the maximum over the valid
+// fine samples that lie in an existing coarse triangle (closed), evaluated exactly in double from
+// the float heights. (A coarse cell that is not square, in the last column or row, has a diagonal
+// that cuts through fine cells, so the maximum can fall inside a fine triangle there: cellError
+// below also evaluates that diagonal's crossings with the fine edges.)
 #include "nestwalk/terrain/terrain_chunk.h"
 
 #include "nestwalk/terrain/hillshade.h"
@@ -80,7 +97,7 @@ std::size_t ChunkMesh::bytes() const {
 namespace {
 
 /// Green valleys, brown slopes, white tops: the height ramp of the terrain's colours where no
-/// imagery is draped (terrain_mesh.cpp's ramp), RGB in [0, 1].
+/// imagery is draped, RGB in [0, 1].
 Eigen::Vector3d heightColour(double h, double lo, double hi) {
   const double f = std::clamp((h - lo) / (hi > lo ? hi - lo : 1.0), 0.0, 1.0);
   const Eigen::Vector3d green(0.25, 0.45, 0.2), brown(0.5, 0.4, 0.3), white(0.95, 0.95, 0.95);
@@ -573,6 +590,49 @@ std::optional<double> chunkHeightAt(const Heightfield& hf, const ChunkLayout& la
       if (v >= u && g.lower(i, j)) return ha + v * (hd - ha) + u * (hc - hd);
     }
   return std::nullopt;
+}
+
+std::optional<double> levelHeightAt(const Heightfield& hf, int level, double x, double y) {
+  const int lastC = hf.cols() - 1, lastR = hf.rows() - 1;
+  const double fc = x / hf.dx(), fr = -y / hf.dy();
+  if (!(fc >= 0 && fc <= lastC && fr >= 0 && fr <= lastR)) return std::nullopt;
+  const int s = 1 << level;
+  const int cellsX = (lastC - 1) / s + 1, cellsY = (lastR - 1) / s + 1;  // the last one may be narrower
+  const int i0 = std::min(int(fc / s), cellsX - 1), j0 = std::min(int(fr / s), cellsY - 1);
+  // The closed union: a point on a cell's west or north border also belongs to the neighbour there.
+  for (int j = j0; j >= std::max(j0 - 1, 0); --j)
+    for (int i = i0; i >= std::max(i0 - 1, 0); --i) {
+      const int ca = i * s, cb = std::min(ca + s, lastC), ra = j * s, rb = std::min(ra + s, lastR);
+      const double u = (fc - ca) / (cb - ca), v = (fr - ra) / (rb - ra);
+      if (u < 0 || u > 1 || v < 0 || v > 1) continue;
+      const bool a = hf.valid(ca, ra), b = hf.valid(cb, ra), c = hf.valid(cb, rb), d = hf.valid(ca, rb);
+      const double ha = hf.sample(ca, ra), hb = hf.sample(cb, ra), hc = hf.sample(cb, rb), hd = hf.sample(ca, rb);
+      if (u >= v && a && b && c) return ha + u * (hb - ha) + v * (hc - hb);
+      if (v >= u && a && c && d) return ha + v * (hd - ha) + u * (hc - hd);
+    }
+  return std::nullopt;
+}
+
+std::vector<ChunkLevelStats> chunkLevelTable(const Heightfield& hf, const ChunkLayout& layout) {
+  std::vector<ChunkLevelStats> table(std::size_t(layout.levels()));
+  ChunkShading plain;
+  plain.shade = false;
+  for (int level = 0; level < layout.levels(); ++level) {
+    ChunkLevelStats& row = table[std::size_t(level)];
+    row.level = level;
+    row.step = 1 << level;
+    for (int y = 0; y < layout.chunksY(level); ++y)
+      for (int x = 0; x < layout.chunksX(level); ++x) {
+        const ChunkKey key{level, x, y};
+        if (!layout.exists(key)) continue;
+        const ChunkMesh mesh = buildChunk(hf, layout, key, plain);
+        if (mesh.surfaceTriangles == 0) continue;
+        ++row.chunks;
+        row.triangles += mesh.surfaceTriangles;
+        row.maxError = std::max(row.maxError, mesh.maxError);
+      }
+  }
+  return table;
 }
 
 }  // namespace nestwalk::terrain

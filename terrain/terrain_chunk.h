@@ -13,8 +13,8 @@
 // diagonal like the fine ones, and a coarse triangle exists only when its three samples are valid.
 //
 // Error: maxError is max |fine(p) - coarse(p)| over every point p where both surfaces exist,
-// exact: square coarse cells follow fine edges, so the maximum lies at fine samples (the argument of
-// terrain_mesh.cpp); the last column's and row's narrower cells have a diagonal that crosses fine
+// exact: square coarse cells follow fine edges, so the maximum lies at fine samples (the argument
+// is at the top of terrain_chunk.cpp); the last column's and row's narrower cells have a diagonal that crosses fine
 // cells, and there the crossings of that diagonal with the fine edges are evaluated as well (the
 // difference is linear on every piece of the two triangulations' common refinement).
 //
@@ -67,9 +67,10 @@
 // colours, one texel per kept sample, form the chunk's texture: a simplified surface's large
 // triangles still show the imagery and the hillshade at the level's resolution.
 //
-// Frames: the mesh frame of terrain_mesh.h (x = col * dx, y = -row * dy, z = height; metres from
-// sample (0, 0) for a projected CRS). A chunk's vertices are stored relative to its `offset` (its
-// first sample's x and y, z 0) as floats, so they stay small whatever the DEM's size.
+// Frames: the terrain's mesh frame, x = col * dx, y = -row * dy, z = height: metres from sample
+// (0, 0) for a projected CRS (the drawing side places it on the map). A chunk's vertices are stored
+// relative to its `offset` (its first sample's x and y, z 0) as floats, so they stay small whatever
+// the DEM's size.
 //
 // Ownership: a ChunkMesh owns its arrays. Thread safety: ChunkLayout is immutable; buildChunk only
 // reads the heightfield and may run on several threads at once (the colour reader is called on the
@@ -241,5 +242,25 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
 /// (nullopt outside them). For tests and measurements; O(1).
 std::optional<double> chunkHeightAt(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, double x,
                                     double y);
+
+/// The grid surface of a whole level at mesh-frame (x, y): every chunk of the level together (the
+/// level's kept samples are the same in every chunk layout: multiples of 2^level and the grid's
+/// last column and row), the closed union of its existing triangles; nullopt outside them. O(1),
+/// no allocation: what following the ground on that level would cost.
+std::optional<double> levelHeightAt(const Heightfield& hf, int level, double x, double y);
+
+/// A row of the chunk levels' table: over every chunk of one level, its grid surface (before any
+/// simplification).
+struct ChunkLevelStats {
+  int level = 0;
+  int step = 1;                 // 2^level samples
+  std::size_t chunks = 0;       // chunks with at least one triangle
+  std::size_t triangles = 0;    // their grids' surface triangles
+  double maxError = 0;          // the largest of their exact errors, metres
+};
+
+/// Every level's row, each chunk of the layout built once (no shading, no simplification): about
+/// levels x samples of work, for reports and benchmarks.
+std::vector<ChunkLevelStats> chunkLevelTable(const Heightfield& hf, const ChunkLayout& layout);
 
 }  // namespace nestwalk::terrain

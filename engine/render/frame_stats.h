@@ -46,7 +46,7 @@ struct RenderFrameStats {
   double readbackMs = 0;   // glReadPixels into the image
   double totalMs = 0;      // the whole frame
   std::uint64_t triangles = 0;    // triangles drawn (OSG's scene statistics)
-  std::uint64_t terrainTiles = 0; // terrain chunks drawn
+  std::uint64_t terrainChunks = 0;  // terrain chunks drawn
   double terrainErrorM = 0;       // largest vertical error (m) of the terrain chunks drawn
   double terrainErrorPx = 0;      // largest projected vertical error of a drawn chunk, pixels
   PagedTerrainStats terrain;      // the paged terrain's own figures for this frame (paged_terrain.h)

@@ -9,7 +9,7 @@
 // is asked for). A drawn quadrant therefore shows at most maxPixels of vertical error, except where
 // it stands in for a child still loading (Background) or that the budget cannot hold. Rule: the
 // largest over the quadrant's blocks of error * pixelsPerRadian / distance, distance from the eye
-// to the block's surface box (at least kMinEyeDistanceM): terrain_mesh.h's LodRule, block by block.
+// to the block's surface box (at least kMinEyeDistanceM): terrain/lod_rule.h's LodRule, block by block.
 // Chunks are simplified within their exact error (simplifyFraction, terrain_chunk.h); at level 0 a
 // quadrant whose simplified surface would show more than maxPixels draws its exact grid instead.
 //
@@ -25,7 +25,7 @@
 // use go, oldest first, leaves of the resident tree before their parents, until the cache fits. A
 // budget smaller than the view needs keeps the view coarser; it never breaks it (the root stays).
 //
-// Frames: the node's children are in the mesh frame of terrain_mesh.h (metres from the heightfield's
+// Frames: the node's children are in the mesh frame of terrain_chunk.h (metres from the heightfield's
 // sample (0, 0)); the caller places it with a transform (view_graph.cpp).
 //
 // Ownership and threads: the node shares the heightfield (shared_ptr, read from both threads: it is

@@ -2,7 +2,6 @@
 #include "nestwalk/render/scene_graph.h"
 
 #include "nestwalk/render/model_nodes.h"
-#include "nestwalk/render/terrain_tile_nodes.h"
 
 #include <osg/Geode>
 #include <osg/Geometry>
@@ -80,22 +79,14 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
   root->addChild(localToMap);
 
   if (options.terrain && scene.terrain) {
-    // TerrainMesh vertices are (col * dx, -row * dy, h): metres from sample (0, 0) with map heights.
+    // Chunk vertices are (col * dx, -row * dy, h): metres from sample (0, 0) with map heights.
     const terrain::Heightfield& hf = *scene.terrain;
     const Eigen::Vector2d sample0 = hf.origin();
     osg::ref_ptr<osg::MatrixTransform> tiles = new osg::MatrixTransform(
         osg::Matrixd::translate(sample0.x() - scene.origin.x(), sample0.y() - scene.origin.y(), -scene.origin.z()));
     tiles->setName("terrain");
-    terrain::TerrainMeshOptions meshOptions;
-    meshOptions.tileCells = options.terrainTileCells;
-    auto mesh = std::make_shared<const terrain::TerrainMesh>(hf, meshOptions);
-    for (const auto& tile : mesh->tiles()) {
-      osg::ref_ptr<osg::LOD> lod = terrainTileLod(*mesh, tile, options.terrainLod);
-      if (lod) tiles->addChild(lod);
-      out.terrainTiles.push_back(lod);
-    }
+    tiles->addChild(buildTerrainCut(hf, options.terrainCut, &out.terrainCut));
     localToMap->addChild(tiles);
-    out.terrainMesh = std::move(mesh);
     out.terrain = tiles;
   }
 

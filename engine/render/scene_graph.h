@@ -1,5 +1,5 @@
 // The OpenSceneGraph graph of a loaded scene, for drawing (the renderer, `nestwalk export`): the
-// terrain's LOD tiles and the equipment's instances over the models' nodes (one node per model,
+// terrain as a static cut of its chunk quadtree (terrain_cut.h) and the equipment's instances over the models' nodes (one node per model,
 // model_nodes.h, shared by its instances), optionally the volumes as wireframes. The walker never
 // touches it.
 //
@@ -11,10 +11,9 @@
 #pragma once
 
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/terrain/terrain_mesh.h"
+#include "nestwalk/render/terrain_cut.h"
 
 #include <osg/Group>
-#include <osg/LOD>
 #include <osg/MatrixTransform>
 #include <osg/ref_ptr>
 
@@ -27,14 +26,12 @@ struct SceneGraphOptions {
   bool terrain = true;
   bool equipment = true;
   bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
-  int terrainTileCells = 128;
-  terrain::LodRule terrainLod;  // the LOD switch rule (screen size, field of view, pixels of error)
+  TerrainCutOptions terrainCut;  // the terrain's error and chunk size (its colours: by height, shaded)
 };
 
 // What the renderer needs to find again in a built graph (buildSceneGraph's optional output).
 struct SceneGraphParts {
-  std::shared_ptr<const terrain::TerrainMesh> terrainMesh;  // null without terrain
-  std::vector<osg::ref_ptr<osg::LOD>> terrainTiles;         // tile i of terrainMesh->tiles() (null: no LOD)
+  TerrainCutStats terrainCut;                               // the cut drawn (empty without terrain)
   osg::ref_ptr<osg::MatrixTransform> terrain;               // mesh frame -> local frame
   osg::ref_ptr<osg::Group> equipment;                       // child i: instance i
   std::vector<osg::ref_ptr<osg::Node>> modelNodes;          // node k: model k (buildModelNodes)
@@ -43,13 +40,14 @@ struct SceneGraphParts {
 
 // The OpenSceneGraph graph: root Group -> MatrixTransform "local_to_map" (translation by the origin,
 // double) over
-//  - "terrain": a MatrixTransform moving the TerrainMesh frame (metres from sample (0, 0)) to the
-//    local frame, over one LOD per tile (terrainTileLod, terrain_tile_nodes.h);
+//  - "terrain": a MatrixTransform moving the mesh frame (metres from sample (0, 0)) to the local
+//    frame, over the terrain's cut (buildTerrainCut, terrain_cut.h: one node per drawn chunk);
 //  - "equipment": one MatrixTransform per instance (toLocal as a double matrix), named after the
 //    instance, over its model's node (the same node pointer for every instance of a model);
 //  - "volumes" (options.volumes): the units' outer AABBs (yellow) and inner OBBs (cyan) as lines,
 //    lighting off, local frame.
-// For drawing and `nestwalk export`; the walker never touches it. terrainTileCells: a power of two.
+// For drawing and `nestwalk export`; the walker never touches it. Throws std::invalid_argument for
+// bad terrain cut options (terrain_cut.h).
 osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOptions& options = {},
                                          SceneGraphParts* parts = nullptr);
 

@@ -2,7 +2,7 @@
 // which a peer is measured beside ours in the same renderer (tools/bench/peers/
 // osg_paged_lod_terrain.h: OpenSceneGraph's osg::PagedLOD and DatabasePager). The engine itself
 // always draws PagedTerrain.
-// Frames: the node's children are in the terrain's mesh frame (terrain_mesh.h: metres from the
+// Frames: the node's children are in the terrain's mesh frame (terrain_chunk.h: metres from the
 // heightfield's sample (0, 0)); the view graph places it as it places its own.
 // Ownership: reference counted like every OSG node; the view graph holds one reference.
 // Thread safety: as any OSG node (cull and update on the viewer's thread).

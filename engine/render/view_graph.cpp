@@ -4,6 +4,7 @@
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/ui_font.h"
+#include "nestwalk/terrain/lod_rule.h"
 #include "nestwalk/terrain/terrain_imagery.h"
 
 #include <osg/Depth>
@@ -110,10 +111,11 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
   SceneGraphOptions graph;
   graph.terrain = false;  // drawn by the paged terrain below
   graph.volumes = options_.volumes && !options_.idPass;
-  graph.terrainLod.fovYDegrees = options_.fovYDegrees;
-  graph.terrainLod.screenHeightPx = options_.height;
-  graph.terrainLod.maxPixels = options_.lodMaxPixels;
-  pixelsPerRadian_ = graph.terrainLod.pixelsPerRadian();
+  terrain::LodRule rule;
+  rule.fovYDegrees = options_.fovYDegrees;
+  rule.screenHeightPx = options_.height;
+  rule.maxPixels = options_.lodMaxPixels;
+  pixelsPerRadian_ = rule.pixelsPerRadian();
   root_ = new osg::Group;
   root_->addChild(buildSceneGraph(scene_, graph, &parts_));
 

@@ -98,7 +98,7 @@ class ViewGraph {
   const osg::Matrixd& localToMap() const { return localToMap_; }
   const NestedFrustumCuller* culler() const { return culler_.get(); }
   // parts().terrain is the paged terrain's transform (mesh frame -> map); the scene graph's own
-  // static terrain tiles are not built (terrainMesh and terrainTiles stay empty).
+  // static terrain cut is not built (terrainCut stays empty).
   const SceneGraphParts& parts() const { return parts_; }
   // The own quadtree; throws std::logic_error when the terrain is a made one.
   PagedTerrain& pagedTerrain() const;

@@ -148,7 +148,7 @@ const RenderFrameStats& ViewRenderer::render(const ViewPose& pose) {
   }
   const PagedTerrainStats terrain = graph_->terrainStats();  // whichever terrain draws (view_graph.h)
   stats_.terrain = terrain;
-  stats_.terrainTiles = terrain.chunksDrawn;
+  stats_.terrainChunks = terrain.chunksDrawn;
   stats_.triangles += terrain.trianglesDrawn;
   stats_.terrainErrorM = terrain.maxErrorM;
   stats_.terrainErrorPx = terrain.maxErrorPx;

@@ -16,8 +16,8 @@
 //    the BV tests (hierarchy nodes, the three nested stages, the mesh trees' nodes) and triangle
 //    tests per frame; and, after every step blocked by equipment, the stop gap: the exact distance
 //    from the body box to the nearest unit's triangles (MeshWorld::distance).
-// Terrain (terrain_lod_table.h): the scene's terrain cut into TerrainMesh tiles of 128 cells
-// (as the renderer does); random map points, per level the height of the level's surface against
+// Terrain (terrain_lod_table.h): the scene's terrain as the renderer's chunk quadtree (chunks of
+// 64 cells); random map points, per level the height of the level's grid surface against
 // Heightfield::groundHeight (the full-resolution surface), and ns per query.
 // Fitters (fitter_table.h, the one file compiled with CGAL): per model of the scene, the
 // volume of the covariance and hull-search boxes fitted to all of the model's vertices, against

@@ -112,11 +112,11 @@ Table blockingTable(const ReportData& d) {
 }
 
 Table lodTable(const ReportData& d) {
-  Table t{{"level", "step", "tiles", "max error m (table)", "measured max m", "measured mean m", "points",
+  Table t{{"level", "step", "chunks", "max error m (table)", "measured max m", "measured mean m", "points",
            "ns/query"}};
   for (const TerrainLodRow& r : d.lod)
     t.push_back({r.level < 0 ? "full resolution (Heightfield::groundHeight)" : r.name, std::to_string(r.step),
-                 r.level < 0 ? "-" : count(r.tiles), r.level < 0 ? "0" : shortText(r.tableMaxError), shortText(r.maxError),
+                 r.level < 0 ? "-" : count(r.chunks), r.level < 0 ? "0" : shortText(r.tableMaxError), shortText(r.maxError),
                  shortText(r.meanError), count(r.points), fixedText(r.nsPerQuery, 1)});
   return t;
 }
@@ -237,7 +237,9 @@ std::string reportMarkdown(const ReportData& d) {
     << "![time against stop gap](pareto.png)\n\n![µs per frame per method](methods.png)\n\n";
 
   s << "## Ground following: terrain levels of detail\n\n"
-    << "The terrain cut into tiles of 128 cells as the renderer does (terrain/terrain_mesh.h); at " << d.terrainPoints
+    << "The terrain's chunk quadtree in chunks of " << kReportChunkCells
+    << " cells as the renderer cuts them (terrain/terrain_chunk.h; each level's grid, before the renderer "
+       "simplifies it within a fraction of that grid's error); at " << d.terrainPoints
     << " random map points (those with ground) the height of each level's surface against the full-resolution "
        "surface (Heightfield::groundHeight). The table's maximum error is the level's exact error; ns per query "
        "is the least over the timed loops.\n\n"
@@ -303,7 +305,7 @@ Json reportJson(const ReportData& d) {
   j["methods"] = methods;
   Json lod = Json::array();
   for (const TerrainLodRow& r : d.lod)
-    lod.push_back({{"name", r.name}, {"level", r.level}, {"step", r.step}, {"tiles", r.tiles},
+    lod.push_back({{"name", r.name}, {"level", r.level}, {"step", r.step}, {"chunks", r.chunks},
                    {"table_max_error_m", r.tableMaxError}, {"points", r.points}, {"max_error_m", r.maxError},
                    {"mean_error_m", r.meanError}, {"ns_per_query", jsonNumber(r.nsPerQuery)}});
   j["terrain_lod"] = {{"points", d.terrainPoints}, {"levels", lod}};

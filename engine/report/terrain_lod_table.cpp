@@ -1,12 +1,10 @@
-// The ground-following part of the methods report (method_report.h): the height of every level of
-// the terrain mesh (terrain/terrain_mesh.h, tiles of 128 cells as the renderer cuts them) against
-// the full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
+// The ground-following part of the methods report (see terrain_lod_table.h).
 #include "nestwalk/report/terrain_lod_table.h"
 
 #include "nestwalk/core/random.h"
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/terrain/heightfield.h"
-#include "nestwalk/terrain/terrain_mesh.h"
+#include "nestwalk/terrain/terrain_chunk.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,13 +13,11 @@
 namespace nestwalk {
 namespace {
 
-constexpr int kTileCells = 128;  // SceneGraphOptions::terrainTileCells' default
 constexpr std::uint64_t kSeed = 0x7e11a1d;
 
-/// A query point: map (x, y), and its tile of the mesh.
+/// A query point in the mesh frame (metres from sample (0, 0)).
 struct LodPoint {
   double x, y;
-  const terrain::TerrainTile* tile;
 };
 
 /// ns per call of `query` over `points` (the least over `repetitions` loops).
@@ -38,7 +34,7 @@ double nsPerQuery(const std::vector<LodPoint>& points, int repetitions, const Qu
 }  // namespace
 
 std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std::size_t count, int repetitions) {
-  const terrain::TerrainMesh mesh(hf, terrain::TerrainMeshOptions{kTileCells, 0});
+  const terrain::ChunkLayout layout(hf.cols(), hf.rows(), kReportChunkCells);
   const Eigen::Vector2d origin = hf.origin();
   const double width = (hf.cols() - 1) * hf.dx(), height = (hf.rows() - 1) * hf.dy();
 
@@ -48,12 +44,10 @@ std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std
   std::vector<double> reference;
   points.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const double lx = rng.uniform(0, width), ly = -rng.uniform(0, height);  // local frame: rows go south
-    const std::optional<double> h = hf.groundHeight(origin.x() + lx, origin.y() + ly);
+    const double x = rng.uniform(0, width), y = -rng.uniform(0, height);  // mesh frame: rows go south
+    const std::optional<double> h = hf.groundHeight(origin.x() + x, origin.y() + y);
     if (!h) continue;
-    const int tx = std::min(int(lx / hf.dx()) / kTileCells, mesh.tilesX() - 1);
-    const int ty = std::min(int(-ly / hf.dy()) / kTileCells, mesh.tilesY() - 1);
-    points.push_back({lx, ly, &mesh.tile(tx, ty)});
+    points.push_back({x, y});
     reference.push_back(*h);
   }
 
@@ -66,19 +60,16 @@ std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std
   });
   rows.push_back(full);
 
-  for (const terrain::TerrainLevelStats& stats : mesh.levelTable()) {
+  for (const terrain::ChunkLevelStats& stats : terrain::chunkLevelTable(hf, layout)) {
     TerrainLodRow row;
     row.name = "L" + std::to_string(stats.level);
     row.level = stats.level;
     row.step = stats.step;
-    row.tiles = stats.tiles;
+    row.chunks = stats.chunks;
     row.tableMaxError = stats.maxError;
-    std::vector<LodPoint> inLevel;  // the points whose tile has this level
     double sum = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
-      if (points[i].tile->levels <= stats.level) continue;
-      inLevel.push_back(points[i]);
-      const std::optional<double> h = mesh.heightAt(*points[i].tile, stats.level, points[i].x, points[i].y);
+      const std::optional<double> h = terrain::levelHeightAt(hf, stats.level, points[i].x, points[i].y);
       if (!h) continue;  // a hole of the coarse level: coverage, not height
       const double e = std::abs(*h - reference[i]);
       row.maxError = std::max(row.maxError, e);
@@ -86,8 +77,8 @@ std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std
       ++row.points;
     }
     row.meanError = row.points ? sum / double(row.points) : 0.0;
-    row.nsPerQuery = nsPerQuery(inLevel, repetitions, [&](const LodPoint& p) {
-      return mesh.heightAt(*p.tile, stats.level, p.x, p.y).value_or(0.0);
+    row.nsPerQuery = nsPerQuery(points, repetitions, [&](const LodPoint& p) {
+      return terrain::levelHeightAt(hf, stats.level, p.x, p.y).value_or(0.0);
     });
     rows.push_back(row);
   }

@@ -1,7 +1,8 @@
 // The ground-following part of the methods report (method_report.h): the height of every level of
-// the terrain mesh (terrain/terrain_mesh.h, tiles of 128 cells as the renderer cuts them) against
-// the full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
-// Thread safety: keeps no state; the heightfield is only read (the meshes measured are built by the
+// the terrain's chunk quadtree (terrain/terrain_chunk.h, chunks of kReportChunkCells cells as the
+// renderer cuts them; each level's grid surface, before the renderer's simplification) against the
+// full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
+// Thread safety: keeps no state; the heightfield is only read (the chunks measured are built by the
 // call).
 #pragma once
 
@@ -14,13 +15,16 @@ namespace terrain {
 class Heightfield;
 }
 
-/// One row of the terrain table: a level of the terrain mesh (or the heightfield itself).
+/// The renderer's default chunk size (RenderOptions::terrainChunkCells), which the report measures.
+inline constexpr int kReportChunkCells = 64;
+
+/// One row of the terrain table: a level of the chunk quadtree (or the heightfield itself).
 struct TerrainLodRow {
   std::string name;           // "full" (Heightfield::groundHeight) or "L0", "L1", ...
   int level = -1;             // -1 for the heightfield
   int step = 1;               // samples per coarse cell side (2^level)
-  std::size_t tiles = 0;      // tiles that have the level
-  double tableMaxError = 0;   // TerrainMesh::levelTable()'s exact maximum error, metres
+  std::size_t chunks = 0;     // chunks of the level with triangles
+  double tableMaxError = 0;   // the level's exact maximum error (terrain::chunkLevelTable), metres
   std::size_t points = 0;     // sample points where both surfaces exist
   double maxError = 0, meanError = 0;  // measured |level - full resolution|, metres
   double nsPerQuery = 0;      // the least over the timing repetitions

@@ -24,7 +24,7 @@ using test::weatherStation;
 using Json = nlohmann::json;
 
 
-/// Every Geometry under a node with its local-to-world matrix (all LOD children, all paths).
+/// Every Geometry under a node with its local-to-world matrix (all paths).
 class GeometryFinder : public osg::NodeVisitor {
  public:
   GeometryFinder() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
@@ -68,7 +68,8 @@ TEST_P(SceneGraph, SharedNodeAndTerrainCoincideInTheGraph) {
   EXPECT_EQ(s.models[1].mesh.triangles.size(), 12u);
   SceneGraphOptions go;
   go.volumes = true;
-  go.terrainTileCells = 16;  // 64 cells: 4 x 4 tiles
+  go.terrainCut.chunkCells = 16;  // 64 cells: 4 x 4 chunks at level 0
+  go.terrainCut.maxErrorM = 0;    // a plane: every level is exact, so the cut is the coarsest
   SceneGraphParts parts;
   const osg::ref_ptr<osg::Group> root = buildSceneGraph(s, go, &parts);
   TransformFinder transforms;
@@ -102,16 +103,20 @@ TEST_P(SceneGraph, SharedNodeAndTerrainCoincideInTheGraph) {
     }
   }
 
-  // Terrain: every vertex of every tile level, through the graph, is a sample of the plane at its
-  // map position (the mesh's frame is metres from sample (0, 0); the graph must place it).
+  // Terrain: every vertex of the cut, through the graph, is a sample of the plane at its map
+  // position (the mesh's frame is metres from sample (0, 0); the graph must place it), or a skirt's
+  // bottom below it; and the triangles' areas seen from above add up to the grid's (skirts are
+  // vertical): the cut covers the terrain once.
   osg::Group* localToMap = root->getChild(0)->asGroup();
   ASSERT_NE(localToMap, nullptr);
   osg::Node* terrainNode = childNamed(*localToMap, "terrain");
   ASSERT_NE(terrainNode, nullptr);
   GeometryFinder geometries;
   terrainNode->accept(geometries);
-  EXPECT_GE(geometries.found.size(), 16u);
+  EXPECT_GE(geometries.found.size(), 1u);
+  EXPECT_EQ(parts.terrainCut.maxErrorM, 0.0);
   std::size_t checked = 0;
+  double area = 0;
   for (const auto& [g, m] : geometries.found) {
     // accept() started at the terrain node (its matrix is in m): then the path above it (OSG
     // multiplies row vectors, so the parent's matrix comes last).
@@ -120,15 +125,27 @@ TEST_P(SceneGraph, SharedNodeAndTerrainCoincideInTheGraph) {
     ASSERT_NE(v, nullptr);
     for (const osg::Vec3& p : *v) {
       const osg::Vec3d w = osg::Vec3d(p) * world;
-      // On the sample grid to float rounding of the tile vertices (< 1e-5 m over 64 m).
+      // On the sample grid to float rounding of the chunk vertices (< 1e-5 m over 64 m).
       const double c = (w.x() - terrain_.sampleX(0)) / terrain_.cell, r = (terrain_.sampleY(0) - w.y()) / terrain_.cell;
       ASSERT_NEAR(c, std::round(c), 1e-5);
       ASSERT_NEAR(r, std::round(r), 1e-5);
-      ASSERT_NEAR(w.z(), terrain_.height(w.x(), w.y()), 1e-4);
+      const double plane = terrain_.height(w.x(), w.y());
+      if (w.z() < plane - 1e-4) continue;  // a skirt's bottom
+      ASSERT_NEAR(w.z(), plane, 1e-4);
       ++checked;
     }
+    for (unsigned s = 0; s < g->getNumPrimitiveSets(); ++s) {
+      const osg::PrimitiveSet* set = g->getPrimitiveSet(s);
+      ASSERT_EQ(set->getMode(), GLenum(GL_TRIANGLES));
+      for (unsigned t = 0; t + 2 < set->getNumIndices(); t += 3) {
+        const osg::Vec3d a = (*v)[set->index(t)], b = (*v)[set->index(t + 1)], c = (*v)[set->index(t + 2)];
+        area += 0.5 * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y()));
+      }
+    }
   }
-  EXPECT_GE(checked, std::size_t(terrain_.cols * terrain_.rows));
+  EXPECT_GE(checked, 4u);
+  const double gridArea = double(terrain_.cols - 1) * double(terrain_.rows - 1) * terrain_.cell * terrain_.cell;
+  EXPECT_NEAR(area, gridArea, 1e-6 * gridArea);
 
   // Volumes: one outer and one inner wireframe, 12 edges per unit each.
   osg::Node* volumes = childNamed(*localToMap, "volumes");

@@ -368,7 +368,7 @@ TEST_F(RenderTest, ShadedFrameLooksLikeTheScene) {
   EXPECT_GT(colours.size(), 100u);
   // The statistics of the frame.
   EXPECT_GT(stats.triangles, 1000u);
-  EXPECT_GT(stats.terrainTiles, 0u);
+  EXPECT_GT(stats.terrainChunks, 0u);
   EXPECT_GT(stats.terrainErrorPx, 0.0);
   EXPECT_LE(stats.terrainErrorPx, renderer.options().lodMaxPixels * (1 + 1e-6));
   EXPECT_GE(stats.cullMs, 0.0);

@@ -1,4 +1,4 @@
-// A rough deterministic test grid shared by the terrain mesh and chunk tests.
+// A rough deterministic test grid shared by the terrain chunk and terrain cut tests.
 #pragma once
 
 #include <cmath>

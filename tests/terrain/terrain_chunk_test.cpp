@@ -1,11 +1,11 @@
 // Terrain chunks (terrain/terrain_chunk.h): the layout covers the grid once per level, level 0 is the
-// heightfield's surface, the recorded errors equal the tile errors of TerrainMesh (an independent
-// implementation) and bound a dense brute force on grids whose last cells are narrow, skirts close
+// heightfield's surface, the recorded errors and triangle counts equal a brute force over the fine
+// samples on grids of square cells and bound a dense brute force on grids whose last cells are
+// narrow, a level's surface is the same read through any chunk or the whole level, skirts close
 // the gap to every neighbour up to three levels away and face outward, and the baked colours are a
 // plane's Lambert shade and the imagery on the level's grid.
 #include "nestwalk/terrain/terrain_chunk.h"
 #include "nestwalk/terrain/heightfield.h"
-#include "nestwalk/terrain/terrain_mesh.h"
 
 #include <Eigen/Geometry>
 #include "tests/terrain/rough_heights.h"
@@ -77,6 +77,44 @@ PartRange partRange(const ChunkLayout& l, const ChunkKey& k, int q) {
           (q >> 1) ? rows.back() : rm};
 }
 
+/// A chunk's grid by brute force, for layouts whose coarse cells are all square: its existing
+/// triangles counted cell by cell, and its exact error as the largest |fine - coarse| over its fine
+/// samples (square coarse cells follow fine edges, so the maximum lies at fine samples).
+struct GridOracle {
+  std::size_t triangles = 0;
+  double maxError = 0;
+};
+GridOracle bruteForceGrid(const Heightfield& hf, const ChunkLayout& l, const ChunkKey& k) {
+  const std::vector<int> cols = l.columns(k), rows = l.rowsOf(k);
+  const int s = 1 << k.level;
+  GridOracle o;
+  for (std::size_t j = 0; j + 1 < rows.size(); ++j)
+    for (std::size_t i = 0; i + 1 < cols.size(); ++i) {
+      const int ca = cols[i], ra = rows[j];
+      EXPECT_EQ(cols[i + 1] - ca, s);
+      EXPECT_EQ(rows[j + 1] - ra, s);
+      const bool upper = hf.valid(ca, ra) && hf.valid(ca + s, ra) && hf.valid(ca + s, ra + s);
+      const bool lower = hf.valid(ca, ra) && hf.valid(ca + s, ra + s) && hf.valid(ca, ra + s);
+      o.triangles += std::size_t(upper) + std::size_t(lower);
+      const double ha = hf.sample(ca, ra), hb = hf.sample(ca + s, ra), hc = hf.sample(ca + s, ra + s),
+                   hd = hf.sample(ca, ra + s);
+      for (int v = 0; v <= s; ++v)
+        for (int u = 0; u <= s; ++u) {
+          if (!hf.valid(ca + u, ra + v)) continue;
+          const double fu = double(u) / s, fv = double(v) / s;
+          double coarse;
+          if (u >= v && upper)
+            coarse = ha + fu * (hb - ha) + fv * (hc - hb);
+          else if (v >= u && lower)
+            coarse = ha + fv * (hd - ha) + fu * (hc - hd);
+          else
+            continue;
+          o.maxError = std::max(o.maxError, std::abs(double(hf.sample(ca + u, ra + v)) - coarse));
+        }
+    }
+  return o;
+}
+
 TEST(ChunkLayout, EveryLevelCoversEachCellOnceAndChildrenTileTheirParent) {
   const ChunkLayout l(203, 150, 16);
   EXPECT_EQ(l.levels(), 5);  // 16 * 2^4 = 256 >= 202 cells > 128
@@ -132,22 +170,59 @@ TEST(TerrainChunk, LevelZeroIsTheHeightfieldSurface) {
   for (const ChunkKey& k : chunksOf(l, 0)) EXPECT_EQ(buildChunk(hf, l, k).maxError, 0.0);
 }
 
-TEST(TerrainChunk, ErrorsEqualTheTileErrorsOfTerrainMesh) {
-  // 129 x 129 samples: a chunk of 16 cells at level L is TerrainMesh's tile of 16 * 2^L cells at level L.
+TEST(TerrainChunk, ErrorsAndTrianglesEqualABruteForceOverTheFineSamples) {
+  // 129 x 129 samples in chunks of 16 cells: every coarse cell of every level is square.
   for (double holes : {0.0, 0.03}) {
     const Heightfield hf = roughField(129, 129, 11, holes, 1.5, 0.75);
     const ChunkLayout l(hf.cols(), hf.rows(), 16);
     ASSERT_EQ(l.levels(), 4);
+    const std::vector<ChunkLevelStats> table = chunkLevelTable(hf, l);
+    ASSERT_EQ(table.size(), 4u);
     for (int level = 0; level < l.levels(); ++level) {
-      const TerrainMesh mesh(hf, TerrainMeshOptions{16 << level, 0});
+      ChunkLevelStats expected{level, 1 << level};
       for (const ChunkKey& k : chunksOf(l, level)) {
-        const TerrainTile& tile = mesh.tile(k.x, k.y);
+        const GridOracle o = bruteForceGrid(hf, l, k);
         const ChunkMesh m = buildChunk(hf, l, k);
-        EXPECT_NEAR(m.maxError, tile.maxError[std::size_t(level)], 1e-12) << level << " " << k.x << " " << k.y;
-        EXPECT_EQ(m.surfaceTriangles, tile.triangles[std::size_t(level)]);
+        EXPECT_NEAR(m.maxError, o.maxError, 1e-12) << level << " " << k.x << " " << k.y;
+        EXPECT_EQ(m.surfaceTriangles, o.triangles);
+        expected.chunks += o.triangles > 0;
+        expected.triangles += o.triangles;
+        expected.maxError = std::max(expected.maxError, o.maxError);
       }
+      const ChunkLevelStats& row = table[std::size_t(level)];
+      EXPECT_EQ(row.level, level);
+      EXPECT_EQ(row.step, 1 << level);
+      EXPECT_EQ(row.chunks, expected.chunks);
+      EXPECT_EQ(row.triangles, expected.triangles);
+      EXPECT_NEAR(row.maxError, expected.maxError, 1e-12);
     }
   }
+}
+
+TEST(TerrainChunk, ALevelReadsTheSameThroughAnyChunkOrTheWholeLevel) {
+  // levelHeightAt against chunkHeightAt of the chunk holding the point, on a grid with holes and
+  // narrow last cells, at every level.
+  const Heightfield hf = roughField(78, 54, 23, 0.03, 1.0, 2.0);
+  const ChunkLayout l(hf.cols(), hf.rows(), 8);
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> ux(0, 77 * 1.0), uy(-53 * 2.0, 0);
+  for (int level = 0; level < l.levels(); ++level) {
+    const int side = 8 << level;
+    int both = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const double x = ux(rng), y = uy(rng);
+      const ChunkKey k{level, std::min(int(x / hf.dx()) / side, l.chunksX(level) - 1),
+                       std::min(int(-y / hf.dy()) / side, l.chunksY(level) - 1)};
+      const std::optional<double> chunk = chunkHeightAt(hf, l, k, x, y), whole = levelHeightAt(hf, level, x, y);
+      ASSERT_EQ(chunk.has_value(), whole.has_value()) << level << " " << x << " " << y;
+      if (!chunk) continue;
+      EXPECT_EQ(*chunk, *whole);
+      ++both;
+    }
+    EXPECT_GT(both, 3000) << "level " << level;
+  }
+  EXPECT_FALSE(levelHeightAt(hf, 0, -0.5, -1.0).has_value());
+  EXPECT_FALSE(levelHeightAt(hf, 0, 10.0, 1.0).has_value());
 }
 
 TEST(TerrainChunk, ErrorsAreExactOnADegreeGrid) {
@@ -157,11 +232,11 @@ TEST(TerrainChunk, ErrorsAreExactOnADegreeGrid) {
   const Heightfield hf(129, 129, roughHeights(129, 129, 37, 0.02), -121.76, 46.85, arcSecond, arcSecond);
   const ChunkLayout l(hf.cols(), hf.rows(), 32);
   for (int level = 0; level < l.levels(); ++level) {
-    const TerrainMesh mesh(hf, TerrainMeshOptions{32 << level, 0});
     for (const ChunkKey& k : chunksOf(l, level)) {
       const ChunkMesh m = buildChunk(hf, l, k);
-      EXPECT_NEAR(m.maxError, mesh.tile(k.x, k.y).maxError[std::size_t(level)], 1e-12);
-      EXPECT_EQ(m.surfaceTriangles, mesh.tile(k.x, k.y).triangles[std::size_t(level)]);
+      const GridOracle o = bruteForceGrid(hf, l, k);
+      EXPECT_NEAR(m.maxError, o.maxError, 1e-12);
+      EXPECT_EQ(m.surfaceTriangles, o.triangles);
       // Vertices relative to the chunk's first sample: the largest is the chunk's own size.
       for (std::size_t v = 0; v < m.surfaceVertices; ++v) {
         EXPECT_LE(std::abs(m.positions[3 * v]), (32 << level) * arcSecond * (1 + 1e-6));

@@ -7,7 +7,6 @@
 #include "tests/common/run_command.h"
 
 #include <osg/Geometry>
-#include <osg/LOD>
 #include <osg/MatrixTransform>
 #include <osg/NodeVisitor>
 #include <osgDB/ReadFile>
@@ -53,8 +52,8 @@ fs::path writeScene(const fs::path& dir) {
 
 
 struct GraphSummary {
-  std::map<std::string, osg::MatrixTransform*> transforms;  // by name
-  std::size_t lods = 0, geometries = 0;
+  std::map<std::string, osg::MatrixTransform*> transforms;  // by name, the terrain's chunks aside
+  std::size_t chunks = 0, geometries = 0;
   bool volumes = false;
 };
 
@@ -62,12 +61,11 @@ class Summarize : public osg::NodeVisitor {
  public:
   explicit Summarize(GraphSummary& s) : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN), s_(s) {}
   void apply(osg::MatrixTransform& t) override {
-    s_.transforms[t.getName()] = &t;
+    if (t.getName().rfind("chunk ", 0) == 0)
+      ++s_.chunks;
+    else
+      s_.transforms[t.getName()] = &t;
     traverse(t);
-  }
-  void apply(osg::LOD& l) override {
-    ++s_.lods;
-    traverse(l);
   }
   void apply(osg::Group& g) override {
     if (g.getName() == "volumes") s_.volumes = true;
@@ -114,8 +112,11 @@ TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
     const fs::path out = dir / name;
     const auto r = runNestwalk("export " + quoted(scene) + " " + quoted(out));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(r.out, "wrote " + out.string() + ": 3 instances, 1 models, " + std::to_string(3 * triangles) +
-                         " equipment triangles, 3 units, terrain 40 x 30 samples\n");
+    // The terrain is a plane: every level is exact, so the cut is the root chunk, within 0 m.
+    const std::string line = "wrote " + out.string() + ": 3 instances, 1 models, " + std::to_string(3 * triangles) +
+                             " equipment triangles, 3 units, terrain 40 x 30 samples: 1 chunk, ";
+    EXPECT_EQ(r.out.substr(0, line.size()), line);
+    EXPECT_EQ(r.out.substr(r.out.size() - std::min(r.out.size(), std::size_t(25))), " triangles, error <= 0 m\n");
     const GraphSummary g = readBack(out);
     for (const char* n : {"station-a", "station-b", "station-c"}) ASSERT_EQ(g.transforms.count(n), 1u) << n << " in " << name;
     // Instance transforms named after instances: three, plus local_to_map and terrain.
@@ -140,7 +141,7 @@ TEST(Export, WritesAGraphOsgReadsBackInEachFormat) {
     EXPECT_NEAR(foot.y(), 4650020.0, 1e-9);
     EXPECT_NEAR(foot.z(), lowest, 1e-9);
     EXPECT_NEAR(top.z() - foot.z(), 1.5, 1e-12);
-    EXPECT_GT(g.lods, 0u);
+    EXPECT_EQ(g.chunks, 1u);
     EXPECT_FALSE(g.volumes);
   }
   EXPECT_EQ(otherFiles(dir), (std::vector<std::string>{"scene.ive", "scene.osgb", "scene.osgt"})) << "no temporary files left";
@@ -156,7 +157,7 @@ TEST(Export, VolumesAndNoTerrain) {
   EXPECT_NE(r.out.find("3 units, volume wireframes\n"), std::string::npos) << r.out;
   const GraphSummary g = readBack(out);
   EXPECT_TRUE(g.volumes);
-  EXPECT_EQ(g.lods, 0u);
+  EXPECT_EQ(g.chunks, 0u);
   EXPECT_EQ(g.transforms.count("terrain"), 0u);
   EXPECT_EQ(g.transforms.size(), 4u);
 }
@@ -195,7 +196,7 @@ TEST(Export, BadInputNamesTheFileAndWritesNothing) {
       {quoted(dir / "bad.json") + " " + quoted(dir / "out.osgb"),
        (dir / "bad.json").string() + ": 1 model file not found: equipment[0].model: " + (dir / "gone.obj").string()},
       {quoted(dir / "none.json") + " " + quoted(dir / "out.osgb"), (dir / "none.json").string() + ": scene file not found"},
-      {quoted(scene) + " " + quoted(dir / "out.osgb") + " --tile-cells 3", "--tile-cells: expected a power of two >= 1, got 3"},
+      {quoted(scene) + " " + quoted(dir / "out.osgb") + " --chunk-cells 3", "--chunk-cells: expected a power of two >= 2, got 3"},
   };
   for (const auto& c : cases) {
     const auto r = runNestwalk("export " + c.args);

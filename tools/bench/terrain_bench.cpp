@@ -16,7 +16,7 @@
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/terrain/heightfield.h"
-#include "nestwalk/terrain/terrain_mesh.h"
+#include "nestwalk/terrain/terrain_chunk.h"
 
 #include <algorithm>
 #include <iomanip>
@@ -36,7 +36,7 @@ constexpr double kFarHit = 0.01;
 constexpr double kGroundVsDirect = 1.2;    // target: groundHeight ns / direct lookup ns at most
 constexpr double kGroundVsEmbree = 15.0;   // target: Embree ns / groundHeight ns at least
 constexpr double kObliqueVsEmbree = 1.0;   // target: Embree ns / intersectRay ns at least, oblique
-constexpr int kLodTileCells = 128;         // the terrain mesh's tiles in the level table
+constexpr int kLevelChunkCells = 64;        // the level table's chunks (RenderOptions::terrainChunkCells)
 
 struct Config {
   int grid = 2049;
@@ -392,24 +392,25 @@ void addTargets(Document& doc, const Table& table) {
   }
 }
 
-/// The terrain mesh's levels for the benchmark grid (outside any timing).
+/// The chunk quadtree's levels for the benchmark grid (outside any timing).
 void printLevels(Document& doc, const Terrain& t) {
   const auto t0 = std::chrono::steady_clock::now();
-  const terrain::TerrainMesh mesh(*t.hf, terrain::TerrainMeshOptions{kLodTileCells, 0});
+  const std::vector<terrain::ChunkLevelStats> levels =
+      terrain::chunkLevelTable(*t.hf, terrain::ChunkLayout(t.hf->cols(), t.hf->rows(), kLevelChunkCells));
   Table table;
   table.column({"level", "/level", 5, 0})
       .column({"step", "/step", 7, 0})
-      .column({"tiles", "/tiles", 8, 0})
+      .column({"chunks", "/chunks", 8, 0})
       .column({"triangles", "/triangles", 13, 0})
       .column({"max error (m)", "/max_error_m", 16, 4});
-  for (const terrain::TerrainLevelStats& l : mesh.levelTable())
+  for (const terrain::ChunkLevelStats& l : levels)
     table.add({{"level", l.level},
                {"step", l.step},
-               {"tiles", l.tiles},
+               {"chunks", l.chunks},
                {"triangles", l.triangles},
                {"max_error_m", l.maxError}});
-  doc.text << "\nterrain mesh levels (tiles of " << kLodTileCells
-           << " cells; error = exact max vertical error vs full resolution, " << fixedText(secondsSince(t0), 2)
+  doc.text << "\nchunk quadtree levels (chunks of " << kLevelChunkCells
+           << " cells, each level's grid; error = exact max vertical error vs full resolution, " << fixedText(secondsSince(t0), 2)
            << " s to compute):\n";
   doc.table("lod_levels", table, "  ");
 }

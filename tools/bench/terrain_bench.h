@@ -14,7 +14,8 @@
 // "terrain/<method>/<set>". The output: ns per ray with the ratios peer ns / nestwalk ns, each
 // method's hit/miss disagreements and largest height difference against nestwalk (groundHeight on
 // the vertical sets, intersectRay on the oblique one; counted outside the timed loops), the
-// per-level error table of the grid's terrain mesh (terrain/terrain_mesh.h) and the targets.
+// per-level error table of the grid's chunk quadtree as the renderer cuts it (terrain/terrain_chunk.h)
+// and the targets.
 #pragma once
 
 #include "tools/bench/bench_runner.h"

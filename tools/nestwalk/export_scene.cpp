@@ -1,9 +1,11 @@
-// nestwalk export SCENE OUT [--volumes] [--no-terrain] [--tile-cells N] [--overwrite]: loads a scene
-// and writes its OpenSceneGraph graph (scene.h, buildSceneGraph) in any format OSG writes, chosen
-// by OUT's extension (.osgb, .osgt, .ive, ...), for viewing in osgviewer or other tools. The file is
-// written under a temporary name in OUT's folder and renamed at the end; an existing OUT is
-// replaced only with --overwrite. Prints one summary line.
+// nestwalk export SCENE OUT [--volumes] [--no-terrain] [--max-error M] [--chunk-cells N] [--overwrite]:
+// loads a scene and writes its OpenSceneGraph graph (render/scene_graph.h: the terrain as one cut of
+// the chunk quadtree the renderer draws, within M metres of the DEM's surface, render/terrain_cut.h)
+// in any format OSG writes, chosen by OUT's extension (.osgb, .osgt, .ive, ...), for viewing in
+// osgviewer or other tools. The file is written under a temporary name in OUT's folder and renamed
+// at the end; an existing OUT is replaced only with --overwrite. Prints one summary line.
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/number_text.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/render/scene_graph.h"
@@ -28,7 +30,7 @@ constexpr const char* kPrecisionOption = "precision 17";
 struct ExportArgs {
   std::string scene, out;
   bool volumes = false, noTerrain = false, overwrite = false;
-  int tileCells = 128;
+  TerrainCutOptions terrain;
 };
 
 /// Checks OUT before anything is loaded: a known format, a folder that exists, not a folder itself,
@@ -43,8 +45,9 @@ std::string checkOutput(const ExportArgs& a) {
   if (!fs::is_directory(folder)) throw InputError(a.out + ": the folder " + folder.string() + " does not exist");
   if (fs::is_directory(out)) throw InputError(a.out + ": is a folder");
   if (fs::exists(out) && !a.overwrite) throw InputError(a.out + ": exists; pass --overwrite to replace it");
-  if (a.tileCells < 1 || (a.tileCells & (a.tileCells - 1)) != 0)
-    throw InputError("--tile-cells: expected a power of two >= 1, got " + std::to_string(a.tileCells));
+  const int cells = a.terrain.chunkCells;
+  if (cells < 2 || (cells & (cells - 1)) != 0)
+    throw InputError("--chunk-cells: expected a power of two >= 2, got " + std::to_string(cells));
   return ext;
 }
 
@@ -54,8 +57,9 @@ void runExport(const ExportArgs& a) {
   SceneGraphOptions go;
   go.terrain = !a.noTerrain;
   go.volumes = a.volumes;
-  go.terrainTileCells = a.tileCells;
-  const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go);
+  go.terrainCut = a.terrain;
+  SceneGraphParts parts;
+  const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go, &parts);
 
   OutputFile file(a.out, "." + ext);
   osgDB::Registry* registry = osgDB::Registry::instance();
@@ -74,7 +78,12 @@ void runExport(const ExportArgs& a) {
   for (const auto& inst : scene.instances) triangles += scene.models[inst.model].mesh.triangles.size();
   std::printf("wrote %s: %zu instances, %zu models, %zu equipment triangles, %zu units", a.out.c_str(),
               scene.instances.size(), scene.models.size(), triangles, scene.units.size());
-  if (go.terrain) std::printf(", terrain %d x %d samples", scene.terrain->cols(), scene.terrain->rows());
+  if (go.terrain) {
+    const TerrainCutStats& cut = parts.terrainCut;
+    std::printf(", terrain %d x %d samples: %zu chunk%s, %zu triangles, error <= %s m", scene.terrain->cols(),
+                scene.terrain->rows(), cut.chunks, cut.chunks == 1 ? "" : "s", cut.surfaceTriangles,
+                shortText(cut.maxErrorM).c_str());
+  }
   if (go.volumes) std::printf(", volume wireframes");
   std::printf("\n");
 }
@@ -89,7 +98,12 @@ void registerExport(CLI::App& app) {
   cmd->add_option("OUT", args->out, "Output file; the extension picks the format (.osgb, .osgt, .ive, ...)")->required();
   cmd->add_flag("--volumes", args->volumes, "Add the units' outer AABBs and inner OBBs as wireframes");
   cmd->add_flag("--no-terrain", args->noTerrain, "Leave the terrain out");
-  cmd->add_option("--tile-cells", args->tileCells, "Terrain tile side in cells, a power of two")->default_val(128);
+  cmd->add_option("--max-error", args->terrain.maxErrorM,
+                  "The terrain's largest vertical error against the DEM, metres (0: the full grid)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--chunk-cells", args->terrain.chunkCells, "Terrain chunk side in cells, a power of two")
+      ->capture_default_str();
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT");
   cmd->callback([args] { runExport(*args); });
 }

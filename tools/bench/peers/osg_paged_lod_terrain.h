@@ -45,7 +45,7 @@
 // expires the children of PagedLODs not drawn recently when there are more. It is the pager's own
 // policy: a target, not a bound (PagedTerrain's budget is a bound).
 //
-// Frames: the node's children are in the mesh frame of terrain_mesh.h (metres from the heightfield's
+// Frames: the node's children are in the mesh frame of terrain_chunk.h (metres from the heightfield's
 // sample (0, 0)); the caller places it with a transform (view_graph.cpp).
 //
 // Ownership and threads: the Source shares the heightfield (immutable, read by the pager's thread
