@@ -1,8 +1,7 @@
-// Bounding-volume trees over a model's triangles (OBB tree, 18-DOP tree): top-down construction,
-// overlap and distance queries against a box. See mesh_tree.h for the rules and guarantees.
+// The bounding-volume tree over a model's triangles (18-DOP tree): top-down construction, overlap,
+// distance and swept queries against a box. See mesh_tree.h for the rules and guarantees.
 #include "nestwalk/geometry/mesh_tree.h"
 
-#include "nestwalk/geometry/obb_fit.h"
 #include "nestwalk/geometry/sat.h"
 #include "nestwalk/geometry/slab_clip.h"
 #include "nestwalk/geometry/triangle_sweep.h"
@@ -26,20 +25,15 @@ namespace {
 using V3 = Vec3<double>;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Outward padding of a node's volume, relative to the magnitudes it is computed from (OBB: centre
-// |c|_1 plus half extents |h|_1; k-DOP slab: the slab's bound). It covers the rounding of the
-// projections that measured the vertices (a difference and a three-term dot product, <= 4u
-// relative, u = 2^-53; a k-DOP diagonal is one addition, <= u): 8 epsilon = 16u, a 4x margin.
+// Outward padding of a node's slabs, relative to the slab's bound. It covers the rounding of the
+// projections that measured the vertices (a k-DOP diagonal is one addition, <= u relative,
+// u = 2^-53): 8 epsilon = 16u, a 16x margin.
 constexpr double kNodeVolumePadding = 8 * std::numeric_limits<double>::epsilon();
 
 // Distance lower bounds are multiplied by (1 - this) before pruning. It covers what the gaps'
-// own slack (kRoundingSlack, sat.h) does not: unit axes off unit length by kAxesTolerance (1e-13),
-// edge axes whose length is measured from R (error ~1e-13 absolute, so ~1e-10 relative at the
-// shortest edge axis used, kMinEdgeAxisLength) and the division by sqrt(2) on k-DOP diagonals.
+// own slack (kRoundingSlack, sat.h) does not: the box's axes off unit length by kAxesTolerance
+// (1e-13) and the division by sqrt(2) on the k-DOP's diagonals.
 constexpr double kLowerBoundShrink = 1e-9;
-// Edge axes A_i x B_j shorter than this (sine of the angle between the edges) are left out of the
-// lower bound: a bound may use any subset of the separating axes.
-constexpr double kMinEdgeAxisLength = 1e-3;
 
 // Depth-first traversal stacks: a node is popped and at most its two children pushed, so a stack
 // holds at most depth + 1 entries; the depth is below kMaxMeanSplitDepth + 32 + 1 (median splits
@@ -47,75 +41,27 @@ constexpr double kMinEdgeAxisLength = 1e-3;
 constexpr int kStackCapacity = 128;
 static_assert(kMaxMeanSplitDepth + 32 + 2 <= kStackCapacity);
 
-// ---- What differs between the two trees: the volume, its split direction, its tests. ----
+// ---- The volume: its fit, its split direction, its tests against a box. ----
 
 template <class Volume>
 struct VolumeRules;
 
 template <>
-struct VolumeRules<Obb<double>> {
-  using Query = Obb<double>;
-  static Query prepare(const Obb<double>& box) { return box; }
-
-  // Gottschalk's covariance box (the project's fitter), grown to hold every point despite rounding.
-  static Obb<double> fit(const std::vector<V3>& points) {
-    Obb<double> b = fitObb(points, ObbFitter::Covariance);
-    V3 reach = b.halfExtents;
-    for (const V3& p : points) reach = reach.cwiseMax((b.axes.transpose() * (p - b.center)).cwiseAbs());
-    b.halfExtents = reach + V3::Constant(kNodeVolumePadding * (b.center.cwiseAbs().sum() + reach.sum()));
-    return b;
-  }
-  // The box's longest axis.
-  static V3 splitDirection(const Obb<double>& b, const std::vector<V3>&) {
-    int longest;
-    b.halfExtents.maxCoeff(&longest);
-    return b.axes.col(longest);
-  }
-  static bool overlaps(const Obb<double>& node, const Query& box) { return satObbObb(node, box).overlap; }
-
-  // The swept query: the box and its motion; a node's interval of contact in t.
-  struct SweepQuery {
-    Obb<double> box;
-    V3 d;
-  };
-  static SweepQuery prepareSweep(const Obb<double>& box, const V3& d) { return {box, d}; }
-  static SweepResult sweepInterval(const Obb<double>& node, const SweepQuery& q) { return sweepObbObb(q.box, q.d, node); }
-
-  // The largest gap over the 15 separating axes of two boxes (sat.h's formulas, A = node, B = box),
-  // each divided by its axis' length: the distance between the boxes is at least that.
-  static double lowerBound(const Obb<double>& A, const Query& B) {
-    const V3 d = B.center - A.center;
-    const V3 t = A.axes.transpose() * d;
-    const Mat3<double> R = A.axes.transpose() * B.axes;
-    const Mat3<double> absR = R.cwiseAbs();
-    const V3& a = A.halfExtents;
-    const V3& b = B.halfExtents;
-    const double slack = kRoundingSlack<double> * (d.cwiseAbs().sum() + a.sum() + b.sum());
-    double gap = 0;
-    for (int i = 0; i < 3; ++i) gap = std::max(gap, std::abs(t[i]) - a[i] - absR.row(i).dot(b));
-    for (int j = 0; j < 3; ++j) gap = std::max(gap, std::abs(t.dot(R.col(j))) - absR.col(j).dot(a) - b[j]);
-    gap -= slack;
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        const double length = std::hypot(R(i1, j), R(i2, j));
-        if (length < kMinEdgeAxisLength) continue;
-        const double ra = a[i1] * absR(i2, j) + a[i2] * absR(i1, j);
-        const double rb = b[j1] * absR(i, j2) + b[j2] * absR(i, j1);
-        gap = std::max(gap, (std::abs(t[i2] * R(i1, j) - t[i1] * R(i2, j)) - ra - rb - slack) / length);
-      }
-    }
-    return std::max(0.0, gap) * (1 - kLowerBoundShrink);
-  }
-};
-
-template <>
 struct VolumeRules<Kdop18> {
-  using Query = Kdop18;  // the box's own 18-DOP
+  // The box's own 18-DOP, and its face axes: the node's AABB (the k-DOP's first three slabs, which
+  // hold the whole k-DOP) is also compared with the box along the box's axes. A box turned against
+  // the model's axes has a loose 18-DOP; these three axes take most of the looseness away.
+  struct Query {
+    Kdop18 dop;
+    Mat3<double> axes;     // columns: the box's axes
+    Mat3<double> absAxes;  // |axes|
+    V3 centreAlong;        // the box's centre along its axes
+    V3 halfExtents;
+    double slack = 0;      // the box's share of the rounding slack on its axes
+  };
 
   static Query prepare(const Obb<double>& box) {
-    Kdop18 q;
+    Query q;
     const double magnitude = box.center.cwiseAbs().sum() + box.halfExtents.sum();
     for (int k = 0; k < Kdop18::kDirections; ++k) {
       const V3& dir = kKdopDirections[k];
@@ -123,10 +69,27 @@ struct VolumeRules<Kdop18> {
       const double radius = (box.axes.transpose() * dir).cwiseAbs().dot(box.halfExtents);
       // Rounding of mid and radius (a few u of 2 x magnitude) and the axes' tolerance: sat.h's slack.
       const double slack = kRoundingSlack<double> * 2 * magnitude;
-      q.min[k] = mid - radius - slack;
-      q.max[k] = mid + radius + slack;
+      q.dop.min[k] = mid - radius - slack;
+      q.dop.max[k] = mid + radius + slack;
     }
+    q.axes = box.axes;
+    q.absAxes = box.axes.cwiseAbs();
+    q.centreAlong = box.axes.transpose() * box.center;
+    q.halfExtents = box.halfExtents;
+    q.slack = kRoundingSlack<double> * 2 * magnitude;
     return q;
+  }
+
+  // Along the box's axis j, the node's AABB and the box: the offset of the AABB's centre from the
+  // box's (p0) and the sum of their radii with the slack (r).
+  struct AxisSlab {
+    double p0, r;
+  };
+  static AxisSlab boxAxisSlab(const Kdop18& node, const Query& q, int j, double extraSlack = 0) {
+    const V3 lo(node.min[0], node.min[1], node.min[2]), hi(node.max[0], node.max[1], node.max[2]);
+    const V3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    const double slack = q.slack + extraSlack + kRoundingSlack<double> * 2 * (centre.cwiseAbs().sum() + half.sum());
+    return {q.axes.col(j).dot(centre) - q.centreAlong[j], q.absAxes.col(j).dot(half) + q.halfExtents[j] + slack};
   }
 
   static Kdop18 fit(const std::vector<V3>& points) {
@@ -156,13 +119,16 @@ struct VolumeRules<Kdop18> {
     variance.maxCoeff(&axis);
     return V3::Unit(axis);
   }
-  // The swept query: the box's 18-DOP at t = 0 and its motion along each direction.
+  // The swept query: the box at t = 0 and its motion along each of the 9 directions and the
+  // box's 3 axes.
   struct SweepQuery {
-    Kdop18 box;
+    Query box;
     std::array<double, Kdop18::kDirections> motion;
+    V3 motionAlong;      // d along the box's axes
+    double motionSlack;  // the rounding of motionAlong
   };
   static SweepQuery prepareSweep(const Obb<double>& box, const V3& d) {
-    SweepQuery q{prepare(box), {}};
+    SweepQuery q{prepare(box), {}, box.axes.transpose() * d, kRoundingSlack<double> * d.cwiseAbs().sum()};
     for (int k = 0; k < Kdop18::kDirections; ++k) q.motion[k] = kKdopDirections[k].dot(d);
     return q;
   }
@@ -172,10 +138,14 @@ struct VolumeRules<Kdop18> {
     SlabClip clip;
     bool alive = true;
     for (int k = 0; k < Kdop18::kDirections && alive; ++k) {
-      const double p0 = 0.5 * (node.min[k] + node.max[k]) - 0.5 * (q.box.min[k] + q.box.max[k]);
-      const double r = 0.5 * (node.max[k] - node.min[k]) + 0.5 * (q.box.max[k] - q.box.min[k]) +
+      const double p0 = 0.5 * (node.min[k] + node.max[k]) - 0.5 * (q.box.dop.min[k] + q.box.dop.max[k]);
+      const double r = 0.5 * (node.max[k] - node.min[k]) + 0.5 * (q.box.dop.max[k] - q.box.dop.min[k]) +
                        kRoundingSlack<double> * std::abs(q.motion[k]);
       alive = clip.clip(p0, q.motion[k], r, std::int8_t(k), k);
+    }
+    for (int j = 0; j < 3 && alive; ++j) {
+      const AxisSlab slab = boxAxisSlab(node, q.box, j, q.motionSlack);
+      alive = clip.clip(slab.p0, q.motionAlong[j], slab.r, std::int8_t(Kdop18::kDirections + j), Kdop18::kDirections + j);
     }
     SweepResult out;
     out.enter = clip.enter;
@@ -185,14 +155,22 @@ struct VolumeRules<Kdop18> {
 
   static bool overlaps(const Kdop18& node, const Query& box) {
     for (int k = 0; k < Kdop18::kDirections; ++k)
-      if (node.min[k] > box.max[k] || box.min[k] > node.max[k]) return false;
+      if (node.min[k] > box.dop.max[k] || box.dop.min[k] > node.max[k]) return false;
+    for (int j = 0; j < 3; ++j) {
+      const AxisSlab slab = boxAxisSlab(node, box, j);
+      if (std::abs(slab.p0) > slab.r) return false;
+    }
     return true;
   }
   static double lowerBound(const Kdop18& node, const Query& box) {
     double gap = 0;
     for (int k = 0; k < Kdop18::kDirections; ++k) {
-      const double slabGap = std::max(node.min[k] - box.max[k], box.min[k] - node.max[k]);
+      const double slabGap = std::max(node.min[k] - box.dop.max[k], box.dop.min[k] - node.max[k]);
       gap = std::max(gap, k < 3 ? slabGap : slabGap / std::sqrt(2.0));
+    }
+    for (int j = 0; j < 3; ++j) {  // unit axes
+      const AxisSlab slab = boxAxisSlab(node, box, j);
+      gap = std::max(gap, std::abs(slab.p0) - slab.r);
     }
     return gap * (1 - kLowerBoundShrink);
   }
@@ -292,6 +270,46 @@ void validate(const TriangleMesh& mesh, int leafSize) {
 struct StackEntry {
   std::uint32_t node;
   double lowerBound;
+};
+
+// The sweep's frontier: a binary min-heap on the entry time, on the call stack (kFrontierCapacity
+// entries, 16 bytes each). When it is full the sweep searches the child it could not queue depth
+// first instead, so no motion overflows it.
+constexpr int kFrontierCapacity = 256;
+
+class SweepFrontier {
+ public:
+  bool empty() const { return size_ == 0; }
+  bool full() const { return size_ == kFrontierCapacity; }
+  void push(const StackEntry& e) {
+    int i = size_++;
+    while (i > 0) {
+      const int parent = (i - 1) / 2;
+      if (!(e.lowerBound < heap_[parent].lowerBound)) break;
+      heap_[i] = heap_[parent];
+      i = parent;
+    }
+    heap_[i] = e;
+  }
+  StackEntry pop() {
+    const StackEntry top = heap_[0];
+    const StackEntry last = heap_[--size_];
+    int i = 0;
+    for (;;) {
+      int child = 2 * i + 1;
+      if (child >= size_) break;
+      if (child + 1 < size_ && heap_[child + 1].lowerBound < heap_[child].lowerBound) ++child;
+      if (!(heap_[child].lowerBound < last.lowerBound)) break;
+      heap_[i] = heap_[child];
+      i = child;
+    }
+    heap_[i] = last;
+    return top;
+  }
+
+ private:
+  StackEntry heap_[kFrontierCapacity];
+  int size_ = 0;
 };
 
 }  // namespace
@@ -419,33 +437,60 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
     return StackEntry{index, meets ? std::max(r.enter, tStart) : kInfinity};
   };
   double best = kInfinity;  // the earliest contact found so far
-  StackEntry stack[kStackCapacity];
-  int top = 0;
-  stack[top++] = entry(0);
-  while (top > 0) {
-    const StackEntry e = stack[--top];
-    if (e.lowerBound == kInfinity || e.lowerBound >= best) continue;
+  std::uint32_t bestTriangle = 0;
+  auto testLeaf = [&](const MeshTreeNode<Volume>& node) {
+    for (std::uint32_t i = node.firstTriangle; i < node.firstTriangle + node.triangleCount; ++i) {
+      ++triangleTests;
+      const SweepResult r = sweepBoxTriangle(box, d, triangles_[i], tStart, std::min(best, 1.0));
+      if (!(r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart)) continue;
+      const double t = std::max(r.enter, tStart);
+      // Ties go to the first triangle in leaf order, whatever order the nodes were visited in.
+      if (t < best || (t == best && i < bestTriangle)) {
+        best = t;
+        bestTriangle = i;
+        hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
+      }
+    }
+  };
+  // Best first: the frontier is a min-heap on the entry time, so nodes are opened in the order
+  // the box reaches them and the search ends once the earliest unopened node is entered no
+  // earlier than the best contact (no triangle below it can come earlier).
+  SweepFrontier frontier;
+  frontier.push(entry(0));
+  while (!frontier.empty()) {
+    const StackEntry e = frontier.pop();
+    if (e.lowerBound == kInfinity || e.lowerBound > best) break;
     const MeshTreeNode<Volume>& node = nodes_[e.node];
     if (node.isLeaf()) {
-      for (std::uint32_t i = node.firstTriangle; i < node.firstTriangle + node.triangleCount; ++i) {
-        ++triangleTests;
-        const SweepResult r = sweepBoxTriangle(box, d, triangles_[i], tStart, std::min(best, 1.0));
-        if (!(r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart)) continue;
-        const double t = std::max(r.enter, tStart);
-        if (t < best) {
-          best = t;
-          hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
-        }
-      }
-      if (best == tStart) break;  // nothing can come earlier
+      testLeaf(node);
       continue;
     }
-    StackEntry first = entry(e.node + 1), second = entry(node.secondChild);
-    nodeTests += 2;
-    if (second.lowerBound < first.lowerBound) std::swap(first, second);
-    // The child entered first is pushed last, so it is visited first.
-    if (second.lowerBound < best) stack[top++] = second;
-    if (first.lowerBound < best) stack[top++] = first;
+    for (const std::uint32_t child : {e.node + 1, node.secondChild}) {
+      const StackEntry c = entry(child);
+      ++nodeTests;
+      if (c.lowerBound > best) continue;
+      if (!frontier.full()) {
+        frontier.push(c);
+        continue;
+      }
+      // A full frontier (a motion through thousands of nodes): this child is searched depth
+      // first on the spot, with the same pruning; the answer does not depend on the order.
+      std::uint32_t stack[kStackCapacity];
+      int top = 0;
+      stack[top++] = c.node;
+      while (top > 0) {
+        const std::uint32_t index = stack[--top];
+        const MeshTreeNode<Volume>& n = nodes_[index];
+        if (n.isLeaf()) {
+          testLeaf(n);
+          continue;
+        }
+        for (const std::uint32_t g : {index + 1, n.secondChild}) {
+          ++nodeTests;
+          if (entry(g).lowerBound <= best) stack[top++] = g;
+        }
+      }
+    }
   }
   if (counters) {
     counters->nodeTests += nodeTests;
@@ -454,7 +499,6 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
   return hit;
 }
 
-template class MeshTree<Obb<double>>;
 template class MeshTree<Kdop18>;
 
 }  // namespace nestwalk

@@ -1,27 +1,31 @@
 // Exact contact and distance between a box (the viewer's body) and a model's real triangles,
 // through a bounding-volume hierarchy over the triangles, built once per model: the reference the
-// nested AABB/OBB volumes are measured against (issue "Speed against error").
+// nested AABB/OBB volumes are measured against, and the exact stage of the walker's mesh methods.
 //
-// Two hierarchies over the same TriangleMesh (model frame), binary, built top-down:
-//  - ObbTree (Gottschalk, Lin & Manocha, "OBBTree", SIGGRAPH 1996): each node's box is
-//    the project's covariance fitter (fitObb with ObbFitter::Covariance: the area-weighted
-//    covariance of the convex hull of the node's vertices, Gottschalk's section 3) on the distinct
-//    vertices of the node's triangles; the node is split at the mean of its triangles' centroids
-//    projected on the box's longest axis.
-//  - KdopTree (Klosowski, Held, Mitchell, Sowizral & Zikan, "Efficient collision detection using
-//    bounding volume hierarchies of k-DOPs", 1998), k = 18: the slabs of the node's
-//    vertices on the 3 coordinate axes and the 6 diagonals (1,1,0), (1,-1,0), (1,0,1), (1,0,-1),
-//    (0,1,1), (0,1,-1); split by the "splatter" rule: the coordinate axis along which the
-//    triangles' centroids have the largest variance, at their mean.
-// Both: a node with at most leafSize triangles is a leaf; a split that leaves one side empty
-// (all centroids on one side of the mean, e.g. equal centroids) falls back to the median (the
-// sorted centroids cut in two halves), as does every split below depth kMaxMeanSplitDepth, so the
-// depth stays below kMaxMeanSplitDepth + log2(triangles) + 1 whatever the mesh.
+// The hierarchy (Klosowski, Held, Mitchell, Sowizral & Zikan, "Efficient collision detection using
+// bounding volume hierarchies of k-DOPs", 1998): a binary tree of 18-DOPs over the TriangleMesh
+// (model frame), built top-down: each node's volume is the slabs of its triangles' vertices on the
+// 3 coordinate axes and the 6 diagonals (1,1,0), (1,-1,0), (1,0,1), (1,0,-1), (0,1,1), (0,1,-1);
+// the node is split by the "splatter" rule: the coordinate axis along which the triangles'
+// centroids have the largest variance, at their mean. A node with at most leafSize triangles is a
+// leaf; a split that leaves one side empty (all centroids on one side of the mean, e.g. equal
+// centroids) falls back to the median (the sorted centroids cut in two halves), as does every
+// split below depth kMaxMeanSplitDepth, so the depth stays below kMaxMeanSplitDepth +
+// log2(triangles) + 1 whatever the mesh.
+// A node is tested against the box on the 9 directions (the box's own 18-DOP) and on the box's 3
+// face axes against the node's AABB (the first three slabs, which hold the k-DOP): a body box
+// turned against the model's axes has a loose 18-DOP, and its own axes take that looseness away
+// (the shared data's excavator, 11,144 triangles, walked into from 12 sides: the costliest sweep
+// went from 489 node and 481 triangle tests, 50 us, to 169 and 40, 15 us).
+// Why not OBB nodes (Gottschalk, Lin & Manocha, "OBBTree", 1996), which the engine had beside the
+// k-DOPs until 2026-11: on body boxes swept into the shared dump truck (23,346 triangles) and
+// excavator, the OBB tree's sweeps cost 3.4x to 3.6x this tree's (mean) and its distances 4.7x to
+// 5.5x, because an OBB-OBB test (15 axes, a rotation product per node) costs several k-DOP tests;
+// and it took 20x as long to build (a convex hull per node: 0.7 s against 36 ms for the truck).
 // Layout: nodes in one std::vector in depth-first order (a node's first child is the next node,
 // its second child by index), the triangles' corners copied in leaf order into one vector; no
 // per-node allocation, no allocation in the queries.
-// Build cost (Release, one core, 5120-triangle sphere): OBB tree 0.3-0.4 s (a convex hull per node
-// inside fitObb dominates), 18-DOP tree 8-11 ms.
+// Build cost (Release, one core): 36 ms for the 23,346-triangle dump truck.
 //
 // Queries (the box in the model frame; an instance's box is brought there by the inverse of the
 // instance's transform, which keeps the numbers at model magnitudes):
@@ -31,21 +35,21 @@
 //    SAT's slack of sat.h), so the hierarchy never changes the verdict of the brute-force loop.
 //  - distance(box): min over triangles of triangleBoxDistance, 0 when they overlap; depth-first
 //    branch and bound, nearer child first, pruned by lower bounds on the box-to-volume distance
-//    (the largest gap over separating axes, divided by the axis' length: OBB nodes use the 15
-//    axes of sat.h less the edge axes within 1e-3 rad of parallel, k-DOP nodes the 9 directions),
+//    (the largest gap over the 9 directions, each divided by its length, and the box's 3 axes),
 //    each lowered by a rounding slack so that pruning never drops the minimum. The result is the
 //    brute-force minimum (same triangles, same function, so the same double).
 //  - sweep(box, d, tStart): the first t in [tStart, 1] at which the box moved by t d touches a
-//    triangle (sweepBoxTriangle, triangle_sweep.h: exact intervals in t, never late); depth-first,
-//    the child entered earlier first, a node pruned when its own swept interval (sweepObbObb of
-//    swept.h, or the box's 18-DOP moving across the node's slabs) starts after the best contact
-//    found. Nodes are tested with the box grown by the triangle test's slack
-//    (sweepBoxTriangleSlack), so a node is never entered later than a triangle it holds: the same
-//    triangles, the same function as bruteForceSweep, so the same double t.
-//  - counters (the cost model T = Nv Cv + Np Cp of seeds 000/003): nodeTests = bounding-volume
-//    tests (Nv), triangleTests = triangle tests (Np). A k-DOP node test projects the box on the 9
-//    directions (its own 18-DOP, once per query) and compares slabs: conservative, as a BV test may
-//    be.
+//    triangle (sweepBoxTriangle, triangle_sweep.h: exact intervals in t, never late); best first:
+//    nodes are opened in the order the moving box enters them (a min-heap on the entry time, the
+//    box's slabs moving across the node's), and the search ends when the next node is entered
+//    after the best contact found, so the work grows with the triangles the box reaches before
+//    its contact, not with those inside the model's box. Nodes are tested with the box grown by
+//    the triangle test's slack (sweepBoxTriangleSlack), so a node is never entered later than a
+//    triangle it holds: the same triangles, the same function as bruteForceSweep, so the same
+//    double t; on equal t the first triangle in leaf order gives the normal, whatever the order
+//    of the visit.
+//  - counters (the cost model T = Nv Cv + Np Cp of Gottschalk et al. and Klosowski et al.):
+//    nodeTests = bounding-volume tests (Nv), triangleTests = triangle tests (Np).
 // Bad input: a triangle index out of range or a non-finite coordinate throws std::invalid_argument
 // naming the triangle; leafSize < 1 throws too. An empty mesh is legal: nothing overlaps, the
 // distance is +infinity.
@@ -111,8 +115,8 @@ struct MeshTreeNode {
   bool isLeaf() const { return secondChild == 0; }
 };
 
-/// A binary bounding-volume tree over a mesh's triangles; Volume is Obb<double> (ObbTree) or
-/// Kdop18 (KdopTree). See the header comment for the construction rules and the queries.
+/// A binary bounding-volume tree over a mesh's triangles; Volume is Kdop18 (KdopTree). See the
+/// header comment for the construction rules and the queries.
 template <class Volume>
 class MeshTree {
  public:
@@ -137,7 +141,6 @@ class MeshTree {
   int depth_ = 0;
 };
 
-using ObbTree = MeshTree<Obb<double>>;
 using KdopTree = MeshTree<Kdop18>;
 
 }  // namespace nestwalk

@@ -53,14 +53,14 @@ constexpr Settings kQuick{5, 20'000, 3, 3};
 double stopGap(const CollisionWorld& world, const MeshWorld& meshes, const NestedVolume<double>& body,
                std::int32_t blockedUnit, std::vector<std::uint32_t>& near) {
   MeshQueryCounters counters;
-  double gap = blockedUnit >= 0 ? meshes.distance(std::uint32_t(blockedUnit), body.inner, MeshTreeKind::Obb, counters)
+  double gap = blockedUnit >= 0 ? meshes.distance(std::uint32_t(blockedUnit), body.inner, counters)
                                 : kGapSearchRadius;
   const Vec3<double> grow = Vec3<double>::Constant(gap * (1 + kNearSearchRelative) + kNearSearchAbsolute);
   near.clear();
   world.tree().query(Aabb<double>{body.outer.min - grow, body.outer.max + grow}, near);
   bool found = blockedUnit >= 0;
   for (std::uint32_t u : near) {
-    gap = std::min(gap, meshes.distance(u, body.inner, MeshTreeKind::Obb, counters));
+    gap = std::min(gap, meshes.distance(u, body.inner, counters));
     found = true;
   }
   return found ? gap : kNaN;

@@ -15,9 +15,9 @@ namespace nestwalk {
 // The walker's contact test against each unit (after the broad phase over the outer AABBs):
 //   Nested     outer AABB, then AABB-OBB, then OBB-OBB (Ma et al.; the default)
 //   Aabb       outer AABB only;  Obb  inner OBB only
-//   NestedMesh the nested test, then the body box against the model's real triangles through an
-//              OBB tree: blocks only on real contact (exact reference)
-//   Kdop18     the body box against the real triangles through a k-DOP-18 tree, right after the
+//   NestedMesh the nested test, then the body box against the model's real triangles through a
+//              k-DOP-18 tree (geometry/mesh_tree.h): blocks only on real contact (exact reference)
+//   Kdop18     the body box against the real triangles through the same tree, right after the
 //              broad phase (exact, no nested stage)
 //   Auto       chosen per collision unit at load time from its own geometry (walker/contact_choice.h):
 //              Nested where the inner OBB is tight around the unit's triangles, NestedMesh where it

@@ -71,10 +71,10 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
 }
 
 SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u,
-                                            double t0, const Vec3<double>& normal, MeshTreeKind kind,
+                                            double t0, const Vec3<double>& normal,
                                             CollisionCounters& counters) const {
   MeshQueryCounters mc;
-  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, kind, mc, search_);
+  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, mc, search_);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   SweptNestedResult r;
@@ -107,10 +107,10 @@ bool CollisionWorld::exactAfterNested(std::uint32_t u) const {
   }
 }
 
-bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
+bool CollisionWorld::meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u,
                                  CollisionCounters& counters) const {
   MeshQueryCounters mc;
-  const bool overlap = meshWorld().overlaps(u, viewer.inner, kind, mc);
+  const bool overlap = meshWorld().overlaps(u, viewer.inner, mc);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   return overlap;
@@ -126,7 +126,7 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
       ++counters.stageTests[OverlapStage::ObbObb];
       return sweepInnerOnly(viewer, d, obj);
     case VolumeMethod::Kdop18:
-      if (hasTriangles(u)) return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), MeshTreeKind::Kdop18, counters);
+      if (hasTriangles(u)) return sweepMesh(viewer, d, u, 0.0, Vec3<double>::Zero(), counters);
       break;  // no triangles (points, lines): the unit's nested volumes stand for it
     case VolumeMethod::Nested:
     case VolumeMethod::NestedMesh:
@@ -139,7 +139,7 @@ SweptNestedResult CollisionWorld::sweepUnit(const NestedVolume<double>& viewer, 
   if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
   if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
   // The triangles lie inside both volumes: no real contact before the nested one.
-  if (r.contact && exactAfterNested(u)) return sweepMesh(viewer, d, u, r.t, r.normal, MeshTreeKind::Obb, counters);
+  if (r.contact && exactAfterNested(u)) return sweepMesh(viewer, d, u, r.t, r.normal, counters);
   return r;
 }
 
@@ -227,12 +227,12 @@ std::int32_t CollisionWorld::overlapping(const NestedVolume<double>& viewer, Col
         if (r.stage >= OverlapStage::AabbObb) ++counters.stageTests[OverlapStage::AabbObb];
         if (r.stage >= OverlapStage::ObbObb) ++counters.stageTests[OverlapStage::ObbObb];
         overlap = r.overlap;
-        if (overlap && exactAfterNested(u)) overlap = meshOverlap(viewer, u, MeshTreeKind::Obb, counters);
+        if (overlap && exactAfterNested(u)) overlap = meshOverlap(viewer, u, counters);
         break;
       }
       case VolumeMethod::Kdop18:
         if (hasTriangles(u)) {
-          overlap = meshOverlap(viewer, u, MeshTreeKind::Kdop18, counters);
+          overlap = meshOverlap(viewer, u, counters);
         } else {
           overlap = testNested(viewer, units_[u]).overlap;
         }

@@ -124,9 +124,8 @@ class CollisionWorld {
   // The mesh stage of a sweep: first contact of the body box with unit u's triangles from t0;
   // `normal` is the contact normal reported for t > 0 (sliding).
   SweptNestedResult sweepMesh(const NestedVolume<double>& viewer, const Vec3<double>& d, std::uint32_t u, double t0,
-                              const Vec3<double>& normal, MeshTreeKind kind, CollisionCounters& counters) const;
-  bool meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, MeshTreeKind kind,
-                   CollisionCounters& counters) const;
+                              const Vec3<double>& normal, CollisionCounters& counters) const;
+  bool meshOverlap(const NestedVolume<double>& viewer, std::uint32_t u, CollisionCounters& counters) const;
   // Whether unit u has triangles; the mesh methods test a unit without any (a point cloud, a
   // wireframe) by its nested volumes instead.
   bool hasTriangles(std::uint32_t u) const;

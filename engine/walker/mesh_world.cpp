@@ -23,7 +23,7 @@ std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
   world->models_.reserve(scene.models.size());
   for (const SceneModel& m : scene.models) {
-    world->models_.push_back({ObbTree(m.mesh), KdopTree(m.mesh), m.mesh.triangles.size()});
+    world->models_.push_back({KdopTree(m.mesh), m.mesh.triangles.size()});
   }
   world->unitParts_.resize(scene.units.size());
   for (std::size_t u = 0; u < scene.units.size(); ++u)
@@ -49,21 +49,21 @@ Obb<double> MeshWorld::toModel(const Part& p, const Obb<double>& box) const {
   return b;
 }
 
-bool MeshWorld::overlaps(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const {
+bool MeshWorld::overlaps(std::uint32_t unit, const Obb<double>& box, MeshQueryCounters& c) const {
   for (const Part& p : unitParts_[unit]) {
     const Model& m = models_[p.model];
     const Obb<double> b = toModel(p, box);
-    if (kind == MeshTreeKind::Obb ? m.obb.overlaps(b, &c) : m.kdop.overlaps(b, &c)) return true;
+    if (m.tree.overlaps(b, &c)) return true;
   }
   return false;
 }
 
-double MeshWorld::distance(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const {
+double MeshWorld::distance(std::uint32_t unit, const Obb<double>& box, MeshQueryCounters& c) const {
   double best = std::numeric_limits<double>::infinity();
   for (const Part& p : unitParts_[unit]) {
     const Model& m = models_[p.model];
     const Obb<double> b = toModel(p, box);
-    const double dm = kind == MeshTreeKind::Obb ? m.obb.distance(b, &c) : m.kdop.distance(b, &c);
+    const double dm = m.tree.distance(b, &c);
     best = std::min(best, dm * p.scale);
   }
   return best;
@@ -76,7 +76,7 @@ double MeshWorld::nearestTriangle(std::uint32_t unit, const Vec3<double>& point,
   MeshQueryCounters c;
   for (const Part& p : unitParts_[unit]) {
     Triangle t;
-    const double d = models_[p.model].obb.distance(toModel(p, probe), &c, &t) * p.scale;
+    const double d = models_[p.model].tree.distance(toModel(p, probe), &c, &t) * p.scale;
     if (d < best) {
       best = d;
       for (Vec3<double>& v : t) v = p.scale * (p.rotation * v) + p.translation;  // model -> local
@@ -87,23 +87,22 @@ double MeshWorld::nearestTriangle(std::uint32_t unit, const Vec3<double>& point,
 }
 
 std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, const Obb<double>& box,
-                                                           const Vec3<double>& d, double t0, MeshTreeKind kind,
-                                                           MeshQueryCounters& c, MeshContactSearch search) const {
-  return search == MeshContactSearch::Swept ? sweptContact(unit, box, d, t0, kind, c)
-                                            : advancementContact(unit, box, d, t0, kind, c);
+                                                           const Vec3<double>& d, double t0, MeshQueryCounters& c,
+                                                           MeshContactSearch search) const {
+  return search == MeshContactSearch::Swept ? sweptContact(unit, box, d, t0, c) : advancementContact(unit, box, d, t0, c);
 }
 
-bool MeshWorld::pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshTreeKind kind,
+bool MeshWorld::pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d,
                           MeshQueryCounters& c) const {
   const double length = d.norm();
   if (length == 0.0) return true;
   Obb<double> probe = box;
   probe.center += std::min(1.0, kPressProbeDistance / length) * d;
-  return distance(unit, probe, kind, c) < distance(unit, box, kind, c);
+  return distance(unit, probe, c) < distance(unit, box, c);
 }
 
 std::optional<MeshWorld::Contact> MeshWorld::sweptContact(std::uint32_t unit, const Obb<double>& box,
-                                                           const Vec3<double>& d, double t0, MeshTreeKind kind,
+                                                           const Vec3<double>& d, double t0,
                                                            MeshQueryCounters& c) const {
   Obb<double> grown = box;
   grown.halfExtents.array() += kMeshContactGrowth;
@@ -113,30 +112,30 @@ std::optional<MeshWorld::Contact> MeshWorld::sweptContact(std::uint32_t unit, co
     const Model& m = models_[p.model];
     const Obb<double> b = toModel(p, grown);
     const Vec3<double> dm = p.rotation.transpose() * d / p.scale;
-    const MeshSweepHit hit = kind == MeshTreeKind::Obb ? m.obb.sweep(b, dm, start, &c) : m.kdop.sweep(b, dm, start, &c);
+    const MeshSweepHit hit = m.tree.sweep(b, dm, start, &c);
     if (hit.contact && (!first || hit.t < first->t)) first = Contact{hit.t, true, p.rotation * hit.normal};
   }
   // Touching where the search starts, at the very start of the step: a contact only if the motion
   // presses in (the walker must be able to move away from a contact).
-  if (first && first->t == 0.0) first->pressing = pressesIn(unit, box, d, kind, c);
+  if (first && first->t == 0.0) first->pressing = pressesIn(unit, box, d, c);
   return first;
 }
 
 std::optional<MeshWorld::Contact> MeshWorld::advancementContact(std::uint32_t unit, const Obb<double>& box,
-                                                                 const Vec3<double>& d, double t0, MeshTreeKind kind,
+                                                                 const Vec3<double>& d, double t0,
                                                                  MeshQueryCounters& c) const {
   const double length = d.norm();
   Obb<double> moved = box;
   auto distanceAt = [&](double t) {
     moved.center = box.center + t * d;
-    return distance(unit, moved, kind, c);
+    return distance(unit, moved, c);
   };
   double t = std::max(0.0, t0);
   double dist = distanceAt(t);
   if (dist <= kMeshContactTolerance) {
     // Already in contact where the search starts (see sweptContact).
     Contact contact{t, true};
-    if (t == 0.0) contact.pressing = pressesIn(unit, box, d, kind, c);
+    if (t == 0.0) contact.pressing = pressesIn(unit, box, d, c);
     return contact;
   }
   if (length == 0.0) return std::nullopt;

@@ -1,5 +1,5 @@
-// The equipment's real triangles for the walker's exact methods: per model an OBB tree and a
-// k-DOP-18 tree over its triangles (mesh_tree.h, built once per model file), per collision unit
+// The equipment's real triangles for the walker's exact methods: per model a k-DOP-18 tree over
+// its triangles (mesh_tree.h, built once per model file), per collision unit
 // the instances (model and transform) it is made of. Answers, for the viewer's body box in the
 // local frame: does it touch a unit's triangles, how far is it from them, and where along a step
 // does it first come within a contact tolerance of them.
@@ -43,8 +43,6 @@ namespace nestwalk {
 
 struct Scene;
 
-enum class MeshTreeKind : std::uint8_t { Obb, Kdop18 };
-
 // Contact: within this distance of the triangles (metres). The walker then stops kStopDistance
 // (0.5 mm) short along its step, so the stop gap stays within about 0.6 mm.
 inline constexpr double kMeshContactTolerance = 1e-4;
@@ -65,8 +63,8 @@ class MeshWorld {
 
   std::size_t units() const { return unitParts_.size(); }
   std::size_t triangles(std::size_t unit) const;
-  bool overlaps(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
-  double distance(std::uint32_t unit, const Obb<double>& box, MeshTreeKind kind, MeshQueryCounters& c) const;
+  bool overlaps(std::uint32_t unit, const Obb<double>& box, MeshQueryCounters& c) const;
+  double distance(std::uint32_t unit, const Obb<double>& box, MeshQueryCounters& c) const;
   /// The distance from a point (local frame) to the unit's triangles and the triangle at that
   /// distance (local frame); +infinity and no triangle for a unit without triangles.
   double nearestTriangle(std::uint32_t unit, const Vec3<double>& point, std::optional<Triangle>& nearest) const;
@@ -80,13 +78,11 @@ class MeshWorld {
   // The first t in [t0, 1] at which box + t d comes within the contact tolerance of the unit's
   // triangles (see the header comment); nullopt when it never does within the step.
   std::optional<Contact> firstContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
-                                      MeshTreeKind kind, MeshQueryCounters& c,
-                                      MeshContactSearch search = MeshContactSearch::Swept) const;
+                                      MeshQueryCounters& c, MeshContactSearch search = MeshContactSearch::Swept) const;
 
  private:
   struct Model {
-    ObbTree obb;
-    KdopTree kdop;
+    KdopTree tree;
     std::size_t triangles;
   };
   struct Part {
@@ -97,12 +93,11 @@ class MeshWorld {
   };
   Obb<double> toModel(const Part& p, const Obb<double>& box) const;
   std::optional<Contact> sweptContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
-                                      MeshTreeKind kind, MeshQueryCounters& c) const;
+                                      MeshQueryCounters& c) const;
   std::optional<Contact> advancementContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d,
-                                            double t0, MeshTreeKind kind, MeshQueryCounters& c) const;
+                                            double t0, MeshQueryCounters& c) const;
   // At the very start of a step, within the tolerance already: whether the motion presses in.
-  bool pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshTreeKind kind,
-                 MeshQueryCounters& c) const;
+  bool pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshQueryCounters& c) const;
   std::vector<Model> models_;
   std::vector<std::vector<Part>> unitParts_;
 };

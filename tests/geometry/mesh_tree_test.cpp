@@ -1,4 +1,4 @@
-// The mesh trees (mesh_tree.h: OBB tree and 18-DOP tree over a model's triangles) against the
+// The mesh tree (mesh_tree.h: the 18-DOP tree over a model's triangles) against the
 // brute-force loops over every triangle (whose primitive, triangle_box.h, is checked against CGAL
 // and FCL in its own tests), on meshes that stress them: an icosphere, a thin pole, coplanar and
 // degenerate triangles, a single triangle, an empty mesh, a mesh with exponentially spaced parts,
@@ -13,7 +13,7 @@
 // under 10% of the triangle count, as are near boxes on average). Timings are printed.
 // The bundled equipment models (the bundled scene's models/, or the folder the environment
 // variable NESTWALK_BUNDLED_SCENE names; skipped when absent) are read through collectModelGeometry (scene/node_geometry.h) and
-// walked into by body-sized boxes: both trees equal brute force, every mesh contact is an inner-OBB
+// walked into by body-sized boxes: the tree equals brute force, every mesh contact is an inner-OBB
 // contact, and the OBB's false contacts (OBB touched, triangles not) are printed with how far
 // from the real surface they stop the viewer: the error the exact reference measures.
 #include "nestwalk/geometry/mesh_tree.h"
@@ -55,10 +55,6 @@ using namespace testmeshes;
 
 template <class Volume>
 bool volumeHolds(const Volume& v, const V3& p);
-template <>
-bool volumeHolds(const Obb<double>& v, const V3& p) {
-  return v.contains(p);
-}
 template <>
 bool volumeHolds(const Kdop18& v, const V3& p) {
   for (int k = 0; k < Kdop18::kDirections; ++k) {
@@ -158,16 +154,13 @@ void checkTree(const char* treeName) {
   }
 }
 
-TEST(MeshTree, ObbTreeAgreesWithBruteForce) { checkTree<ObbTree>("obb"); }
 TEST(MeshTree, KdopTreeAgreesWithBruteForce) { checkTree<KdopTree>("kdop18"); }
 
 TEST(MeshTree, EmptyMeshHasNothing) {
   const TriangleMesh empty;
   const Obb<double> box{V3::Zero(), Mat3<double>::Identity(), V3::Ones()};
   MeshQueryCounters c;
-  EXPECT_FALSE(ObbTree(empty).overlaps(box, &c));
   EXPECT_FALSE(KdopTree(empty).overlaps(box, &c));
-  EXPECT_TRUE(std::isinf(ObbTree(empty).distance(box, &c)));
   EXPECT_TRUE(std::isinf(KdopTree(empty).distance(box, &c)));
   EXPECT_EQ(c.nodeTests + c.triangleTests, 0u);
 }
@@ -175,11 +168,11 @@ TEST(MeshTree, EmptyMeshHasNothing) {
 TEST(MeshTree, RejectsBadInput) {
   TriangleMesh bad = singleTriangle();
   bad.triangles.push_back({0, 1, 3});
-  EXPECT_THROW(ObbTree{bad}, std::invalid_argument);
+  EXPECT_THROW(KdopTree{bad}, std::invalid_argument);
   TriangleMesh nan = singleTriangle();
   nan.vertices[1].x() = std::nan("");
   EXPECT_THROW(KdopTree{nan}, std::invalid_argument);
-  EXPECT_THROW(ObbTree(singleTriangle(), 0), std::invalid_argument);
+  EXPECT_THROW(KdopTree(singleTriangle(), 0), std::invalid_argument);
 }
 
 // ---- Work and time against brute force on a 5120-triangle sphere. ----
@@ -228,15 +221,11 @@ TEST(MeshTree, FewTestsAndFastOnABigMesh) {
     // Near the surface: centre within +-1 half extent of the sphere (about half touch it).
     near.push_back({dir * (1.0 + u(rng) * half.norm()), testshapes::randomRotation(rng), half});
   }
-  const auto t0 = std::chrono::steady_clock::now();
-  const ObbTree obb(sphere);
   const auto t1 = std::chrono::steady_clock::now();
   const KdopTree kdop(sphere);
   const auto t2 = std::chrono::steady_clock::now();
-  std::printf("[build] %zu triangles: obb tree %.1f ms (%zu nodes), kdop18 tree %.1f ms (%zu nodes)\n", sphere.triangles.size(),
-              std::chrono::duration<double, std::milli>(t1 - t0).count(), obb.nodes().size(),
+  std::printf("[build] %zu triangles: kdop18 tree %.1f ms (%zu nodes)\n", sphere.triangles.size(),
               std::chrono::duration<double, std::milli>(t2 - t1).count(), kdop.nodes().size());
-  measure("obb", obb, sphere, far, near);
   measure("kdop18", kdop, sphere, far, near);
 
   std::vector<char> contact;
@@ -248,7 +237,6 @@ TEST(MeshTree, FewTestsAndFastOnABigMesh) {
               near.size(), bruteUs, sphere.triangles.size());
   EXPECT_GT(contacts, long(near.size()) / 5);
   for (std::size_t i = 0; i < near.size(); ++i) {
-    ASSERT_EQ(obb.overlaps(near[i]), bool(contact[i])) << i;
     ASSERT_EQ(kdop.overlaps(near[i]), bool(contact[i])) << i;
   }
 }
@@ -286,7 +274,7 @@ TEST(MeshTree, MeshFromNodeAppliesTransforms) {
     for (int i = 0; i < 3; ++i) EXPECT_LT((mesh.triangle(t)[i] - want[t][i]).norm(), 1e-12) << t << " " << i;
 
   // A box touching the transformed quad's corner (10, 20, 30) from below.
-  const ObbTree tree(mesh);
+  const KdopTree tree(mesh);
   EXPECT_TRUE(tree.overlaps({V3(9.5, 19.5, 29.5), Mat3<double>::Identity(), V3::Constant(0.5)}));
   EXPECT_FALSE(tree.overlaps({V3(9.5, 19.5, 29.49), Mat3<double>::Identity(), V3::Constant(0.5)}));
   EXPECT_NEAR(tree.distance({V3(9.5, 19.5, 29.49), Mat3<double>::Identity(), V3::Constant(0.5)}), 0.01, 1e-12);
@@ -311,7 +299,6 @@ TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
     ASSERT_TRUE(node) << file;
     const TriangleMesh mesh = collectModelGeometry(*node, file.string());
     const Obb<double> inner = fitObb(mesh.vertices, ObbFitter::HullSearch);
-    const ObbTree obbTree(mesh);
     const KdopTree kdopTree(mesh);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1, 1), yaw(0, 2 * std::numbers::pi);
@@ -323,12 +310,11 @@ TEST(MeshTree, BundledModelsAgainstTheirInnerObb) {
                             Eigen::AngleAxisd(yaw(rng), V3::UnitZ()).toRotationMatrix(), body};
       const bool touchesMesh = bruteForceOverlaps(mesh, box);
       const bool touchesObb = satObbObb(inner, box).overlap;
-      ASSERT_EQ(obbTree.overlaps(box), touchesMesh) << file << " box " << n;
       ASSERT_EQ(kdopTree.overlaps(box), touchesMesh) << file << " box " << n;
       ASSERT_TRUE(touchesObb || !touchesMesh) << file << " box " << n << ": a mesh contact outside the inner OBB";
       obbContacts += touchesObb;
       meshContacts += touchesMesh;
-      if (touchesObb && !touchesMesh) falseContactGaps.push_back(obbTree.distance(box));
+      if (touchesObb && !touchesMesh) falseContactGaps.push_back(kdopTree.distance(box));
     }
     std::sort(falseContactGaps.begin(), falseContactGaps.end());
     const auto gap = [&](double q) { return falseContactGaps.empty() ? 0.0 : falseContactGaps[std::size_t(q * double(falseContactGaps.size() - 1))]; };

@@ -31,8 +31,6 @@ namespace {
 using namespace nestwalk::hardcase;
 using testref::Expect;
 
-const MeshTreeKind kKinds[] = {MeshTreeKind::Obb, MeshTreeKind::Kdop18};
-
 Obb<double> axisBox(const V3& c, const V3& h) { return {c, Mat3<double>::Identity(), h}; }
 
 /// What satObbObb must answer for (a, b) by the long double reference and sat.h's documented band.
@@ -94,10 +92,8 @@ TEST(HardCase, DegenerateModel_NoTriangles) {
   MeshQueryCounters c;
   EXPECT_EQ(rig.meshes().triangles(0), 0u);
   const Obb<double> around = axisBox(V3(0, 5, 1), V3(1, 1, 1.5));
-  for (MeshTreeKind kind : kKinds) {
-    EXPECT_FALSE(rig.meshes().overlaps(0, around, kind, c));
-    EXPECT_EQ(rig.meshes().distance(0, around, kind, c), std::numeric_limits<double>::infinity());
-  }
+  EXPECT_FALSE(rig.meshes().overlaps(0, around, c));
+  EXPECT_EQ(rig.meshes().distance(0, around, c), std::numeric_limits<double>::infinity());
 
   const Mesh box = boxMesh(lo, hi);  // the frame's solid box, for the nested stop
   Walker& nested = walkNorth(rig, site, VolumeMethod::Nested, 0.2, -1, 10, 5.0);
@@ -155,16 +151,14 @@ TEST(HardCase, DegenerateModel_SingleTriangle) {
       ASSERT_EQ(box.center.y() + half.y(), 5 - g) << "the construction must be exact";
       const bool contact = g <= 0 && l.meets;
       MeshQueryCounters c;
-      for (MeshTreeKind kind : kKinds) {
-        EXPECT_EQ(rig.meshes().overlaps(0, box, kind, c), contact) << "x " << l.x << " g " << g;
-        const double d = rig.meshes().distance(0, box, kind, c);
-        if (contact) {
-          EXPECT_EQ(d, 0.0);
-        } else if (l.meets) {
-          EXPECT_EQ(d, g) << "x " << l.x << ": the distance across the plane";
-        } else {
-          EXPECT_NEAR(d, fclBoxMeshDistance(box, placed), 1e-9) << "x " << l.x << " g " << g;
-        }
+      EXPECT_EQ(rig.meshes().overlaps(0, box, c), contact) << "x " << l.x << " g " << g;
+      const double d = rig.meshes().distance(0, box, c);
+      if (contact) {
+        EXPECT_EQ(d, 0.0);
+      } else if (l.meets) {
+        EXPECT_EQ(d, g) << "x " << l.x << ": the distance across the plane";
+      } else {
+        EXPECT_NEAR(d, fclBoxMeshDistance(box, placed), 1e-9) << "x " << l.x << " g " << g;
       }
       const bool sat = satObbObb(v.inner, box).overlap;
       if (contact) {
@@ -247,11 +241,9 @@ TEST(HardCase, DegenerateModel_CoplanarPanel) {
         ASSERT_EQ(box.center.z() - side * half.z(), 1 + side * g) << "the construction must be exact";
         const bool contact = g <= 0 && p.meets;
         const std::string what = "x " + std::to_string(p.x) + " g " + std::to_string(g) + (side > 0 ? " above" : " below");
-        for (MeshTreeKind kind : kKinds) {
-          EXPECT_EQ(rig.meshes().overlaps(0, box, kind, c), contact) << what;
-          if (p.meets) {
-            EXPECT_EQ(rig.meshes().distance(0, box, kind, c), std::max(g, 0.0)) << what;
-          }
+        EXPECT_EQ(rig.meshes().overlaps(0, box, c), contact) << what;
+        if (p.meets) {
+          EXPECT_EQ(rig.meshes().distance(0, box, c), std::max(g, 0.0)) << what;
         }
         const bool sat = satObbObb(v.inner, box).overlap;
         const bool nested = testNested(NestedVolume<double>::fromObb(box), v).overlap;
@@ -274,7 +266,7 @@ TEST(HardCase, DegenerateModel_CoplanarPanel) {
                           Eigen::AngleAxisd(std::numbers::pi * U(rng), V3(U(rng), U(rng), U(rng)).normalized()).toRotationMatrix(),
                           V3(0.02 + 0.2 * std::abs(U(rng)), 0.02 + 0.2 * std::abs(U(rng)), 0.02 + 0.2 * std::abs(U(rng)))};
     const double ref = fclBoxMeshDistance(box, pitched);
-    for (MeshTreeKind kind : kKinds) EXPECT_NEAR(rig.meshes().distance(1, box, kind, c), ref, 1e-9) << "box " << k;
+    EXPECT_NEAR(rig.meshes().distance(1, box, c), ref, 1e-9) << "box " << k;
     const bool sat = satObbObb(tilted, box).overlap;
     if (ref == 0) {
       EXPECT_TRUE(sat) << "box " << k << ": SAT missed a contact with the pitched panel";

@@ -1,5 +1,5 @@
 // Hard cases of the walker against equipment with the exact methods (nested+mesh: the nested test
-// then the model's triangles through an OBB tree; kdop18: the triangles through a k-DOP-18 tree;
+// then the model's triangles through a k-DOP-18 tree; kdop18: the same tree without the nested test;
 // engine/walker/mesh_world.h), on scenes written to a temporary folder: a level GeoTIFF, models
 // built here and written as .osgt, scene.json. Situations: fast motion past a thin pole, a model
 // whose OBB is far bigger than its triangles, a model in millimetres, models authored Y-up, and the
@@ -169,14 +169,12 @@ TEST(HardCase, MillimetreModelUnits) {
                           V3(0.05 + 0.2 * std::abs(U(rng)), 0.05 + 0.2 * std::abs(U(rng)), 0.05 + 0.5 * std::abs(U(rng)))};
     MeshQueryCounters c;
     const double ref = fclBoxMeshDistance(box, poleMm);
-    for (MeshTreeKind kind : {MeshTreeKind::Obb, MeshTreeKind::Kdop18}) {
-      EXPECT_NEAR(rig.meshes().distance(0, box, kind, c), ref, 1e-9) << "box " << k;
-      if (ref > 1e-9) {
-        EXPECT_FALSE(rig.meshes().overlaps(0, box, kind, c)) << "box " << k;
-      }
-      if (ref == 0) {
-        EXPECT_TRUE(rig.meshes().overlaps(0, box, kind, c)) << "box " << k;
-      }
+    EXPECT_NEAR(rig.meshes().distance(0, box, c), ref, 1e-9) << "box " << k;
+    if (ref > 1e-9) {
+      EXPECT_FALSE(rig.meshes().overlaps(0, box, c)) << "box " << k;
+    }
+    if (ref == 0) {
+      EXPECT_TRUE(rig.meshes().overlaps(0, box, c)) << "box " << k;
     }
     contacts += ref == 0;
   }
@@ -232,8 +230,7 @@ TEST(HardCase, YUpModel_Pitch90AndModelTransform) {
       // the surface distance FCL measures would not be the solids'.)
       MeshQueryCounters c;
       const double ref = fclBoxMeshDistance(box, slabs[u]);
-      EXPECT_NEAR(rig.meshes().distance(std::uint32_t(u), box, MeshTreeKind::Obb, c), ref, 1e-9) << "unit " << u << " box " << k;
-      EXPECT_NEAR(rig.meshes().distance(std::uint32_t(u), box, MeshTreeKind::Kdop18, c), ref, 1e-9) << "unit " << u << " box " << k;
+      EXPECT_NEAR(rig.meshes().distance(std::uint32_t(u), box, c), ref, 1e-9) << "unit " << u << " box " << k;
     }
     for (VolumeMethod method : {VolumeMethod::Nested, VolumeMethod::NestedMesh, VolumeMethod::Kdop18}) {
       Walker& w = rig.walker(method);

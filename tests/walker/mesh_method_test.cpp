@@ -1,5 +1,5 @@
-// The exact walker methods on the bundled scene: nested+mesh (nested volumes, then an OBB tree over
-// the real triangles), kdop18 (a k-DOP-18 tree right after the broad phase) and auto (the mesh
+// The exact walker methods on the bundled scene: nested+mesh (nested volumes, then a k-DOP-18 tree
+// over the real triangles), kdop18 (the same tree right after the broad phase) and auto (the mesh
 // stage only where a unit's inner OBB is not tight). Wherever the bench patrol and the equipment
 // walk and flight are blocked, the body stops within a millimetre of the real triangles and never
 // touches them (distance by FCL between the body box and the instances' triangles, independent of
