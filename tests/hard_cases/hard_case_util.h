@@ -303,9 +303,10 @@ inline Obb<double> bodyBox(const Walker& w) { return w.bodyVolume(w.state().feet
 
 /// Steps the walker toward map (x, y) at `speed` with the view (and body) at `headingDeg`, until it
 /// arrives or has made no progress for three steps (blocked); `afterStep` sees every step.
-/// Returns the number of steps.
+/// Returns the number of steps. `onReport`, when given, sees each step's report.
 inline int walkToward(Walker& w, const Eigen::Vector2d& target, double speed, double headingDeg,
-                      const std::function<void(const Walker&)>& afterStep = {}, int maxSteps = 50000) {
+                      const std::function<void(const Walker&)>& afterStep = {}, int maxSteps = 50000,
+                      const std::function<void(const StepReport&)>& onReport = {}) {
   int stuck = 0, n = 0;
   for (; n < maxSteps && stuck < 3; ++n) {
     const Eigen::Vector2d to = target - w.state().feet.head<2>();
@@ -316,7 +317,8 @@ inline int walkToward(Walker& w, const Eigen::Vector2d& target, double speed, do
     in.move = Eigen::Vector3d(to.x(), to.y(), 0) * (len / dist);
     in.headingDeg = headingDeg;
     const Eigen::Vector3d before = w.state().feet;
-    w.step(in);
+    const StepReport report = w.step(in);
+    if (onReport) onReport(report);
     if (afterStep) afterStep(w);
     stuck = (w.state().feet - before).norm() < 1e-12 ? stuck + 1 : 0;
   }
