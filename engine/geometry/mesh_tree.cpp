@@ -80,16 +80,17 @@ struct VolumeRules<Kdop18> {
     return q;
   }
 
-  // Along the box's axis j, the node's AABB and the box: the offset of the AABB's centre from the
-  // box's (p0) and the sum of their radii with the slack (r).
-  struct AxisSlab {
-    double p0, r;
+  // Along the box's 3 axes, the node's AABB and the box: the offsets of the AABB's centre from the
+  // box's (p0) and the sums of their radii with the slack (r).
+  struct AxisSlabs {
+    V3 p0, r;
   };
-  static AxisSlab boxAxisSlab(const Kdop18& node, const Query& q, int j, double extraSlack = 0) {
+  static AxisSlabs boxAxisSlabs(const Kdop18& node, const Query& q, double extraSlack = 0) {
     const V3 lo(node.min[0], node.min[1], node.min[2]), hi(node.max[0], node.max[1], node.max[2]);
     const V3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
     const double slack = q.slack + extraSlack + kRoundingSlack<double> * 2 * (centre.cwiseAbs().sum() + half.sum());
-    return {q.axes.col(j).dot(centre) - q.centreAlong[j], q.absAxes.col(j).dot(half) + q.halfExtents[j] + slack};
+    return {q.axes.transpose() * centre - q.centreAlong,
+            q.absAxes.transpose() * half + q.halfExtents + V3::Constant(slack)};
   }
 
   static Kdop18 fit(const std::vector<V3>& points) {
@@ -143,9 +144,11 @@ struct VolumeRules<Kdop18> {
                        kRoundingSlack<double> * std::abs(q.motion[k]);
       alive = clip.clip(p0, q.motion[k], r, std::int8_t(k), k);
     }
-    for (int j = 0; j < 3 && alive; ++j) {
-      const AxisSlab slab = boxAxisSlab(node, q.box, j, q.motionSlack);
-      alive = clip.clip(slab.p0, q.motionAlong[j], slab.r, std::int8_t(Kdop18::kDirections + j), Kdop18::kDirections + j);
+    if (alive) {
+      const AxisSlabs slabs = boxAxisSlabs(node, q.box, q.motionSlack);
+      for (int j = 0; j < 3 && alive; ++j)
+        alive = clip.clip(slabs.p0[j], q.motionAlong[j], slabs.r[j], std::int8_t(Kdop18::kDirections + j),
+                          Kdop18::kDirections + j);
     }
     SweepResult out;
     out.enter = clip.enter;
@@ -156,11 +159,8 @@ struct VolumeRules<Kdop18> {
   static bool overlaps(const Kdop18& node, const Query& box) {
     for (int k = 0; k < Kdop18::kDirections; ++k)
       if (node.min[k] > box.dop.max[k] || box.dop.min[k] > node.max[k]) return false;
-    for (int j = 0; j < 3; ++j) {
-      const AxisSlab slab = boxAxisSlab(node, box, j);
-      if (std::abs(slab.p0) > slab.r) return false;
-    }
-    return true;
+    const AxisSlabs slabs = boxAxisSlabs(node, box);
+    return (slabs.p0.cwiseAbs().array() <= slabs.r.array()).all();
   }
   static double lowerBound(const Kdop18& node, const Query& box) {
     double gap = 0;
@@ -168,10 +168,8 @@ struct VolumeRules<Kdop18> {
       const double slabGap = std::max(node.min[k] - box.dop.max[k], box.dop.min[k] - node.max[k]);
       gap = std::max(gap, k < 3 ? slabGap : slabGap / std::sqrt(2.0));
     }
-    for (int j = 0; j < 3; ++j) {  // unit axes
-      const AxisSlab slab = boxAxisSlab(node, box, j);
-      gap = std::max(gap, std::abs(slab.p0) - slab.r);
-    }
+    const AxisSlabs slabs = boxAxisSlabs(node, box);  // unit axes
+    gap = std::max(gap, (slabs.p0.cwiseAbs() - slabs.r).maxCoeff());
     return gap * (1 - kLowerBoundShrink);
   }
 };

@@ -115,6 +115,15 @@ void declareOptions(CLI::App& cmd, ModelReadBenchOptions& o) {
       ->check(CLI::ExistingFile);
 }
 
+void declareOptions(CLI::App& cmd, ContactBenchOptions& o) {
+  declareCommon(cmd, o, "4 sides, 2 calls per sweep");
+  cmd.add_option("--repetitions", o.repetitions, "Timed calls per sweep and method (default 5)")->check(CLI::Range(1, 1000));
+  cmd.add_option("--sides", o.sides, "Approach directions per model (default 16)")->check(CLI::Range(1, 360));
+  cmd.add_option("--models", o.models,
+                 "Models as FILE[:UNITS[:UP]]: metres per file unit (default 1), up axis x, y, z, -x, -y or -z "
+                 "(default z); default: the shared dump truck and excavator");
+}
+
 void completeOptions(WalkerBenchOptions& o) {
   if (!o.table2) return;
   try {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "tools/bench/broadphase_bench.h"
+#include "tools/bench/contact_bench.h"
 #include "tools/bench/model_read_bench.h"
 #include "tools/bench/render_bench.h"
 #include "tools/bench/terrain_bench.h"
@@ -30,6 +31,7 @@ void declareOptions(CLI::App& cmd, BroadPhaseBenchOptions& o);
 void declareOptions(CLI::App& cmd, WalkerBenchOptions& o);
 void declareOptions(CLI::App& cmd, RenderBenchOptions& o);
 void declareOptions(CLI::App& cmd, ModelReadBenchOptions& o);
+void declareOptions(CLI::App& cmd, ContactBenchOptions& o);
 
 /// What the parsed options leave to be decided: the bundled scene and its flythroughs where none
 /// was given (the render benchmark: InputError when it is absent; the walker benchmark: skips its

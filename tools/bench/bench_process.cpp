@@ -5,6 +5,11 @@
 
 namespace nestwalk::bench {
 
+std::string sharedDataFolder() {
+  const char* env = std::getenv("NESTWALK_SHARED_DATA");
+  return env && *env ? std::string(env) : std::string(NESTWALK_SHARED_DATA_DIR);
+}
+
 ScopedEnvironment::ScopedEnvironment(std::string name, const std::string& value, bool active)
     : name_(std::move(name)), active_(active) {
   if (!active_) return;

@@ -1,6 +1,6 @@
 // What a benchmark sets or reads of its own process: an environment variable it sets for a while
-// (the kernel testBoxPairs picks, the model cache's folder) and its resident memory as Linux
-// reports it (/proc/self/status).
+// (the kernel testBoxPairs picks, the model cache's folder), its resident memory as Linux
+// reports it (/proc/self/status), and where the shared real data lies.
 // Thread safety: ScopedEnvironment calls setenv: not while other threads read the environment.
 #pragma once
 
@@ -8,6 +8,10 @@
 #include <string>
 
 namespace nestwalk::bench {
+
+/// The shared real data (models, DEMs): NESTWALK_SHARED_DATA, else ../shared/data beside the
+/// source tree. It may not exist.
+std::string sharedDataFolder();
 
 /// Sets the environment variable `name` to `value` while it lives (when `active`), then restores
 /// what was there (or removes it).

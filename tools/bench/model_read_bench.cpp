@@ -24,12 +24,6 @@ namespace fs = std::filesystem;
 
 constexpr double kCachedVsDirect = 1.2;  // target: a cached guarded read / a direct one, every model
 
-/// The shared real data: NESTWALK_SHARED_DATA, else ../shared/data beside the source tree.
-fs::path sharedData() {
-  const char* env = std::getenv("NESTWALK_SHARED_DATA");
-  return env && *env ? fs::path(env) : fs::path(NESTWALK_SHARED_DATA_DIR);
-}
-
 /// The default models: the bundled scene's, the hand-made station, the GIS sample's pickup, the
 /// shared real ones; those that exist.
 std::vector<std::string> defaultModels() {
@@ -40,7 +34,7 @@ std::vector<std::string> defaultModels() {
   std::sort(candidates.begin(), candidates.end());
   candidates.push_back(fs::path(NESTWALK_SOURCE_ASSETS_DIR) / "models" / "weather_station.obj");
   candidates.push_back(bundled.parent_path().parent_path() / "gis_dump_inputs" / "models" / "pickup_mm_yup.osgt");
-  const fs::path shared = sharedData() / "models";
+  const fs::path shared = fs::path(sharedDataFolder()) / "models";
   for (const char* m : {"street_lamp.osgb", "dumptruck.osgt", "excavator_chassis.obj", "jeep1/jeep1.3ds"})
     candidates.push_back(shared / m);
   std::vector<std::string> out;

@@ -22,6 +22,7 @@ void registerView(CLI::App& app);            // nestwalk view SCENE [--script FI
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]
 void registerBenchRender(CLI::App& bench);  // nestwalk bench render [--json]
 void registerBenchModels(CLI::App& bench);  // nestwalk bench models [--json]
+void registerBenchContact(CLI::App& bench);  // nestwalk bench contact [--json]
 void registerReport(CLI::App& app);          // nestwalk report [SCENE] --out DIR [--quick]
 
 }  // namespace nestwalk::tools

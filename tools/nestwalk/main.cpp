@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerBenchWalker(*bench);
   nestwalk::tools::registerBenchRender(*bench);
   nestwalk::tools::registerBenchModels(*bench);
+  nestwalk::tools::registerBenchContact(*bench);
 
   try {
     app.parse(argc, argv);

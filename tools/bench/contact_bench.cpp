@@ -1,0 +1,250 @@
+// The contact benchmark (see contact_bench.h).
+#include "tools/bench/contact_bench.h"
+
+#include "tools/bench/bench_document.h"
+#include "tools/bench/bench_process.h"
+#include "tools/bench/peers/contact_peers.h"
+
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/statistics.h"
+#include "nestwalk/geometry/mesh_tree.h"
+#include "nestwalk/geometry/sat.h"
+#include "nestwalk/scene/model_geometry.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <ostream>
+
+namespace nestwalk::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using V3 = Vec3<double>;
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
+constexpr double kPeerRatio = 5.0;          // target: a peer's time / ours, at p50 and at p99
+constexpr double kAgreementMm = 0.1;        // target: time of contact within this of ours (mm)
+constexpr double kStepMetres = 1.4 / 60.0;  // a walking step at 60 Hz
+constexpr double kPressBackMetres = 5e-4;   // the walker stops this short of a contact
+// Conservative advancement (the referee where a peer disagrees): touching at this distance (m);
+// it never passes a contact, and stops at most this early.
+constexpr double kAdvanceTouch = 1e-7;
+constexpr int kMaxAdvanceSteps = 100000;
+
+struct Model {
+  std::string name;
+  TriangleMesh mesh;  // metres, z up
+};
+
+/// FILE[:UNITS[:UP]] read, scaled to metres and turned z up.
+Model readModel(const std::string& spec) {
+  std::string file = spec, units = "1", up = "z";
+  if (const auto colon = spec.find(':'); colon != std::string::npos) {
+    file = spec.substr(0, colon);
+    units = spec.substr(colon + 1);
+    if (const auto second = units.find(':'); second != std::string::npos) {
+      up = units.substr(second + 1);
+      units = units.substr(0, second);
+    }
+  }
+  char* end = nullptr;
+  const double scale = std::strtod(units.c_str(), &end);
+  if (end == units.c_str() || *end || !(scale > 0))
+    throw InputError(spec + ": the units '" + units + "' are not a positive number of metres");
+  const std::string axes[] = {"x", "y", "z", "-x", "-y", "-z"};
+  const auto found = std::find(std::begin(axes), std::end(axes), up);
+  if (found == std::end(axes)) throw InputError(spec + ": the up axis '" + up + "' is not x, y, z, -x, -y or -z");
+  const int index = int(found - std::begin(axes));
+  const V3 upAxis = (index < 3 ? 1.0 : -1.0) * V3::Unit(index % 3);
+  const Mat3<double> turn = Eigen::Quaterniond::FromTwoVectors(upAxis, V3::UnitZ()).toRotationMatrix();
+  Model m{fs::path(file).filename().string(), loadModelGeometry(file)};
+  for (V3& v : m.mesh.vertices) v = scale * (turn * v);
+  return m;
+}
+
+std::vector<std::string> defaultModels() {
+  const fs::path models = fs::path(sharedDataFolder()) / "models";
+  std::vector<std::string> out;
+  if (fs::is_regular_file(models / "dumptruck.osgt")) out.push_back((models / "dumptruck.osgt").string() + ":0.3:z");
+  if (fs::is_regular_file(models / "excavator_chassis.obj"))
+    out.push_back((models / "excavator_chassis.obj").string() + ":1:-y");
+  return out;
+}
+
+struct Sweep {
+  Obb<double> box;
+  V3 d;
+};
+
+/// The approaches of contact_bench.h, found with our tree (it decides where each approach ends).
+std::vector<Sweep> approaches(const TriangleMesh& mesh, const KdopTree& tree, int sides) {
+  Aabb<double> bounds{V3::Constant(kNone), V3::Constant(-kNone)};
+  for (const V3& v : mesh.vertices) bounds.extend(Aabb<double>{v, v});
+  const V3 half(0.25, 0.25, 0.9), centre = bounds.center();
+  const double reach = 0.5 * bounds.size().head<2>().norm() + half.head<2>().norm() + 1.0;
+  std::vector<Sweep> out;
+  for (const double bottom : {bounds.min.z() + 0.05, bounds.min.z() + 0.5 * bounds.size().z()})
+    for (int side = 0; side < sides; ++side) {
+      const double angle = 2 * std::numbers::pi * side / sides + 0.1;  // off the models' own axes
+      const V3 toward(-std::sin(angle), -std::cos(angle), 0);
+      Obb<double> box{V3(centre.x(), centre.y(), bottom + half.z()) - reach * toward,
+                      Eigen::AngleAxisd(std::atan2(toward.y(), toward.x()), V3::UnitZ()).toRotationMatrix(), half};
+      const V3 d = kStepMetres * toward;
+      for (int step = 0; step < 100000; ++step, box.center += d) {
+        Aabb<double> swept = aabbOf(box);
+        swept.extend(Aabb<double>{swept.min + d, swept.max + d});
+        if (!satAabbAabb(swept, bounds).overlap) continue;
+        out.push_back({box, d});
+        const MeshSweepHit hit = tree.sweep(box, d);
+        if (!hit.contact) continue;
+        // Held at the face: pressing on, turning.
+        Obb<double> held = box;
+        held.center += std::max(0.0, hit.t * kStepMetres - kPressBackMetres) / kStepMetres * d;
+        for (const double turn : {-20.0, -10.0, 10.0, 20.0})
+          out.push_back({held, Eigen::AngleAxisd(turn * std::numbers::pi / 180, V3::UnitZ()) * d});
+        break;
+      }
+    }
+  return out;
+}
+
+/// The first time the box moved by t d comes within kAdvanceTouch of the triangles, by
+/// conservative advancement on the tree's exact distances; kNone when not within the step.
+double advancementTime(const KdopTree& tree, const Sweep& s) {
+  const double length = s.d.norm();
+  Obb<double> moved = s.box;
+  double t = 0;
+  for (int k = 0; k < kMaxAdvanceSteps; ++k) {
+    moved.center = s.box.center + t * s.d;
+    const double distance = tree.distance(moved);
+    if (distance <= kAdvanceTouch) return t;
+    t += (distance - 0.5 * kAdvanceTouch) / length;
+    if (t > 1.0) return kNone;
+  }
+  return t;
+}
+
+double microsecondsOf(const auto& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Distance along the step between two times of contact, mm (infinite when only one touches).
+double apartMm(double a, double b, const Sweep& s) {
+  if (a == kNone && b == kNone) return 0;
+  if (a == kNone || b == kNone) return kNone;
+  return 1e3 * std::abs(a - b) * s.d.norm();
+}
+
+}  // namespace
+
+int runBenchmark(const ContactBenchOptions& opts, std::ostream& out) {
+  const int repetitions = opts.quick ? 2 : opts.repetitions;
+  const int sides = opts.quick ? 4 : opts.sides;
+  const std::vector<std::string> specs = opts.models.empty() ? defaultModels() : opts.models;
+  Document doc("nestwalk bench contact: us per sweep of the body box against a heavy model's triangles: "
+               "nestwalk's k-DOP tree against FCL's continuous collision and Bullet's convex sweep");
+  if (specs.empty()) doc.text << "no models: the shared data folder (" << sharedDataFolder() << ") has none; give --models\n";
+  Table table;
+  table.column(Column("model", "/model", 24, 0, true))
+      .column(Column("method", "/method", 9, 0, true))
+      .column(Column("triangles", "/triangles", 10, 0))
+      .column(Column("sweeps", "/sweeps", 7, 0))
+      .column(Column("contacts", "/contacts", 9, 0))
+      .column(Column("us p50", "/us/p50", 10, 2))
+      .column(Column("us p99", "/us/p99", 10, 2))
+      .column(Column("us mean", "/us/mean", 10, 2))
+      .column(Column("x ours p50", "/ratio/p50", 11, 1))
+      .column(Column("x ours p99", "/ratio/p99", 11, 1))
+      .column(Column("BV tests", "/bv_tests", 9, 1))
+      .column(Column("tri tests", "/triangle_tests", 10, 1))
+      .column(Column("toc apart max mm", "/apart_mm/max", 17, 4))
+      .column(Column("apart > 0.1 mm", "/apart_mm/over", 15, 0))
+      .column(Column("of which ours right", "/apart_mm/ours_right", 20, 0));
+  double worstRatio = kNone, worstUnresolvedMm = 0;
+  for (const std::string& spec : specs) {
+    Model model;
+    try {
+      model = readModel(spec);
+    } catch (const std::exception& e) {
+      doc.errors["--models"] = e.what();
+      continue;
+    }
+    const KdopTree tree(model.mesh);
+    const std::vector<Sweep> sweeps = approaches(model.mesh, tree, sides);
+    const std::unique_ptr<ContactPeer> fcl = fclContactPeer(model.mesh), bullet = bulletContactPeer(model.mesh);
+    const char* names[] = {"nestwalk", "FCL", "Bullet"};
+    std::vector<std::vector<double>> micros(3, std::vector<double>(sweeps.size(), kNone));
+    std::vector<std::vector<double>> toc(3, std::vector<double>(sweeps.size(), kNone));
+    MeshQueryCounters work;  // ours, one call per sweep
+    for (std::size_t i = 0; i < sweeps.size(); ++i)
+      for (int r = 0; r < repetitions; ++r)
+        for (int m = 0; m < 3; ++m) {
+          const Sweep& s = sweeps[i];
+          double t = kNone;
+          const double us = microsecondsOf([&] {
+            if (m == 0) {
+              const MeshSweepHit hit = tree.sweep(s.box, s.d, 0.0, r == 0 ? &work : nullptr);
+              t = hit.contact ? hit.t : kNone;
+            } else {
+              t = (m == 1 ? *fcl : *bullet).timeOfContact(s.box, s.d);
+            }
+          });
+          micros[std::size_t(m)][i] = std::min(micros[std::size_t(m)][i], us);
+          toc[std::size_t(m)][i] = t;
+        }
+    const double oursP50 = percentile(micros[0], 50), oursP99 = percentile(micros[0], 99);
+    for (int m = 0; m < 3; ++m) {
+      const auto& us = micros[std::size_t(m)];
+      double apartMax = 0;
+      int over = 0, oursRight = 0;
+      std::size_t contacts = 0;
+      for (std::size_t i = 0; i < sweeps.size(); ++i) {
+        contacts += toc[std::size_t(m)][i] != kNone;
+        if (m == 0) continue;
+        const double apart = apartMm(toc[std::size_t(m)][i], toc[0][i], sweeps[i]);
+        apartMax = std::max(apartMax, apart);
+        if (apart <= kAgreementMm) continue;
+        ++over;
+        const double referee = advancementTime(tree, sweeps[i]);
+        if (apartMm(referee, toc[0][i], sweeps[i]) <= kAgreementMm) ++oursRight;
+        else worstUnresolvedMm = std::max(worstUnresolvedMm, apartMm(referee, toc[0][i], sweeps[i]));
+      }
+      Json row{{"model", model.name},
+               {"triangles", model.mesh.triangles.size()},
+               {"method", names[m]},
+               {"sweeps", sweeps.size()},
+               {"contacts", contacts},
+               {"us", {{"p50", percentile(us, 50)}, {"p99", percentile(us, 99)}, {"mean", mean(us)}}}};
+      if (m == 0) {
+        row["bv_tests"] = double(work.nodeTests) / double(sweeps.size());
+        row["triangle_tests"] = double(work.triangleTests) / double(sweeps.size());
+      } else {
+        const double r50 = percentile(us, 50) / oursP50, r99 = percentile(us, 99) / oursP99;
+        row["ratio"] = {{"p50", r50}, {"p99", r99}};
+        row["apart_mm"] = {{"max", apartMax}, {"over", over}, {"ours_right", oursRight}};
+        worstRatio = std::min({worstRatio, r50, r99});
+      }
+      table.add(row);
+    }
+  }
+  doc.text << "sweeps: the body box (0.5 x 0.5 x 1.8 m) walking at 1.4 m/s (60 Hz steps) into each model from " << sides
+           << " sides, on the ground and at half its height, then pressing on turned +-10 and +-20 degrees; least of "
+           << repetitions << " calls per sweep; BV and triangle tests: ours, per sweep; toc apart: the peer's time "
+           << "of contact against ours, as distance along the step (inf: one touches, the other not); where over "
+           << "0.1 mm, conservative advancement on exact distances referees\n";
+  doc.table("models", table, "  ");
+  doc.target("peers' time / ours, worst of p50 and p99", "", worstRatio == kNone ? Json() : Json(worstRatio), ">=", kPeerRatio);
+  doc.target("our time of contact off the advancement reference where a peer disagrees, mm", "", worstUnresolvedMm,
+             "<=", kAgreementMm);
+  return doc.write(out, opts.json);
+}
+
+}  // namespace nestwalk::bench
