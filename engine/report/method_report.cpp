@@ -24,6 +24,7 @@
 #include <memory>
 #include <ostream>
 #include <set>
+#include <utility>
 
 namespace nestwalk {
 namespace {
@@ -85,16 +86,44 @@ void timingPlay(const Scene& scene, const CollisionWorld& world, const Script& s
   }
 }
 
-/// The accuracy play: every sweep compared with the reference's, counters, stop gaps.
+/// Watches the accuracy play's sweeps: compares each with the reference, and keeps the triangles
+/// of the heaviest unit the frame's sweeps reached (the reference's broad phase over the outer
+/// AABBs, the same for every method).
+class AccuracyWatch : public SweepObserver {
+ public:
+  AccuracyWatch(const CollisionWorld& reference, const MeshWorld& meshes) : comparison_(reference), reference_(reference), meshes_(meshes) {}
+  void onSweep(const NestedVolume<double>& viewer, const Vec3<double>& d, const SweepHit& hit) override {
+    comparison_.onSweep(viewer, d, hit);
+    Aabb<double> swept = viewer.outer;
+    swept.extend(Aabb<double>{viewer.outer.min + d, viewer.outer.max + d});
+    near_.clear();
+    reference_.tree().query(swept, near_);
+    for (std::uint32_t u : near_) heaviest_ = std::max(heaviest_, meshes_.triangles(u));
+  }
+  /// The heaviest unit's triangles since the last call (0: none reached).
+  std::size_t takeHeaviest() { return std::exchange(heaviest_, 0); }
+  const ReferenceTally& tally() const { return comparison_.tally(); }
+
+ private:
+  ReferenceComparison comparison_;
+  const CollisionWorld& reference_;
+  const MeshWorld& meshes_;
+  std::vector<std::uint32_t> near_;
+  std::size_t heaviest_ = 0;
+};
+
+/// The accuracy play: every sweep compared with the reference's, counters, stop gaps, the weight
+/// of the units each step reached.
 void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorld& reference, const MeshWorld& meshes,
                   const Script& script, const WalkerOptions& options, PlayStats& s) {
-  ReferenceComparison comparison(reference);
+  AccuracyWatch comparison(reference, meshes);
   const ObservedSweeps observed(world, comparison);
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);
   std::vector<std::uint32_t> near;
   std::int32_t blockedBy = -1;  // the unit the previous step was blocked by
   player.run([&](const Walker& w, const StepReport& report) {
+    s.nearTriangles.push_back(comparison.takeHeaviest());
     s.bvTests += report.counters.nodeTests;
     for (std::uint64_t n : report.counters.stageTests) s.bvTests += n;
     s.triangleTests += report.counters.primitiveTests;
@@ -194,6 +223,28 @@ Aggregate aggregate(const std::vector<const PlayStats*>& plays) {
   a.bvPerFrame = a.frames ? double(a.bvTests) / double(a.frames) : kNaN;
   a.trianglesPerFrame = a.frames ? double(a.triangleTests) / double(a.frames) : kNaN;
   return a;
+}
+
+std::vector<WeightRow> weightRows(const std::vector<MethodResult>& methods) {
+  std::vector<WeightRow> rows;
+  const std::size_t classes = std::size(kWeightClasses);
+  for (const MethodResult& m : methods) {
+    std::vector<std::vector<double>> micros(classes);
+    for (const PlayStats& p : m.plays) {
+      if (!p.error.empty() || p.nearTriangles.size() != p.totalMicros.size()) continue;
+      for (std::size_t f = 0; f < p.totalMicros.size(); ++f) {
+        std::size_t c = classes - 1;
+        while (c > 0 && p.nearTriangles[f] < kWeightClasses[c].fromTriangles) --c;
+        micros[c].push_back(p.totalMicros[f]);
+      }
+    }
+    for (std::size_t c = 0; c < classes; ++c) {
+      if (micros[c].empty()) continue;
+      rows.push_back({m.method, kWeightClasses[c].name, micros[c].size(), percentile(micros[c], 50),
+                      percentile(micros[c], 99), mean(micros[c])});
+    }
+  }
+  return rows;
 }
 
 Aggregate MethodResult::overall() const {
@@ -333,6 +384,7 @@ int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
   for (std::size_t m = 0; m < worlds.size(); ++m)
     if (kReportMethods[m] == VolumeMethod::Auto) d.autoChoices = autoChoiceRows(scene, *worlds[m]);
   if (const MethodResult* exact = d.find(VolumeMethod::NestedMesh)) d.blockingKinds = blockingKindRows(scene, *exact);
+  d.byWeight = weightRows(d.methods);
 
   t0 = std::chrono::steady_clock::now();
   d.terrainPoints = settings.terrainPoints;

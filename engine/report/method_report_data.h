@@ -34,6 +34,10 @@ struct PlayStats {
   std::vector<double> gapsMm;                       // the stop gap after each of them
   std::vector<std::uint32_t> blockingEvents;        // the unit of each blocking event: a run of steps
                                                     // blocked by one unit (accuracy play)
+  std::vector<std::size_t> nearTriangles;           // per frame (accuracy play): the triangles of the
+                                                    // heaviest unit the step's sweep reached (the
+                                                    // units whose outer AABB the body's swept outer
+                                                    // AABB meets); 0: none
   std::string error;                                // why the flythrough could not be played ("": it was)
 };
 
@@ -66,6 +70,25 @@ struct MethodResult {
   }
 };
 
+/// A method's µs per step over the frames whose sweep reached a unit of one weight class (the
+/// heaviest unit reached: kWeightClasses), timing plays against the accuracy play's frames.
+struct WeightRow {
+  VolumeMethod method = VolumeMethod::Nested;
+  std::string weight;  // the class's name
+  std::size_t frames = 0;
+  double p50 = 0, p99 = 0, mean = 0;
+};
+/// The weight classes: the heaviest unit a step's sweep reached has at least `fromTriangles`
+/// triangles (and fewer than the next class's); "none reached" below the first.
+struct WeightClass {
+  const char* name;
+  std::size_t fromTriangles;
+};
+inline constexpr WeightClass kWeightClasses[] = {{"no unit reached", 0},    {"1-999 triangles", 1},
+                                                 {"1k-9.9k triangles", 1000}, {"10k-99k triangles", 10000},
+                                                 {"100k+ triangles", 100000}};
+std::vector<WeightRow> weightRows(const std::vector<MethodResult>& methods);
+
 /// Auto's choice for the units of one kind (walker/contact_choice.h).
 struct AutoChoiceRow {
   std::string kind;
@@ -91,6 +114,7 @@ struct ReportData {
   std::size_t terrainPoints = 0;
   std::vector<MethodResult> methods;  // kReportMethods' order
   std::vector<AutoChoiceRow> autoChoices;
+  std::vector<WeightRow> byWeight;
   std::vector<BlockingKindRow> blockingKinds;  // of the reference (nested+mesh) plays
   std::vector<TerrainLodRow> lod;
   std::vector<FitterRow> fitters;

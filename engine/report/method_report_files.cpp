@@ -105,6 +105,16 @@ Table autoTable(const ReportData& d) {
   return t;
 }
 
+Table weightTable(const ReportData& d) {
+  Table t{{"heaviest unit the step reached", "method", "frames", "us/frame p50", "p99", "mean"}};
+  for (const WeightClass& c : kWeightClasses)
+    for (const WeightRow& r : d.byWeight)
+      if (r.weight == c.name)
+        t.push_back({r.weight, volumeMethodName(r.method), count(r.frames), fixedText(r.p50, 2), fixedText(r.p99, 2),
+                     fixedText(r.mean, 2)});
+  return t;
+}
+
 Table blockingTable(const ReportData& d) {
   Table t{{"kind", "blocking events", "units that blocked"}};
   for (const BlockingKindRow& r : d.blockingKinds) t.push_back({r.kind, count(r.events), count(r.units)});
@@ -229,6 +239,10 @@ std::string reportMarkdown(const ReportData& d) {
     << markdown(autoTable(d)) << "\n";
   s << "### Nested: false-block rate and stop gap per flythrough\n\n" << markdown(nestedTable(d)) << "\n";
   s << "### Every method per flythrough\n\n" << markdown(flythroughTable(d), 2) << "\n";
+  s << "### Cost by model weight\n\n"
+    << "µs per frame over the frames whose sweep reached a unit (its outer AABB met by the body's swept outer "
+    << "AABB), by the triangles of the heaviest unit reached: where the exact stage starts to cost.\n\n"
+    << markdown(weightTable(d), 2) << "\n";
   s << "### Time against stop gap\n\n"
     << "Mean µs per frame (over all frames of all flythroughs: the cost of the frames near equipment shows, "
        "where the median is mostly the ground following's) against the mean stop gap (log scales); the grey "
@@ -327,6 +341,11 @@ Json reportJson(const ReportData& d) {
   for (const BlockingKindRow& r : d.blockingKinds)
     kinds.push_back({{"kind", r.kind}, {"events", r.events}, {"units", r.units}});
   j["blocking_events"] = kinds;
+  Json weights = Json::array();
+  for (const WeightRow& r : d.byWeight)
+    weights.push_back({{"weight", r.weight}, {"method", volumeMethodName(r.method)}, {"frames", r.frames},
+                       {"us_per_frame", {{"p50", jsonNumber(r.p50)}, {"p99", jsonNumber(r.p99)}, {"mean", jsonNumber(r.mean)}}}});
+  j["by_model_weight"] = weights;
   j["targets"] = targetsJson(d.targets);
   return j;
 }

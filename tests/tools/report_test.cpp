@@ -98,6 +98,15 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   std::size_t units = 0;
   for (const auto& kind : j["auto"]["kinds"]) units += kind["units"].get<std::size_t>();
   EXPECT_EQ(units, j["units"].get<std::size_t>());
+  // Cost by model weight: every played frame of a method falls in exactly one class.
+  for (const auto& method : j["methods"]) {
+    if (!method["complete"].get<bool>()) continue;
+    std::size_t frames = 0, byWeight = 0;
+    for (const auto& play : method["flythroughs"]) frames += play["frames"].get<std::size_t>();
+    for (const auto& row : j["by_model_weight"])
+      if (row["method"] == method["method"]) byWeight += row["frames"].get<std::size_t>();
+    EXPECT_EQ(byWeight, frames) << method["method"];
+  }
   EXPECT_FALSE(j["terrain_lod"]["levels"].empty());
   for (const auto& level : j["terrain_lod"]["levels"])
     EXPECT_LE(level["max_error_m"].get<double>(), level["table_max_error_m"].get<double>() + 1e-6) << level["name"];
@@ -112,6 +121,7 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   for (const char* m : kMethods) EXPECT_NE(md.find(std::string("| ") + m + " |"), std::string::npos) << m;
   EXPECT_NE(md.find("![time against stop gap](pareto.png)"), std::string::npos);
   EXPECT_NE(md.find("Nested: false-block rate and stop gap per flythrough"), std::string::npos);
+  EXPECT_NE(md.find("### Cost by model weight"), std::string::npos);
   for (const char* s : kScripts) EXPECT_NE(md.find(std::string("| ") + s + " |"), std::string::npos) << s;
 
   for (const char* png : {"pareto.png", "methods.png", "terrain_lod.png"}) {

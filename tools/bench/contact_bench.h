@@ -8,8 +8,9 @@
 // reaches the model's box is a sweep, up to the first contact; then four sweeps pressing on from
 // 0.5 mm short of the contact, turned 10 and 20 degrees either way (a walker held at a face,
 // turning). Models in metres, upright (each file's units and up axis).
-// Per sweep, each method's least time over `repetitions` calls (the methods alternated); per
-// model and method the p50, p99 and mean microseconds, and the peers' ratios to ours. Agreement:
+// Each method plays the sweeps in order (as a walker steps: what one step brings into the cache,
+// the next finds there), `repetitions` times, the methods taking turns; per sweep its least time;
+// per model and method the p50, p99 and mean microseconds, and the peers' ratios to ours. Agreement:
 // the time of contact of each peer against ours, as a distance along the step (mm); where they
 // differ by more than 0.1 mm, conservative advancement on the tree's exact distances decides who
 // is right. Targets (issue 27): each peer at least 5x our time at p50 and p99, its time of contact
