@@ -148,8 +148,12 @@ std::vector<AutoChoiceRow> autoChoiceRows(const Scene& scene, const CollisionWor
     AutoChoiceRow& r = byKind[kind];
     r.kind = kind;
     ++r.units;
+    const ExactStageCost& cost = autoWorld.exactStageCosts()[u];
+    if (!choices[u].tight) r.mostTests = std::max(r.mostTests, cost.maxTests);
     if (choices[u].tight) {
       r.tightGapMaxMm = std::max(r.tightGapMaxMm, 1000.0 * choices[u].lowerBound);
+    } else if (!cost.affordable()) {
+      ++r.costly;
     } else {
       ++r.exact;
       r.exactGapMinMm = std::isnan(r.exactGapMinMm) ? 1000.0 * choices[u].lowerBound

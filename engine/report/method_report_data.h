@@ -93,6 +93,8 @@ std::vector<WeightRow> weightRows(const std::vector<MethodResult>& methods);
 struct AutoChoiceRow {
   std::string kind;
   std::size_t units = 0, exact = 0;  // units, and those that got the exact mesh stage
+  std::size_t costly = 0;            // not tight, but the exact stage costs too much: nested only
+  std::uint64_t mostTests = 0;       // the most tests a sample sweep made on a unit that is not tight
   double tightGapMaxMm = 0;          // nested-only units: the largest distance found from the box to
                                      // the triangles (all within kTightObbGap)
   double exactGapMinMm = NAN;        // exact-stage units: the smallest gap found that exceeded it

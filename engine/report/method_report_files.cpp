@@ -98,10 +98,11 @@ Table nestedTable(const ReportData& d) {
 
 Table autoTable(const ReportData& d) {
   Table t{{"kind", "units", "nested only", "exact stage", "nested only: largest gap found mm",
-           "exact stage: smallest gap found mm"}};
+           "exact stage: smallest gap found mm", "too costly for the exact stage", "most tests a sample sweep made"}};
   for (const AutoChoiceRow& r : d.autoChoices)
     t.push_back({r.kind, count(r.units), count(r.units - r.exact), count(r.exact),
-                 r.units > r.exact ? fixedText(r.tightGapMaxMm, 3) : "-", r.exact ? fixedText(r.exactGapMinMm, 1) : "-"});
+                 r.units > r.exact + r.costly ? fixedText(r.tightGapMaxMm, 3) : "-",
+                 r.exact ? fixedText(r.exactGapMinMm, 1) : "-", count(r.costly), count(r.mostTests)});
   return t;
 }
 
@@ -234,8 +235,13 @@ std::string reportMarkdown(const ReportData& d) {
     << "`auto` keeps the nested test alone for a unit whose inner OBB is tight around its triangles (the largest "
        "distance from the box's surface to them at most "
     << shortText(1000.0 * kTightObbGap)
-    << " mm: walker/contact_choice.h) and adds the exact mesh stage for the others. Per kind: how many units got "
-       "which, the largest distance found on a tight box, and the smallest gap that ruled a box out.\n\n"
+    << " mm: walker/contact_choice.h) and adds the exact mesh stage for the others, unless the stage would cost "
+       "more than "
+    << kMaxExactStageTests
+    << " bounding-volume and triangle tests on a sample sweep of the body into the unit "
+       "(walker/exact_stage_cost.h). Per kind: how many units got which, the largest distance found on a tight box, "
+       "the smallest gap that ruled a box out, the units left to the nested test for their cost, and the most tests a "
+       "sample sweep made.\n\n"
     << markdown(autoTable(d)) << "\n";
   s << "### Nested: false-block rate and stop gap per flythrough\n\n" << markdown(nestedTable(d)) << "\n";
   s << "### Every method per flythrough\n\n" << markdown(flythroughTable(d), 2) << "\n";
@@ -334,9 +340,11 @@ Json reportJson(const ReportData& d) {
   j["fitters"] = {{"repetitions", d.fitterRepetitions}, {"models", fitters}};
   Json choices = Json::array();
   for (const AutoChoiceRow& r : d.autoChoices)
-    choices.push_back({{"kind", r.kind}, {"units", r.units}, {"exact_stage", r.exact},
+    choices.push_back({{"kind", r.kind}, {"units", r.units}, {"exact_stage", r.exact}, {"too_costly", r.costly},
+                       {"most_sample_tests", r.mostTests},
                        {"tight_gap_max_mm", r.tightGapMaxMm}, {"exact_gap_min_mm", jsonNumber(r.exactGapMinMm)}});
-  j["auto"] = {{"tight_obb_gap_mm", 1000.0 * kTightObbGap}, {"kinds", choices}};
+  j["auto"] = {{"tight_obb_gap_mm", 1000.0 * kTightObbGap}, {"max_exact_stage_tests", kMaxExactStageTests},
+               {"kinds", choices}};
   Json kinds = Json::array();
   for (const BlockingKindRow& r : d.blockingKinds)
     kinds.push_back({{"kind", r.kind}, {"events", r.events}, {"units", r.units}});

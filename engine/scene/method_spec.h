@@ -21,7 +21,9 @@ namespace nestwalk {
 //              broad phase (exact, no nested stage)
 //   Auto       chosen per collision unit at load time from its own geometry (walker/contact_choice.h):
 //              Nested where the inner OBB is tight around the unit's triangles, NestedMesh where it
-//              is not (the mining-dump paper's future work: the test chosen by the kind of object)
+//              is not (the mining-dump paper's future work: the test chosen by the kind of object),
+//              unless the exact stage's sampled cost on the unit is too high
+//              (walker/exact_stage_cost.h): then Nested
 // The mesh methods test a unit without any triangle (points or lines only) by its nested volumes.
 enum class VolumeMethod : std::uint8_t { Nested, Aabb, Obb, NestedMesh, Kdop18, Auto };
 inline bool usesMeshes(VolumeMethod m) {

@@ -2,6 +2,7 @@
 
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/walker/exact_stage_cost.h"
 
 #include <algorithm>
 #include <chrono>
@@ -47,18 +48,21 @@ CollisionWorld CollisionWorld::fromScene(const Scene& scene, const MethodSpec& m
     groups.push_back(u.group);
   }
   CollisionWorld world(std::move(units), std::move(names), std::move(groups), method);
-  if (usesMeshes(method.volumes)) world.setMeshes(meshes ? std::move(meshes) : MeshWorld::fromScene(scene));
+  if (usesMeshes(method.volumes))
+    world.setMeshes(meshes ? std::move(meshes) : MeshWorld::fromScene(scene), scene.spec.viewer.bodyHalfExtents);
   return world;
 }
 
-void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
+void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes, const Vec3<double>& bodyHalfExtents) {
   if (meshes && meshes->units() != units_.size())
     throw std::invalid_argument("CollisionWorld: the meshes' units differ from the world's");
   meshes_ = std::move(meshes);
   last_.valid = false;  // the last answer was found with the old meshes
   choices_.clear();
+  costs_.clear();
   if (method_.volumes != VolumeMethod::Auto || !meshes_) return;
   choices_.reserve(units_.size());
+  costs_.resize(units_.size());
   for (std::uint32_t u = 0; u < units_.size(); ++u) {
     if (meshes_->triangles(u) == 0) {  // points or lines: the nested volumes stand for the unit
       choices_.push_back({true, 0.0, 0});
@@ -67,6 +71,7 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes) {
     choices_.push_back(obbSurfaceGap(units_[u].inner, [&](const Vec3<double>& p, std::optional<Triangle>& t) {
       return meshes_->nearestTriangle(u, p, t);
     }));
+    if (!choices_.back().tight) costs_[u] = sampleExactStageCost(*meshes_, u, units_[u].outer, bodyHalfExtents);
   }
 }
 

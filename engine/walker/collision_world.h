@@ -80,8 +80,10 @@ class CollisionWorld {
   static CollisionWorld fromScene(const Scene& scene, const MethodSpec& method,
                                   std::shared_ptr<const MeshWorld> meshes = nullptr);
   // The triangles of the units (same order), for the mesh methods; throws std::invalid_argument
-  // when their count differs from the units'.
-  void setMeshes(std::shared_ptr<const MeshWorld> meshes);
+  // when their count differs from the units'. Auto samples the exact stage's cost on each unit
+  // whose inner OBB is not tight with a body of `bodyHalfExtents` (exact_stage_cost.h).
+  void setMeshes(std::shared_ptr<const MeshWorld> meshes,
+                 const Vec3<double>& bodyHalfExtents = ViewerSpec{}.bodyHalfExtents);
   const std::shared_ptr<const MeshWorld>& meshes() const { return meshes_; }
   // How the mesh stage finds a step's first contact (mesh_world.h): swept (default) or by
   // conservative advancement, the independent reference the report compares methods with.
@@ -89,10 +91,13 @@ class CollisionWorld {
     search_ = search;
     last_.valid = false;  // the last answer was found the other way
   }
-  // Auto: whether unit i gets the exact mesh stage after the nested test, and the verdict on its
-  // inner OBB's gap that decided it (contact_choice.h); false and empty for the other methods.
-  bool exactStage(std::size_t i) const { return !choices_.empty() && !choices_[i].tight; }
+  // Auto: whether unit i gets the exact mesh stage after the nested test: its inner OBB is not
+  // tight (the verdict on its gap, contact_choice.h) and the stage's sampled cost is affordable
+  // (exact_stage_cost.h; sampled only where the OBB is not tight). False and empty for the other
+  // methods.
+  bool exactStage(std::size_t i) const { return !choices_.empty() && !choices_[i].tight && costs_[i].affordable(); }
   const std::vector<GapVerdict>& contactChoices() const { return choices_; }
+  const std::vector<ExactStageCost>& exactStageCosts() const { return costs_; }
 
   std::size_t size() const { return units_.size(); }
   const NestedVolume<double>& unit(std::size_t i) const { return units_[i]; }
@@ -141,6 +146,7 @@ class CollisionWorld {
   BoxTree tree_;
   std::shared_ptr<const MeshWorld> meshes_;
   std::vector<GapVerdict> choices_;  // Auto: per unit (setMeshes)
+  std::vector<ExactStageCost> costs_;  // Auto: per unit, sampled where the OBB is not tight
   SweepObserver* observer_ = nullptr;  // not owned (setObserver)
   mutable std::vector<std::uint32_t> scratch_;
   struct LastSweep {

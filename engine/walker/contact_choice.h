@@ -42,6 +42,7 @@
 #include "nestwalk/geometry/triangle_box.h"
 #include "nestwalk/geometry/volumes.h"
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 
@@ -68,5 +69,20 @@ using NearestTriangleQuery = std::function<double(const Vec3<double>& point, std
 /// Decides whether the gap between `box`'s surface and the triangles `nearest` measures is at most
 /// `threshold`.
 GapVerdict obbSurfaceGap(const Obb<double>& box, const NearestTriangleQuery& nearest, double threshold = kTightObbGap);
+
+/// Auto's second criterion: a unit whose OBB is not tight gets the exact stage only when it is
+/// affordable, measured at load on sample sweeps of the body into the unit (walker/exact_stage_cost.h:
+/// sampleExactStageCost): at most kMaxExactStageTests bounding-volume and triangle tests a sweep.
+/// A densely tessellated flat face is what exceeds it: a body pressed against it reaches every
+/// triangle under its face at once (a wall of 1 cm squares: 10,206 in one step,
+/// hard_cases_auto_cost_test). Counted, not timed: the same verdict on every machine; a test costs
+/// 25-80 ns here, so the bound is about 100-300 us a step.
+inline constexpr std::uint64_t kMaxExactStageTests = 4000;
+
+struct ExactStageCost {
+  std::uint64_t maxTests = 0;  // the most tests one sample sweep made
+  int sweeps = 0;              // sample sweeps counted
+  bool affordable() const { return maxTests <= kMaxExactStageTests; }
+};
 
 }  // namespace nestwalk

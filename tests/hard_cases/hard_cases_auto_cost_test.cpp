@@ -1,0 +1,131 @@
+// Auto on cost (walker/exact_stage_cost.h): a unit whose inner OBB is not tight gets the exact
+// mesh stage only where its sample sweeps stay within kMaxExactStageTests tests.
+// Situations, on a level site: an L of two plain walls (24 triangles) and the same L with each
+// wall tessellated into 1 cm squares (78,024 triangles). Both Ls have the same loose inner OBB
+// (the L's corner leaves a quarter of the box empty: checked, the gap verdict is not tight).
+// Asserted: both Ls are sampled by the same sweeps, and the plain L gets the exact stage;
+// the dense L's sample sweeps test more than the limit, at least as many triangles as lie within
+// reach of the pressing step (counted by brute force over every triangle), so auto leaves it to
+// the nested test, which then blocks the walker on it; nested+mesh still walks up to the real
+// wall there (auto's choice changes nothing for the other methods).
+#include "tests/hard_cases/hard_case_util.h"
+
+#include "nestwalk/geometry/triangle_sweep.h"
+#include "nestwalk/walker/exact_stage_cost.h"
+
+#include <cstdio>
+
+namespace nestwalk {
+namespace {
+
+using namespace nestwalk::hardcase;
+
+/// A wall [x0, x1] x [y0, y1] x [0, h], its two large faces tessellated into `cell`-metre squares
+/// (and its four narrow faces as two triangles each).
+Mesh wall(const V3& lo, const V3& hi, double cell) {
+  Mesh m = boxMesh(lo, hi);
+  if (cell <= 0) return m;
+  // Replace nothing: add the tessellated faces just on the box's two largest faces' planes; the
+  // box's own triangles stay (they lie in the same planes, so the surface is unchanged).
+  const bool alongX = hi.x() - lo.x() >= hi.y() - lo.y();
+  const double length = alongX ? hi.x() - lo.x() : hi.y() - lo.y();
+  const int nu = int(std::lround(length / cell)), nv = int(std::lround((hi.z() - lo.z()) / cell));
+  for (const double side : {alongX ? lo.y() : lo.x(), alongX ? hi.y() : hi.x()})
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        auto at = [&](int a, int b) {
+          const double u = (alongX ? lo.x() : lo.y()) + cell * a, z = lo.z() + cell * b;
+          return alongX ? V3(u, side, z) : V3(side, u, z);
+        };
+        const auto first = std::uint32_t(m.vertices.size());
+        for (const auto& [a, b] : {std::pair{i, j}, std::pair{i + 1, j}, std::pair{i + 1, j + 1}, std::pair{i, j + 1}})
+          m.vertices.push_back(at(a, b));
+        m.triangles.push_back({first, first + 1, first + 2});
+        m.triangles.push_back({first, first + 2, first + 3});
+      }
+  return m;
+}
+
+/// An L of two walls 1 m long, 5 cm thick, 1 m tall, meeting at the origin.
+Mesh ell(double cell) {
+  Mesh m = wall(V3(0, 0, 0), V3(1, 0.05, 1), cell);
+  m.append(wall(V3(0, 0.05, 0), V3(0.05, 1, 1), cell));
+  return m;
+}
+
+TEST(HardCase, AutoLeavesAUnitToTheNestedTestWhereTheExactStageWouldCostTooMuch) {
+  ScratchFolder dir;
+  const FlatSite site{{0.0, 64.0}};
+  writeModel(*toGeode(ell(0)), dir / "plain.osgt");
+  writeModel(*toGeode(ell(0.01)), dir / "dense.osgt");
+  const Eigen::Vector2d plainAt = site.map(-8, 0), denseAt = site.map(8, 0);
+  SceneRig rig(writeSceneFile(dir.path(), site.writeTerrain(dir.path()), site.origin(),
+                              Json::array({equipment("plain", dir / "plain.osgt", plainAt.x(), plainAt.y()),
+                                           equipment("dense", dir / "dense.osgt", denseAt.x(), denseAt.y())})));
+  ASSERT_EQ(rig.meshes().triangles(1), 24u + 2u * 2u * (100u + 95u) * 100u);  // walls 1 m and 0.95 m long
+
+  MethodSpec spec = rig.scene().spec.method;
+  spec.volumes = VolumeMethod::Auto;
+  const CollisionWorld world = CollisionWorld::fromScene(rig.scene(), spec, MeshWorld::fromScene(rig.scene()));
+  for (std::size_t u = 0; u < 2; ++u) {
+    const GapVerdict& gap = world.contactChoices()[u];
+    const ExactStageCost& cost = world.exactStageCosts()[u];
+    std::printf("[auto cost] %-5s %zu triangles: OBB gap at least %.0f mm, %d sample sweeps, at most %llu tests\n",
+                u == 0 ? "plain" : "dense", rig.meshes().triangles(u), 1000 * gap.lowerBound, cost.sweeps,
+                (unsigned long long)cost.maxTests);
+    EXPECT_FALSE(gap.tight) << "unit " << u << ": the L's corner leaves its box a quarter empty";
+  }
+  // The same L from the same sides: the same sample sweeps (two where an approach meets the L:
+  // those aimed into its empty quarter pass its walls).
+  EXPECT_EQ(world.exactStageCosts()[0].sweeps, world.exactStageCosts()[1].sweeps);
+  EXPECT_GE(world.exactStageCosts()[0].sweeps, kCostSampleSides);
+  EXPECT_TRUE(world.exactStage(0));
+  EXPECT_LE(world.exactStageCosts()[0].maxTests, 200u);
+  EXPECT_FALSE(world.exactStage(1));
+  EXPECT_GT(world.exactStageCosts()[1].maxTests, kMaxExactStageTests);
+
+  // The body pressed flat against the outer face (y = 0) of the dense L's wall along x, from -y,
+  // 0.5 mm off, stepping on turned 20 degrees: every triangle of the face under the body is
+  // reached at the same time, so any exact search tests each of them (they are counted here by
+  // brute force over every triangle).
+  const Scene& scene = rig.scene();
+  const V3 body = scene.spec.viewer.bodyHalfExtents;
+  const V3 origin = scene.units[1].volume.outer.min;  // the L's corner, local frame
+  const Obb<double> pressed{V3(origin.x() + 0.5, origin.y() - body.y() - 0.5e-3, origin.z() + body.z()),
+                            Mat3<double>::Identity(), body};
+  const V3 step = V3(std::sin(0.35), std::cos(0.35), 0) * kCostSampleStep;
+  const Mesh dense = transformed(readBack(dir / "dense.osgt"), instanceToLocal(0, 0, 0, 1, scene.instances[1].toLocal.translation));
+  std::size_t reached = 0;
+  for (std::size_t i = 0; i < dense.triangles.size(); ++i) {
+    const auto c = dense.corners(i);
+    const SweepResult r = sweepBoxTriangle(pressed, step, Triangle{c[0], c[1], c[2]}, 0.0, 1.0);
+    reached += r.enter <= r.exit && r.enter <= 1.0 && r.exit >= 0.0;
+  }
+  MeshQueryCounters c;
+  ASSERT_TRUE(rig.meshes().firstContact(1, pressed, step, 0.0, c).has_value());
+  std::printf("[auto cost] pressing on the dense wall: %zu triangles reached in the step (brute force), %llu tests\n", reached,
+              (unsigned long long)(c.nodeTests + c.triangleTests));
+  EXPECT_GT(reached, kMaxExactStageTests);
+  EXPECT_GE(c.triangleTests, reached);
+
+  // Walking south into the dense L's empty quarter: auto (the nested test alone) stops on its box,
+  // decimetres short of the walls; nested+mesh at the wall along x (y = 0.05).
+  for (VolumeMethod method : {VolumeMethod::Auto, VolumeMethod::NestedMesh}) {
+    Walker& w = rig.walker(method);
+    const Eigen::Vector2d start = site.map(8.6, 4);
+    ASSERT_EQ(w.place({start.x(), start.y(), 0}, false, 180, false, 2.0), "");
+    walkToward(w, site.map(8.6, -1), 1.4, 180);
+    EXPECT_TRUE(w.state().blocked) << volumeMethodName(method);
+    const double gap = fclBoxMeshDistance(bodyBox(w), dense);
+    std::printf("[auto cost] %-11s stops %.4f m from the dense L's triangles\n", volumeMethodName(method), gap);
+    if (method == VolumeMethod::NestedMesh) {
+      EXPECT_GT(gap, 0.0);
+      EXPECT_LE(gap, 1e-3);
+    } else {
+      EXPECT_GT(gap, 0.1) << "the nested test stops on the L's box, short of its walls";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk
