@@ -8,6 +8,8 @@
 #include <osg/Geometry>
 #include <osgDB/WriteFile>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace nestwalk::assets {
@@ -148,6 +150,69 @@ void buildPickup(MeshBuilder& b) {
   b.addBoxMinMax(V3(-0.88, -hy, 0.95), V3(0.88, -hy + 0.05, 1.30));        // tailgate
 }
 
+// --- drill rig: a crawler blast-hole rig with its lattice mast up, tessellated as CAD exports are --
+// Tracks along y, a deck with the cab and the engine house, and at the front a 0.5 m square
+// lattice mast 8.8 m tall (four chords, struts and zigzag braces on each face) holding the drill
+// rod. Round parts are prisms of kRigSides sides cut into short segments along their length, as a
+// tessellating exporter leaves them: 40,020 triangles, the heavy model of the bundled scene.
+constexpr int kRigSides = 32;           // chords and rod
+constexpr int kRigBraceSides = 16;      // struts and braces
+constexpr double kRigSegment = 0.2;     // metres: the length of a round part's segments
+constexpr double kMastY = 2.05;         // the mast's axis, metres ahead of the model's centre
+constexpr double kMastHalf = 0.25;      // half the mast's side
+constexpr double kMastFoot = 1.4, kMastTop = 10.2;
+constexpr double kChordRadius = 0.04, kBraceRadius = 0.015, kRodRadius = 0.05;
+constexpr double kBraceLevel = 0.4;     // metres between the mast's struts
+
+/// A prism cut into segments of at most kRigSegment along its axis.
+void addSegmentedPrism(MeshBuilder& b, const V3& base, const V3& axis, double radius, double length, int sides) {
+  const int n = std::max(1, int(std::ceil(length / kRigSegment - 1e-9)));
+  for (int i = 0; i < n; ++i) b.addPrism(base + (length * i / n) * axis, axis, radius, length / n, sides);
+}
+
+/// A strut or brace from p to q.
+void addBar(MeshBuilder& b, const V3& p, const V3& q) {
+  b.addPrism(p, (q - p).normalized(), kBraceRadius, (q - p).norm(), kRigBraceSides);
+}
+
+void buildDrillRig(MeshBuilder& b) {
+  // Tracks: frame, pads, rollers.
+  for (double s : {-1.0, 1.0}) {
+    const double x0 = s * 0.675, x1 = s * 1.125, lo = std::min(x0, x1), hi = std::max(x0, x1);
+    b.addBoxMinMax(V3(lo, -2.2, 0.08), V3(hi, 2.2, 0.7));
+    for (int i = 0; i < 28; ++i) {
+      const double y = -2.2 + (i + 0.5) * 4.4 / 28;
+      b.addBoxMinMax(V3(lo - 0.02, y - 0.07, 0.0), V3(hi + 0.02, y + 0.07, 0.08));
+    }
+    for (int i = 0; i < 7; ++i)
+      b.addPrism(V3(lo - 0.03, -1.8 + 0.6 * i, 0.3), V3::UnitX(), 0.12, hi - lo + 0.06, 24);
+  }
+  b.addBoxMinMax(V3(-1.15, -2.5, 0.75), V3(1.15, 1.5, 1.5));     // deck
+  b.addBoxMinMax(V3(-1.15, 0.2, 1.5), V3(-0.1, 1.5, 3.0));        // cab
+  b.addBoxMinMax(V3(-0.1, -2.5, 1.5), V3(1.15, -0.1, 2.6));       // engine house
+  b.addBoxMinMax(V3(-1.0, -2.5, 1.5), V3(-0.2, -1.6, 2.2));       // counterweight
+  b.addBoxMinMax(V3(-0.35, 1.5, 0.75), V3(0.35, 2.5, kMastFoot));  // mast foot
+  // Mast: chords at its corners, struts at every level, a zigzag brace on each face.
+  const double height = kMastTop - kMastFoot;
+  std::array<V3, 4> corner;
+  for (int c = 0; c < 4; ++c)
+    corner[std::size_t(c)] = V3((c == 0 || c == 3 ? -1 : 1) * kMastHalf, kMastY + (c < 2 ? -1 : 1) * kMastHalf, kMastFoot);
+  for (const V3& c : corner) addSegmentedPrism(b, c, V3::UnitZ(), kChordRadius, height, kRigSides);
+  const int levels = int(std::lround(height / kBraceLevel));
+  for (int l = 0; l < levels; ++l) {
+    const V3 z0(0, 0, l * kBraceLevel), z1(0, 0, (l + 1) * kBraceLevel);
+    for (int f = 0; f < 4; ++f) {
+      const V3& a = corner[std::size_t(f)];
+      const V3& c = corner[std::size_t((f + 1) % 4)];
+      addBar(b, a + z1, c + z1);                              // strut
+      addBar(b, (l % 2 ? a : c) + z0, (l % 2 ? c : a) + z1);  // brace
+    }
+  }
+  // Drill rod down the mast's axis, and its rotary head near the top.
+  addSegmentedPrism(b, V3(0, kMastY, 0.3), V3::UnitZ(), kRodRadius, 9.0, kRigSides);
+  b.addBoxMinMax(V3(-0.2, kMastY - 0.2, 9.3), V3(0.2, kMastY + 0.2, 9.7));
+}
+
 struct Entry {
   ModelKind kind;
   const char* stem;
@@ -166,6 +231,7 @@ const Entry& entry(ModelKind m) {
       {ModelKind::Container20ft, "container_20ft", "container", buildContainer, {0.62f, 0.20f, 0.10f, 1}},
       {ModelKind::JerseyBarrier, "jersey_barrier", "barrier", buildJerseyBarrier, {0.76f, 0.75f, 0.71f, 1}},
       {ModelKind::Pickup, "pickup", "vehicle", buildPickup, {0.95f, 0.95f, 0.95f, 1}},
+      {ModelKind::DrillRig, "drill_rig", "drill rig", buildDrillRig, {0.93f, 0.60f, 0.12f, 1}},
   };
   return kEntries[static_cast<int>(m)];
 }

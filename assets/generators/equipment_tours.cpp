@@ -31,9 +31,10 @@ constexpr int kWalkTargetsPerKind = 2, kFlyTargetsPerKind = 1;
 // The kinds visited, in this order (their ModelKind's label).
 constexpr ModelKind kTargetKinds[] = {ModelKind::SensorPole, ModelKind::Piezometer, ModelKind::SolarPanel,
                                       ModelKind::LoggerBox,  ModelKind::WeatherStation, ModelKind::JerseyBarrier,
-                                      ModelKind::Container20ft, ModelKind::Pickup};
+                                      ModelKind::Container20ft, ModelKind::Pickup, ModelKind::DrillRig};
 constexpr ModelKind kFlyKinds[] = {ModelKind::SensorPole, ModelKind::WeatherStation, ModelKind::SolarPanel,
-                                   ModelKind::Container20ft, ModelKind::JerseyBarrier, ModelKind::Pickup};
+                                   ModelKind::Container20ft, ModelKind::JerseyBarrier, ModelKind::Pickup,
+                                   ModelKind::DrillRig};
 
 std::string fmt(double x) {
   char buf[32];

@@ -9,7 +9,7 @@
 //                       approach from further off.
 //
 // Targets: for each kind (pole, piezometer, solar panel, logger box, weather-station mast, fence
-// of barriers, container, pickup) the first pieces in the scene's order that have a clear approach:
+// of barriers, container, pickup, drill rig) the first pieces in the scene's order that have a clear approach:
 // a start on flat ground (walking: the berm's level within the generator's flat tolerance), from
 // which the straight corridor to the piece (as wide as the body, with a margin) meets no other
 // piece's footprint (for a fence, no piece of another group), approaching one of the piece's faces

@@ -291,9 +291,21 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
       }
     }
   }
+  // 4. A drill rig on the top, the scene's heavy model (10 m tall): across the long axis from the
+  // container yard (15 % to 45 % of the top's half width on the other side, stepping 6 m along
+  // the axis), off the low flight's line over the yard. Placed last, so that everything above
+  // stands where it stood before it came.
+  for (int tries = 0; tries < 40; ++tries) {
+    const std::string grp = nextGroup(top, "drill");
+    const Eigen::Vector2d at = g.toMap(yardU + 6.0 * (tries % 10), -(0.15 + 0.1 * (tries / 10)) * topHalfWidth);
+    if (placer.tryGroup({placer.piece(ModelKind::DrillRig, grp, "rig", at, againstU, top)})) {
+      commit(top, "drill");
+      break;
+    }
+  }
   out.equipment = std::move(placer.placed());
 
-  // 4. Scripts.
+  // 5. Scripts.
   ScriptPoints& P = out.points;
   {
     const double s = g.crestInset(patrolBench) + kLaneW;
@@ -345,7 +357,8 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
   out.scripts.emplace_back(
       "low_flight.txt",
       header + "# A low flight along the dump's long axis over the container yard on the top, at least " +
-          fmt(kFlightClearance) + " m above the ground (the tallest equipment is 3 m).\n"
+          fmt(kFlightClearance) + " m above the ground (the equipment under it is at most 3 m tall; the\n"
+          "# 10 m drill rig stands off the line).\n"
           "mode fly\nclearance " + fmt(kFlightClearance) + "\nspeed " + fmt(kFlightSpeed) + "\nstart " +
           xy(P.flightStart) + " heading " + fmt(P.flightHeading) + "\nexpect clearance at least " +
           fmt(kFlightClearance) + "\ngoto " + xy(P.flightOverYard) + "\nexpect clearance at least " +

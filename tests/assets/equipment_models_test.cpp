@@ -13,6 +13,7 @@
 #include <osgDB/ReadFile>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <filesystem>
 #include <unistd.h>
@@ -83,6 +84,30 @@ TEST(EquipmentModels, LoadWithOsgDbAndHaveTheirRealSizes) {
     EXPECT_NEAR(base.center().x(), 0.0, kSizeTol);
     EXPECT_NEAR(base.center().y(), 0.0, kSizeTol);
   }
+}
+
+TEST(EquipmentModels, TheDrillRigIsTheHeavyModel) {
+  // A crawler drill rig 2.3 m wide, 5 m long, its mast up to 10.2 m; counted part by part from its
+  // construction (a prism of n sides is 4n - 4 triangles, a box 12): tracks 2 x (frame 12 + 28 pads
+  // x 12 + 7 rollers of 24 sides x 92), five boxes of the deck, cab, engine house, counterweight and
+  // mast foot, 4 chords of 44 segments of 32 sides (124 each), 22 levels of 4 struts and 4 braces
+  // of 16 sides (60 each), the rod in 45 segments of 32 sides and its head.
+  const std::size_t tracks = 2 * (12 + 28 * 12 + 7 * 92), boxes = 5 * 12, chords = 4 * 44 * 124,
+                    bars = 22 * 8 * 60, rod = 45 * 124 + 12;
+  const TriangleMesh g = writeAndLoad(ModelKind::DrillRig);
+  EXPECT_EQ(g.triangles.size(), tracks + boxes + chords + bars + rod);
+  EXPECT_GE(g.triangles.size(), 30000u);  // the heavy model: 30k to 100k triangles
+  EXPECT_LE(g.triangles.size(), 100000u);
+  const Aabb<double> b = boundsOf(g);
+  EXPECT_NEAR(b.min.z(), 0.0, kSizeTol);
+  EXPECT_NEAR(b.size().x(), 2.31, kSizeTol);   // the rollers stand 3 cm out of the 2.25 m tracks
+  EXPECT_NEAR(b.size().y(), 5.0, kSizeTol);
+  EXPECT_NEAR(b.size().z(), 10.2 + 0.015, kSizeTol);  // the top strut's radius above the chords
+  const Aabb<double> base = boundsOf(g, -kSizeTol, kSizeTol);
+  EXPECT_NEAR(base.center().x(), 0.0, kSizeTol);
+  EXPECT_NEAR(base.center().y(), 0.0, kSizeTol);
+  std::printf("[drill rig] %zu triangles, %.3f x %.3f x %.3f m\n", g.triangles.size(), b.size().x(), b.size().y(),
+              b.size().z());
 }
 
 /// Bounds of the vertices of the triangles spanning exactly z0 .. z1: the side faces of a prism
