@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <iomanip>
 #include <ostream>
@@ -248,7 +249,7 @@ std::string reportMarkdown(const ReportData& d) {
   s << "### Cost by model weight\n\n"
     << "µs per frame over the frames whose sweep reached a unit (its outer AABB met by the body's swept outer "
     << "AABB), by the triangles of the heaviest unit reached: where the exact stage starts to cost.\n\n"
-    << markdown(weightTable(d), 2) << "\n";
+    << markdown(weightTable(d), 2) << "\n![µs per frame by model weight](model_weight.png)\n\n";
   s << "### Time against stop gap\n\n"
     << "Mean µs per frame (over all frames of all flythroughs: the cost of the frames near equipment shows, "
        "where the median is mostly the ground following's) against the mean stop gap (log scales); the grey "
@@ -391,6 +392,27 @@ void writeMethodBars(const ReportData& d, const std::string& path) {
                {"time per frame", true, 0, "µs"}, groups);
 }
 
+void writeWeightBars(const ReportData& d, const std::string& path) {
+  std::vector<std::pair<std::string, Rgb>> series;
+  for (const MethodResult& m : d.methods) series.push_back({volumeMethodName(m.method), methodColour(m.method)});
+  std::vector<PlotBarGroup> groups;
+  for (const WeightClass& c : kWeightClasses)
+    for (const char* statistic : {"mean", "p99"}) {
+      PlotBarGroup g{std::string(c.name) + ", " + statistic, {}};
+      bool any = false;
+      for (const MethodResult& m : d.methods) {
+        double value = std::numeric_limits<double>::quiet_NaN();
+        for (const WeightRow& r : d.byWeight)
+          if (r.method == m.method && r.weight == c.name) value = statistic[0] == 'm' ? r.mean : r.p99;
+        any = any || !std::isnan(value);
+        g.values.push_back(value);
+      }
+      if (any) groups.push_back(g);
+    }
+  writeBarPlot(path, "time per frame by the heaviest unit the step reached", series,
+               {"time per frame", true, 0, "µs"}, groups, 1200, 500);
+}
+
 void writeTerrainPlot(const ReportData& d, const std::string& path) {
   PlotSeries maxError{"measured max error", {214, 39, 40}, {}, true};
   PlotSeries meanError{"measured mean error", {31, 119, 180}, {}, true};
@@ -415,6 +437,7 @@ void writeReportFiles(const ReportData& d, const std::string& folder) {
   writePareto(d, (dir / "pareto.png").string());
   writeMethodBars(d, (dir / "methods.png").string());
   writeTerrainPlot(d, (dir / "terrain_lod.png").string());
+  writeWeightBars(d, (dir / "model_weight.png").string());
   writeFileAtomically((dir / "report.md").string(), reportMarkdown(d));
 }
 

@@ -1,7 +1,8 @@
 // The methods report's files (method_report.h), written from what the plays measured
 // (method_report_data.h): report.md (Markdown), report.json (the numbers), pareto.png (µs per
-// frame against stop gap), methods.png (µs per frame per method) and terrain_lod.png (height error
-// against ns per query per level); and the summary printed at the end.
+// frame against stop gap), methods.png (µs per frame per method), terrain_lod.png (height error
+// against ns per query per level) and model_weight.png (each method's mean and p99 µs per frame by
+// the weight of the unit the step reached); and the summary printed at the end.
 // Thread safety: pure apart from the files written (one writer per path at a time,
 // core/output_file.h).
 #pragma once

@@ -36,7 +36,7 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   const fs::path dir = folder / "report";
   const auto r = runNestwalk("report --quick --out " + quoted(dir));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png"})
+  for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png", "model_weight.png"})
     ASSERT_TRUE(fs::exists(dir / f)) << f << "\n" << r.out << r.err;
 
   const auto j = nlohmann::json::parse(readText(dir / "report.json"));
@@ -124,7 +124,7 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   EXPECT_NE(md.find("### Cost by model weight"), std::string::npos);
   for (const char* s : kScripts) EXPECT_NE(md.find(std::string("| ") + s + " |"), std::string::npos) << s;
 
-  for (const char* png : {"pareto.png", "methods.png", "terrain_lod.png"}) {
+  for (const char* png : {"pareto.png", "methods.png", "terrain_lod.png", "model_weight.png"}) {
     osg::ref_ptr<osg::Image> image = osgDB::readImageFile((dir / png).string());
     ASSERT_TRUE(image.valid()) << png;
     EXPECT_GE(image->s(), 400) << png;
