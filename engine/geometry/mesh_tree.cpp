@@ -454,10 +454,10 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
   // the box reaches them and the search ends once the earliest unopened node is entered no
   // earlier than the best contact (no triangle below it can come earlier).
   SweepFrontier frontier;
-  frontier.push(entry(0));
+  if (const StackEntry root = entry(0); root.lowerBound != kInfinity) frontier.push(root);
   while (!frontier.empty()) {
     const StackEntry e = frontier.pop();
-    if (e.lowerBound == kInfinity || e.lowerBound > best) break;
+    if (e.lowerBound > best) break;  // every node left is entered later still
     const MeshTreeNode<Volume>& node = nodes_[e.node];
     if (node.isLeaf()) {
       testLeaf(node);
@@ -466,7 +466,7 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
     for (const std::uint32_t child : {e.node + 1, node.secondChild}) {
       const StackEntry c = entry(child);
       ++nodeTests;
-      if (c.lowerBound > best) continue;
+      if (c.lowerBound == kInfinity || c.lowerBound > best) continue;  // not entered, or after the best
       if (!frontier.full()) {
         frontier.push(c);
         continue;
@@ -485,7 +485,8 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
         }
         for (const std::uint32_t g : {index + 1, n.secondChild}) {
           ++nodeTests;
-          if (entry(g).lowerBound <= best) stack[top++] = g;
+          const double enter = entry(g).lowerBound;
+          if (enter != kInfinity && enter <= best) stack[top++] = g;
         }
       }
     }
