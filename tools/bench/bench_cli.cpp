@@ -121,7 +121,7 @@ void declareOptions(CLI::App& cmd, ContactBenchOptions& o) {
   cmd.add_option("--sides", o.sides, "Approach directions per model (default 16)")->check(CLI::Range(1, 360));
   cmd.add_option("--models", o.models,
                  "Models as FILE[:UNITS[:UP]]: metres per file unit (default 1), up axis x, y, z, -x, -y or -z "
-                 "(default z); default: the shared dump truck and excavator");
+                 "(default z); default: the bundled drill rig and the shared dump truck and excavator");
 }
 
 void completeOptions(WalkerBenchOptions& o) {

@@ -5,6 +5,9 @@
 #include "tools/bench/bench_process.h"
 #include "tools/bench/peers/contact_peers.h"
 
+#include "assets/generators/bundled_scene.h"
+#include "assets/generators/equipment_models.h"
+
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/geometry/mesh_tree.h"
@@ -71,6 +74,9 @@ Model readModel(const std::string& spec) {
 std::vector<std::string> defaultModels() {
   const fs::path models = fs::path(sharedDataFolder()) / "models";
   std::vector<std::string> out;
+  const fs::path rig = fs::path(assets::bundledSceneFile()).parent_path() / "models" /
+                       assets::modelFileName(assets::ModelKind::DrillRig);
+  if (fs::is_regular_file(rig)) out.push_back(rig.string() + ":1:z");
   if (fs::is_regular_file(models / "dumptruck.osgt")) out.push_back((models / "dumptruck.osgt").string() + ":0.3:z");
   if (fs::is_regular_file(models / "excavator_chassis.obj"))
     out.push_back((models / "excavator_chassis.obj").string() + ":1:-y");

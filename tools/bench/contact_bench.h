@@ -1,7 +1,8 @@
 // The contact benchmark (`nestwalk bench contact`): the exact stage of the walker's mesh methods
 // (MeshTree::sweep of the k-DOP-18 tree, mesh_tree.h: the first time a translating box touches a
 // model's triangles) against FCL's continuous collision and Bullet's convex sweep on the same
-// sweeps (peers/contact_peers.h), on heavy models.
+// sweeps (peers/contact_peers.h), on heavy models: the bundled scene's generated drill rig (40k
+// triangles) and the shared data's dump truck and excavator.
 // Sweeps: the viewer's body box (0.25 x 0.25 x 0.9 m half extents, upright) walks at 1.4 m/s in
 // 60 Hz steps toward the model's centre from `sides` directions, on the ground and at half the
 // model's height (flying into it), from a metre outside its box; every step whose swept box
@@ -29,7 +30,8 @@ struct ContactBenchOptions : BenchOptions {
   int repetitions = 5;  // timed calls per sweep and method; quick: 2
   int sides = 16;       // approach directions; quick: 4
   /// Model files as FILE[:UNITS[:UP]] (UNITS: metres per file unit, default 1; UP: x, y, z, -x,
-  /// -y or -z, default z); empty: the shared dump truck and excavator where present.
+  /// -y or -z, default z); empty: the bundled scene's drill rig, the shared dump truck and
+  /// excavator, those present.
   std::vector<std::string> models;
 };
 
