@@ -91,7 +91,8 @@ void timingPlay(const Scene& scene, const CollisionWorld& world, const Script& s
 /// AABBs, the same for every method).
 class AccuracyWatch : public SweepObserver {
  public:
-  AccuracyWatch(const CollisionWorld& reference, const MeshWorld& meshes) : comparison_(reference), reference_(reference), meshes_(meshes) {}
+  AccuracyWatch(const CollisionWorld& reference, const MeshWorld& meshes)
+      : comparison_(reference), reference_(reference), meshes_(meshes) {}
   void onSweep(const NestedVolume<double>& viewer, const Vec3<double>& d, const SweepHit& hit) override {
     comparison_.onSweep(viewer, d, hit);
     Aabb<double> swept = viewer.outer;
@@ -116,14 +117,14 @@ class AccuracyWatch : public SweepObserver {
 /// of the units each step reached.
 void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorld& reference, const MeshWorld& meshes,
                   const Script& script, const WalkerOptions& options, PlayStats& s) {
-  AccuracyWatch comparison(reference, meshes);
-  const ObservedSweeps observed(world, comparison);
+  AccuracyWatch watch(reference, meshes);
+  const ObservedSweeps observed(world, watch);
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);
   std::vector<std::uint32_t> near;
   std::int32_t blockedBy = -1;  // the unit the previous step was blocked by
   player.run([&](const Walker& w, const StepReport& report) {
-    s.nearTriangles.push_back(comparison.takeHeaviest());
+    s.nearTriangles.push_back(watch.takeHeaviest());
     s.bvTests += report.counters.nodeTests;
     for (std::uint64_t n : report.counters.stageTests) s.bvTests += n;
     s.triangleTests += report.counters.primitiveTests;
@@ -136,7 +137,7 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
     const double gap = stopGap(world, meshes, w.bodyVolume(st.feet, st.bodyYawDeg), st.blockedUnit, near);
     if (std::isfinite(gap)) s.gapsMm.push_back(1000.0 * gap);
   });
-  s.tally = comparison.tally();
+  s.tally = watch.tally();
 }
 
 /// Auto's choices, by the kind of unit (units without a kind under "(none)").

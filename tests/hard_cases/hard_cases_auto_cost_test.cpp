@@ -25,8 +25,8 @@ using namespace nestwalk::hardcase;
 Mesh wall(const V3& lo, const V3& hi, double cell) {
   Mesh m = boxMesh(lo, hi);
   if (cell <= 0) return m;
-  // Replace nothing: add the tessellated faces just on the box's two largest faces' planes; the
-  // box's own triangles stay (they lie in the same planes, so the surface is unchanged).
+  // The tessellated squares lie in the planes of the box's two largest faces, over its own two
+  // triangles there: the surface is the same, only cut finer.
   const bool alongX = hi.x() - lo.x() >= hi.y() - lo.y();
   const double length = alongX ? hi.x() - lo.x() : hi.y() - lo.y();
   const int nu = int(std::lround(length / cell)), nv = int(std::lround((hi.z() - lo.z()) / cell));
