@@ -19,6 +19,7 @@
 // below also evaluates that diagonal's crossings with the fine edges.)
 #include "nestwalk/terrain/terrain_chunk.h"
 
+#include "nestwalk/terrain/coarse_cell_error.h"
 #include "nestwalk/terrain/hillshade.h"
 
 #include <meshoptimizer.h>
@@ -149,48 +150,10 @@ struct ChunkGrid {
   bool lower(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j + 1) && valid(i, j + 1); }
 };
 
-/// Max |fine - coarse| over one coarse cell (i, j): at its fine samples, and for a cell that is not
-/// square, also where its diagonal crosses fine edges (terrain_chunk.h).
+/// Max |fine - coarse| over one coarse cell (i, j) of the chunk (coarse_cell_error.h).
 double cellError(const ChunkGrid& g, std::size_t i, std::size_t j) {
-  const bool up = g.upper(i, j), low = g.lower(i, j);
-  if (!up && !low) return 0.0;
-  const Heightfield& hf = g.hf;
-  const int ca = g.cols[i], ra = g.rows[j];
-  const int w = g.cols[i + 1] - ca, h = g.rows[j + 1] - ra;
-  const double ha = g.height(i, j), hb = g.height(i + 1, j), hc = g.height(i + 1, j + 1), hd = g.height(i, j + 1);
-  const double invW = 1.0 / w, invH = 1.0 / h;
-  double err = 0;
-  for (int v = 0; v <= h; ++v)
-    for (int u = 0; u <= w; ++u) {
-      if (!hf.valid(ca + u, ra + v)) continue;
-      // Upper triangle: on or above the diagonal from (0, 0) to (w, h), i.e. u h >= v w.
-      const std::int64_t side = std::int64_t(u) * h - std::int64_t(v) * w;
-      double coarse;
-      if (side >= 0 && up)
-        coarse = ha + (u * invW) * (hb - ha) + (v * invH) * (hc - hb);
-      else if (side <= 0 && low)
-        coarse = ha + (v * invH) * (hd - ha) + (u * invW) * (hc - hd);
-      else
-        continue;
-      err = std::max(err, std::abs(double(hf.sample(ca + u, ra + v)) - coarse));
-    }
-  if (w != h) {
-    // The diagonal (t w, t h), t in [0, 1], crosses fine columns at t = k / w, fine rows at k / h and
-    // fine diagonals (u - v = m) at t = m / (w - h).
-    const Eigen::Vector2d o = hf.origin();
-    auto at = [&](double t) {
-      const double x = o.x() + (ca + t * w) * hf.dx(), y = o.y() - (ra + t * h) * hf.dy();
-      if (const std::optional<double> fine = hf.groundHeight(x, y))
-        err = std::max(err, std::abs(*fine - (ha + t * (hc - ha))));
-    };
-    for (int k = 1; k < w; ++k) at(double(k) / w);
-    for (int k = 1; k < h; ++k) at(double(k) / h);
-    const int d = std::abs(w - h);
-    for (int m = 1; m < d; ++m) at(double(m) / d);
-  }
-  return err;
+  return coarseCellError(HeightfieldGrid{g.hf}, g.cols[i], g.rows[j], g.cols[i + 1], g.rows[j + 1]);
 }
-
 
 /// A quadrant's surface simplified within some error: its triangles (indices into the chunk's
 /// vertices), its blocks and their largest error, metres.

@@ -4,6 +4,8 @@
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/gdal_util.h"
+#include "nestwalk/terrain/terrain_pyramid_format.h"
+#include "nestwalk/terrain/terrain_pyramid_writer.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -66,13 +68,20 @@ void checkOutput(const std::string& in, const std::string& out, bool overwrite) 
     if (fs::is_directory(out, ec)) throw InputError(out + ": is a folder; OUT must be a file name");
     if (!overwrite) throw InputError(out + ": already exists (use --overwrite to replace it)");
   }
+  const std::string pyramid = pyramidPathOf(out);
+  if (!in.empty() && fs::exists(pyramid, ec) && fs::equivalent(in, pyramid, ec))
+    throw InputError(out + ": its terrain pyramid " + pyramid + " would replace the input file; choose another OUT");
+  if (fs::exists(pyramid, ec) && !overwrite)
+    throw InputError(pyramid + ": already exists (the terrain pyramid of " + out + "; use --overwrite to replace it)");
   const fs::path p(out);
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec)) throw InputError(out + ": the folder " + dir.string() + " does not exist");
 }
 
-/// Writes the staging dataset as the terrain COG to a temporary file and renames it to `out`.
-void writeCogFrom(GDALDatasetH staging, const std::string& out, const StageProgress& progress) {
+/// Writes the staging dataset (at `stagingPath`) as the terrain COG to a temporary file, then its
+/// pyramid (terrain_pyramid_writer.h, renamed into place first), and renames the COG to `out`.
+void writeCogFrom(GDALDatasetH staging, const std::string& stagingPath, const std::string& out,
+                  const StageProgress& progress, const StageProgress& pyramidProgress) {
   GDALDriverH cog = GDALGetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver");
   OutputFile tmp(out, ".tif");
@@ -86,6 +95,12 @@ void writeCogFrom(GDALDatasetH staging, const std::string& out, const StageProgr
   GDALClose(ds);
   if (CPLGetLastErrorType() == CE_Failure)
     throw InputError(out + ": cannot write the terrain file: " + lastGdalError());
+  PyramidWriteOptions pyramidOptions;
+  pyramidOptions.samplesPath = stagingPath;
+  if (pyramidProgress.data) pyramidOptions.progress = [&](double f) { pyramidProgress.report(f); };
+  // A grid of one row or column is no terrain the engine can walk (heightfield.h): it has no pyramid.
+  if (GDALGetRasterXSize(staging) >= 2 && GDALGetRasterYSize(staging) >= 2)
+    writeTerrainPyramid(tmp.tempPath(), pyramidPathOf(out), pyramidOptions);
   tmp.commit();
 }
 
@@ -328,8 +343,8 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
 
   // 4. The COG, through a temporary file renamed at the end.
   {
-    const StageProgress cogProgress(options.progress, 0.6, 1.0);
-    writeCogFrom(st, out, cogProgress);
+    const StageProgress cogProgress(options.progress, 0.6, 0.8), pyramidProgress(options.progress, 0.8, 1.0);
+    writeCogFrom(st, stagingFile.tempPath(), out, cogProgress, pyramidProgress);
   }
 
   summary.cols = cols;
@@ -382,7 +397,7 @@ void writeTerrainCog(const std::string& out, int cols, int rows, const std::vect
       throw InputError(out + ": cannot write the staging file: " + lastGdalError());
   }
   GDALFlushCache(st);
-  writeCogFrom(st, out, StageProgress(false, 0, 1));
+  writeCogFrom(st, stagingFile.tempPath(), out, StageProgress(false, 0, 1), StageProgress(false, 0, 1));
 }
 
 }  // namespace nestwalk::terrain

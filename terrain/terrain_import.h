@@ -13,8 +13,10 @@
 //      every terrain file is north-up.
 //   3. One pass over the chain writes a tiled staging GeoTIFF (vertical scale applied, nodata mapped
 //      to kTerrainNoData), then GDALFillNodata fills holes when asked.
-//   4. The COG driver's CreateCopy writes the result to a temporary file in OUT's folder, which is
-//      renamed to OUT at the end. OUT is replaced only with `overwrite`; IN is never written to.
+//   4. The COG driver's CreateCopy writes the result to a temporary file in OUT's folder.
+//   5. The terrain pyramid (terrain_pyramid_format.h) is written from the staging file in one
+//      streaming pass to its sidecar pyramidPathOf(OUT), renamed into place; then the COG is
+//      renamed to OUT. OUT and its sidecar are replaced only with `overwrite`; IN is never written to.
 // Every problem is an InputError naming the file; on any failure OUT is left as it was.
 // Thread safety: each call opens its own GDAL datasets (initGdal's process-wide settings apply,
 // dem_reader.h). Two calls at once in one process must not write the same OUT (the temporary names
@@ -67,8 +69,8 @@ bool isTerrainCog(const std::string& path);
 /// Imports `in` to `out` (see above).
 ImportSummary importTerrain(const std::string& in, const std::string& out, const ImportOptions& options);
 
-/// Writes a north-up Float32 grid (row 0 north, heights row-major, NaN = hole) as the terrain COG,
-/// through the same temporary-file-and-rename path. originX/Y: centre of sample (0, 0).
+/// Writes a north-up Float32 grid (row 0 north, heights row-major, NaN = hole) as the terrain COG
+/// and its pyramid, through the same temporary-file-and-rename path. originX/Y: centre of sample (0, 0).
 void writeTerrainCog(const std::string& out, int cols, int rows, const std::vector<float>& heights, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite);
 

@@ -12,6 +12,7 @@ packages=(
   libgl1-mesa-dri libegl-mesa0 libegl-dev        # software OpenGL for offscreen rendering (EGL)
   xvfb xauth xdotool                             # the X pbuffer fallback route; `nestwalk view` under Xvfb, driven by xdotool
   libgdal-dev gdal-bin                           # raster I/O, reprojection
+  zlib1g-dev                                     # CRC-32s of the terrain pyramid
   libgtest-dev libgmock-dev libbenchmark-dev     # tests and benchmarks
   libfcl-dev libccd-dev libbullet-dev            # peers for benchmarks and test oracles
   libembree-dev                                  # ray-casting oracle

@@ -292,7 +292,8 @@ TEST(TerrainImport, OverwriteAndNoLeftovers) {
     ++files;
     EXPECT_NE(e.path().filename().string()[0], '.');
   }
-  EXPECT_EQ(files, 2);  // smooth.tif and out.tif: no temporary or staging file left
+  EXPECT_EQ(files, 3);  // smooth.tif, out.tif and its out.pyramid.tif: no temporary or staging file left
+  EXPECT_TRUE(fs::exists(dir / "out.pyramid.tif"));
 }
 
 TEST(TerrainImport, WriteTerrainCogRoundTrips) {

@@ -1,0 +1,75 @@
+// Reading a terrain pyramid (terrain_pyramid_format.h): opened from its terrain file's path in time
+// independent of the DEM's size, then read by windows of any level.
+//
+// Opening reads the sidecar's header and checks it: the format version (a newer one is refused), the
+// grid against the terrain file's, the terrain file's fingerprint (a terrain file changed since the
+// pyramid was written is refused, never read with the old errors) and that every page is there with
+// its size. The pages of at most kPyramidResidentValues values (the coarse levels' heights and
+// blocks: a few hundred KB whatever the DEM) are read whole at once, checked against their CRC-32
+// and kept; finer windows are read when asked, through GDAL's block cache (DEFLATE tiles, each
+// checked by its Adler-32 as GDAL decodes it).
+//
+// Errors: InputError naming the file and what is wrong (missing sidecar, stale, future version,
+// truncated or corrupt page). Ownership: the pyramid owns its open GDAL datasets. Thread safety:
+// one thread at a time (GDAL datasets are not thread-safe); copies are not allowed, moves are.
+#pragma once
+
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_pyramid_format.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// Pages of at most this many values are read whole when the pyramid opens (4 MB of floats).
+inline constexpr std::size_t kPyramidResidentValues = std::size_t(1) << 20;
+
+/// A block of a level (terrain_pyramid_format.h): its lowest and highest valid fine sample (NaN when
+/// it has none) and its exact error, metres (rounded up to float).
+struct PyramidBlock {
+  float lo = 0, hi = 0, error = 0;
+  bool empty() const { return !(lo <= hi); }
+};
+
+class TerrainPyramid {
+ public:
+  /// Opens the pyramid of the terrain file `terrainPath` (see above).
+  explicit TerrainPyramid(const std::string& terrainPath);
+  TerrainPyramid(TerrainPyramid&&) noexcept;
+  TerrainPyramid& operator=(TerrainPyramid&&) noexcept;
+  ~TerrainPyramid();
+
+  const PyramidLayout& layout() const { return layout_; }
+  const std::string& terrainPath() const { return terrainPath_; }
+  const std::string& path() const { return path_; }
+  /// The terrain's nodata value (heights pages store it where the DEM has a hole).
+  std::optional<float> noData() const { return noData_; }
+
+  /// Level `level`'s samples in its own grid's window [i0, i0 + w) x [j0, j0 + h) (level 0: the
+  /// terrain file), row-major, the stored values. std::out_of_range outside the grid.
+  std::vector<float> readHeights(int level, int i0, int j0, int w, int h) const;
+  /// Level `level`'s blocks in the window [bx0, bx0 + w) x [by0, by0 + h), row-major.
+  std::vector<PyramidBlock> readBlocks(int level, int bx0, int by0, int w, int h) const;
+  /// Reads every page whole and checks it against its CRC-32: InputError naming the page otherwise.
+  void verify() const;
+
+ private:
+  struct Page {
+    int width = 0, height = 0, bands = 0;
+    std::uint32_t crc = 0;
+    std::vector<float> resident;  // band after band, when held whole
+    mutable GdalDataset dataset;  // opened on first use
+  };
+  /// Reads a window of every band of page `page` (1-based), band after band.
+  std::vector<float> readPage(int page, int x0, int y0, int w, int h) const;
+  const Page& page(int number) const { return pages_[std::size_t(number - 1)]; }
+  std::string terrainPath_, path_;
+  PyramidLayout layout_;
+  std::optional<float> noData_;
+  std::vector<Page> pages_;
+  mutable GdalDataset terrain_;
+};
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,332 @@
+// terrain/terrain_pyramid: the pyramid a terrain file gets at import, checked against the in-memory
+// heightfield read from the same file: every level's samples bit for bit, every block's bounds
+// against the fine samples under it and its error against a brute force over the fine samples
+// (and a dense walk along the narrow last cells' diagonals), the chunks' own errors, stripes of any
+// height giving the same file; GDAL reads it as a multi-page GeoTIFF; bad pyramids (missing, stale,
+// from a future version, truncated, corrupt) are refused with the file's name.
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+#include "nestwalk/terrain/terrain_pyramid_writer.h"
+#include "tests/common/input_error_of.h"
+#include "tests/common/temp_folder.h"
+#include "tests/terrain/rough_heights.h"
+
+#include <cpl_string.h>
+#include <gdal.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+namespace nestwalk::test {
+namespace {
+
+using terrain::PyramidBlock;
+using terrain::PyramidLayout;
+using terrain::TerrainPyramid;
+
+/// A terrain file at UTM magnitudes, 70 degrees north (EPSG:32633), with holes; its size is odd in
+/// both directions so every level has a narrow last column and row.
+struct PyramidCase {
+  TempFolder dir;
+  std::string terrain;
+  terrain::Heightfield hf;
+  PyramidCase(int cols, int rows, unsigned seed, double holes)
+      : terrain((dir / "dump.tif").string()), hf(write(terrain, cols, rows, seed, holes)) {}
+  static terrain::Heightfield write(const std::string& path, int cols, int rows, unsigned seed, double holes) {
+    terrain::writeTerrainCog(path, cols, rows, roughHeights(cols, rows, seed, holes), 512345.5, 7765432.5, 0.5, 0.5,
+                             "EPSG:32633", false);
+    return terrain::readDem(path);
+  }
+};
+
+bool sameFloat(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(TerrainPyramid, EveryLevelHoldsTheDemsOwnSamplesAtTheChunkLayoutsColumnsAndRows) {
+  PyramidCase c(301, 237, 11, 0.03);
+  const TerrainPyramid pyramid(c.terrain);
+  const PyramidLayout& layout = pyramid.layout();
+  const terrain::ChunkLayout chunks(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+  ASSERT_EQ(layout.levels, chunks.levels());
+  ASSERT_EQ(pyramid.noData(), std::optional<float>(terrain::kTerrainNoData));
+  for (int level = 0; level < layout.levels; ++level) {
+    // The kept columns and rows of the chunk layout's chunks of this level, together.
+    std::set<int> cols, rows;
+    for (int y = 0; y < chunks.chunksY(level); ++y)
+      for (int x = 0; x < chunks.chunksX(level); ++x) {
+        for (int col : chunks.columns({level, x, y})) cols.insert(col);
+        for (int row : chunks.rowsOf({level, x, y})) rows.insert(row);
+      }
+    ASSERT_EQ(int(cols.size()), layout.levelCols(level)) << "level " << level;
+    ASSERT_EQ(int(rows.size()), layout.levelRows(level)) << "level " << level;
+    const std::vector<float> h = pyramid.readHeights(level, 0, 0, layout.levelCols(level), layout.levelRows(level));
+    int j = 0;
+    for (int row : rows) {
+      int i = 0;
+      for (int col : cols) {
+        const float got = h[std::size_t(j) * std::size_t(layout.levelCols(level)) + std::size_t(i)];
+        if (c.hf.valid(col, row))
+          ASSERT_TRUE(sameFloat(got, c.hf.sample(col, row))) << "level " << level << " sample " << col << ", " << row;
+        else
+          ASSERT_EQ(got, terrain::kTerrainNoData) << "level " << level << " hole " << col << ", " << row;
+        ++i;
+      }
+      ++j;
+    }
+  }
+}
+
+/// A block's bounds and error by brute force: every fine sample of its closed region, each compared
+/// with the level's surface (levelHeightAt) where it lies in an existing triangle of one of the
+/// block's own cells, and the narrow cells' diagonals walked densely.
+struct BruteBlock {
+  float lo = INFINITY, hi = -INFINITY;
+  double error = 0;
+  bool narrow = false;  // holds a narrow last cell (the dense walk is then a lower bound)
+};
+
+BruteBlock bruteBlock(const terrain::Heightfield& hf, const PyramidLayout& layout, int level, int bx, int by) {
+  BruteBlock b;
+  const int s = PyramidLayout::step(level);
+  const int i0 = bx * terrain::kPyramidBlockCells, j0 = by * terrain::kPyramidBlockCells;
+  const int i1 = std::min(i0 + terrain::kPyramidBlockCells, layout.levelCols(level) - 1);
+  const int j1 = std::min(j0 + terrain::kPyramidBlockCells, layout.levelRows(level) - 1);
+  const int cLo = std::min(i0 * s, hf.cols() - 1), cHi = std::min(i1 * s, hf.cols() - 1);
+  const int rLo = std::min(j0 * s, hf.rows() - 1), rHi = std::min(j1 * s, hf.rows() - 1);
+  for (int r = rLo; r <= rHi; ++r)
+    for (int col = cLo; col <= cHi; ++col)
+      if (hf.valid(col, r)) {
+        b.lo = std::min(b.lo, hf.sample(col, r));
+        b.hi = std::max(b.hi, hf.sample(col, r));
+      }
+  if (level == 0) return b;
+  for (int j = j0; j < j1; ++j)
+    for (int i = i0; i < i1; ++i) {
+      const int ca = i * s, cb = std::min(ca + s, hf.cols() - 1), ra = j * s, rb = std::min(ra + s, hf.rows() - 1);
+      const int w = cb - ca, h = rb - ra;
+      const bool up = hf.valid(ca, ra) && hf.valid(cb, ra) && hf.valid(cb, rb);
+      const bool low = hf.valid(ca, ra) && hf.valid(cb, rb) && hf.valid(ca, rb);
+      for (int v = 0; v <= h; ++v)
+        for (int u = 0; u <= w; ++u) {
+          if (!hf.valid(ca + u, ra + v)) continue;
+          const long side = long(u) * h - long(v) * w;  // >= 0: upper triangle, <= 0: lower
+          if (!((side >= 0 && up) || (side <= 0 && low))) continue;
+          const auto coarse = terrain::levelHeightAt(hf, level, (ca + u) * hf.dx(), -(ra + v) * hf.dy());
+          if (coarse) b.error = std::max(b.error, std::abs(double(hf.sample(ca + u, ra + v)) - *coarse));
+        }
+      if (w != h && (up || low)) {
+        b.narrow = true;
+        const int steps = 256 * std::max(w, h);
+        for (int k = 1; k < steps; ++k) {
+          const double t = double(k) / steps, fc = ca + t * w, fr = ra + t * h;
+          const Eigen::Vector2d o = hf.origin();
+          const auto fine = hf.groundHeight(o.x() + fc * hf.dx(), o.y() - fr * hf.dy());
+          const auto coarse = terrain::levelHeightAt(hf, level, fc * hf.dx(), -fr * hf.dy());
+          if (fine && coarse) b.error = std::max(b.error, std::abs(*fine - *coarse));
+        }
+      }
+    }
+  return b;
+}
+
+TEST(TerrainPyramid, BlocksHoldTheirFineBoundsAndTheExactErrorOfTheirCells) {
+  PyramidCase c(301, 237, 12, 0.03);
+  const TerrainPyramid pyramid(c.terrain);
+  const PyramidLayout& layout = pyramid.layout();
+  int narrowBlocks = 0, emptyBlocks = 0;
+  for (int level = 0; level < layout.levels; ++level) {
+    const int bw = layout.blocksX(level), bh = layout.blocksY(level);
+    const std::vector<PyramidBlock> blocks = pyramid.readBlocks(level, 0, 0, bw, bh);
+    for (int by = 0; by < bh; ++by)
+      for (int bx = 0; bx < bw; ++bx) {
+        const PyramidBlock& got = blocks[std::size_t(by) * std::size_t(bw) + std::size_t(bx)];
+        const BruteBlock want = bruteBlock(c.hf, layout, level, bx, by);
+        const std::string where = "level " + std::to_string(level) + " block " + std::to_string(bx) + ", " +
+                                  std::to_string(by);
+        if (want.lo > want.hi) {
+          EXPECT_TRUE(got.empty()) << where;
+          ++emptyBlocks;
+        } else {
+          EXPECT_EQ(got.lo, want.lo) << where;
+          EXPECT_EQ(got.hi, want.hi) << where;
+        }
+        // Stored as the float at or above the exact error; the dense walk along a narrow cell's
+        // diagonal undershoots its maximum by at most (slope difference) x (walk step): here below
+        // 6 m of relief change per fine cell over 1/256 of a cell.
+        EXPECT_GE(double(got.error), want.error - 1e-9) << where;
+        EXPECT_LE(double(got.error), want.error + (want.narrow ? 0.025 : 1e-5)) << where;
+        if (level == 0) {
+          EXPECT_EQ(got.error, 0.0f) << where;
+        }
+        narrowBlocks += want.narrow;
+      }
+  }
+  EXPECT_GT(narrowBlocks, 0);  // the case has narrow last cells
+}
+
+TEST(TerrainPyramid, AChunksErrorIsTheLargestOfItsBlocks) {
+  PyramidCase c(301, 237, 13, 0.02);
+  const TerrainPyramid pyramid(c.terrain);
+  const PyramidLayout& layout = pyramid.layout();
+  const terrain::ChunkLayout chunks(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+  constexpr int kBlocksPerChunk = terrain::kPyramidTopCells / terrain::kPyramidBlockCells;
+  for (int level = 1; level < layout.levels; ++level)
+    for (int y = 0; y < chunks.chunksY(level); ++y)
+      for (int x = 0; x < chunks.chunksX(level); ++x) {
+        const terrain::ChunkMesh mesh = terrain::buildChunk(c.hf, chunks, {level, x, y});
+        const int bx0 = x * kBlocksPerChunk, by0 = y * kBlocksPerChunk;
+        const int w = std::min(kBlocksPerChunk, layout.blocksX(level) - bx0);
+        const int h = std::min(kBlocksPerChunk, layout.blocksY(level) - by0);
+        float largest = 0;
+        for (const PyramidBlock& b : pyramid.readBlocks(level, bx0, by0, w, h)) largest = std::max(largest, b.error);
+        float chunkError = float(mesh.maxError);
+        if (double(chunkError) < mesh.maxError) chunkError = std::nextafter(chunkError, INFINITY);
+        EXPECT_EQ(largest, chunkError) << "chunk " << level << "/" << x << "/" << y;
+      }
+}
+
+/// The header's values of page 1 (version, sizes, fingerprint, CRC-32s).
+std::vector<std::string> headerOf(const std::string& pyramid) {
+  GDALDatasetH ds = GDALOpen(("GTIFF_DIR:1:" + pyramid).c_str(), GA_ReadOnly);
+  EXPECT_NE(ds, nullptr);
+  std::vector<std::string> items;
+  if (!ds) return items;
+  for (char** md = GDALGetMetadata(ds, nullptr); md && *md; ++md)
+    if (std::strncmp(*md, "NESTWALK_", 9) == 0) items.emplace_back(*md);
+  GDALClose(ds);
+  return items;
+}
+
+TEST(TerrainPyramid, StripesOfAnyHeightWriteTheSamePyramid) {
+  // 700 rows: the default stripes (256 rows) and stripes of one top-level step (8 rows here: 16
+  // would be the top step, minStripeRows 8 < 16) split the block rows of every level differently.
+  PyramidCase c(157, 700, 14, 0.02);
+  const std::string defaultPyramid = terrain::pyramidPathOf(c.terrain);
+  const std::string thin = (c.dir / "thin.pyramid.tif").string();
+  terrain::PyramidWriteOptions options;
+  options.minStripeRows = 8;
+  terrain::writeTerrainPyramid(c.terrain, thin, options);
+  const std::vector<std::string> a = headerOf(defaultPyramid), b = headerOf(thin);
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a, b);  // same CRC-32 for every page
+  EXPECT_GT(PyramidLayout(157, 700).levels, 3);
+}
+
+TEST(TerrainPyramid, GdalReadsItAsAMultiPageGeoTiffOnTheTerrainsMap) {
+  PyramidCase c(301, 237, 15, 0.0);
+  const std::string path = terrain::pyramidPathOf(c.terrain);
+  EXPECT_EQ(path, (c.dir / "dump.pyramid.tif").string());
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  ASSERT_NE(ds, nullptr);
+  const PyramidLayout layout(301, 237);
+  EXPECT_EQ(CSLCount(GDALGetMetadata(ds, "SUBDATASETS")), 2 * layout.pages());
+  GDALClose(ds);
+  // Level 2's pixel (i, j) is centred on fine sample (4 i, 4 j); block pixels start at sample (0, 0).
+  GDALDatasetH level2 = GDALOpen(("GTIFF_DIR:2:" + path).c_str(), GA_ReadOnly);
+  ASSERT_NE(level2, nullptr);
+  double gt[6];
+  ASSERT_EQ(GDALGetGeoTransform(level2, gt), CE_None);
+  const Eigen::Vector2d o = c.hf.origin();
+  EXPECT_DOUBLE_EQ(gt[0] + 3.5 * gt[1], o.x() + 3 * 4 * c.hf.dx());
+  EXPECT_DOUBLE_EQ(gt[3] + 5.5 * gt[5], o.y() - 5 * 4 * c.hf.dy());
+  EXPECT_NE(std::string(GDALGetProjectionRef(level2)).find("32633"), std::string::npos);
+  GDALClose(level2);
+  GDALDatasetH blocks1 = GDALOpen(("GTIFF_DIR:" + std::to_string(layout.blocksPage(1)) + ":" + path).c_str(), GA_ReadOnly);
+  ASSERT_NE(blocks1, nullptr);
+  ASSERT_EQ(GDALGetGeoTransform(blocks1, gt), CE_None);
+  EXPECT_DOUBLE_EQ(gt[0], o.x());
+  EXPECT_DOUBLE_EQ(gt[1], 16 * c.hf.dx());
+  EXPECT_EQ(GDALGetRasterCount(blocks1), 3);
+  GDALClose(blocks1);
+}
+
+TEST(TerrainPyramid, ATerrainWithoutItsPyramidIsNamedWithTheMissingFile) {
+  PyramidCase c(40, 30, 16, 0.0);
+  std::filesystem::remove(terrain::pyramidPathOf(c.terrain));
+  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
+  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+  EXPECT_NE(e.find("no terrain pyramid"), std::string::npos) << e;
+}
+
+TEST(TerrainPyramid, ATerrainChangedSinceItsPyramidIsRefused) {
+  PyramidCase c(301, 237, 17, 0.0);
+  // Another terrain of the same size in its place, its old pyramid kept.
+  const std::string other = (c.dir / "other.tif").string();
+  PyramidCase::write(other, 301, 237, 18, 0.0);
+  std::filesystem::copy_file(other, c.terrain, std::filesystem::copy_options::overwrite_existing);
+  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
+  EXPECT_NE(e.find("changed since"), std::string::npos) << e;
+  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+}
+
+TEST(TerrainPyramid, APyramidFromAFutureVersionIsRefused) {
+  PyramidCase c(40, 30, 19, 0.0);
+  const std::string path = terrain::pyramidPathOf(c.terrain);
+  GDALDatasetH ds = GDALOpen(("GTIFF_DIR:1:" + path).c_str(), GA_Update);
+  ASSERT_NE(ds, nullptr);
+  GDALSetMetadataItem(ds, terrain::kPyramidKeyVersion, "2", nullptr);
+  GDALClose(ds);
+  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
+  EXPECT_NE(e.find("newer"), std::string::npos) << e;
+  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+}
+
+TEST(TerrainPyramid, ATruncatedOrCorruptPyramidIsRefusedNeverRead) {
+  PyramidCase c(301, 237, 20, 0.0);
+  const std::string path = terrain::pyramidPathOf(c.terrain);
+  const std::string whole = readText(path);
+  ASSERT_GT(whole.size(), 4096u);
+  // Cut at several places: every cut is refused with the pyramid's name.
+  for (const double keep : {0.1, 0.5, 0.9, 0.99}) {
+    {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      out.write(whole.data(), std::streamsize(double(whole.size()) * keep));
+    }
+    const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
+    EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << keep << ": " << e;
+  }
+  // One byte flipped in every 64th position of the data: each copy is refused or reads its CRC.
+  int refused = 0, tries = 0;
+  for (std::size_t at = 2048; at < whole.size(); at += whole.size() / 64, ++tries) {
+    std::string bad = whole;
+    bad[at] = char(bad[at] ^ 0x5a);
+    {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      out.write(bad.data(), std::streamsize(bad.size()));
+    }
+    try {
+      TerrainPyramid p(c.terrain);
+      p.verify();  // whatever opened reads as it was written, or is refused below
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("dump.pyramid.tif"), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0) << tries;
+}
+
+TEST(TerrainPyramid, ImportWritesThePyramidAndReplacesItOnlyWhenAsked) {
+  TempFolder dir;
+  const std::string in = (dir / "in.tif").string(), out = (dir / "out.tif").string();
+  PyramidCase::write(in, 90, 70, 21, 0.0);
+  terrain::importTerrain(in, out, {});
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.pyramid.tif"));
+  EXPECT_NO_THROW(TerrainPyramid(out).verify());
+  // The terrain gone, its pyramid left: a new import does not replace it unasked.
+  std::filesystem::remove(out);
+  const std::string e = inputError([&] { terrain::importTerrain(in, out, {}); });
+  EXPECT_NE(e.find("out.pyramid.tif"), std::string::npos) << e;
+  terrain::ImportOptions again;
+  again.overwrite = true;
+  terrain::importTerrain(in, out, again);
+  EXPECT_NO_THROW(TerrainPyramid(out).verify());
+  // Nothing else left behind: the input (and its own pyramid), the output and its pyramid.
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"in.pyramid.tif", "in.tif", "out.pyramid.tif", "out.tif"}));
+}
+
+}  // namespace
+}  // namespace nestwalk::test
