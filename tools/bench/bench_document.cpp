@@ -128,13 +128,10 @@ int Document::write(std::ostream& out, bool asJson) const {
   if (asJson) {
     out << finalJson().dump(2) << "\n";
   } else {
-    std::size_t nameWidth = 0, whatWidth = 0;
-    for (const Target& t : targets) {
-      nameWidth = std::max(nameWidth, t.name.size());
-      whatWidth = std::max(whatWidth, t.what.size());
-    }
+    std::size_t whatWidth = 0;
+    for (const Target& t : targets) whatWidth = std::max(whatWidth, t.what.size());
     out << header() << text.str();
-    printTargets(out, targets, int(nameWidth) + 2, int(whatWidth) + 2);
+    printTargets(out, targets, 0, int(whatWidth) + 2);  // it widens the names' column to the longest
     for (const auto& [name, message] : errors) out << "error: " << name << ": " << message << "\n";
   }
   return errors.empty() ? 0 : 1;

@@ -10,6 +10,7 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
 #include "nestwalk/geometry/mesh_tree.h"
 #include "nestwalk/geometry/sat.h"
 #include "nestwalk/scene/model_geometry.h"
@@ -17,7 +18,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -136,12 +136,6 @@ double advancementTime(const KdopTree& tree, const Sweep& s) {
   return t;
 }
 
-double microsecondsOf(const auto& f) {
-  const auto start = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
-}
-
 /// Distance along the step between two times of contact, mm (infinite when only one touches).
 double apartMm(double a, double b, const Sweep& s) {
   if (a == kNone && b == kNone) return 0;
@@ -193,7 +187,7 @@ int runBenchmark(const ContactBenchOptions& opts, std::ostream& out) {
         for (std::size_t i = 0; i < sweeps.size(); ++i) {
           const Sweep& s = sweeps[i];
           double t = kNone;
-          const double us = microsecondsOf([&] {
+          const double us = 1e6 * leastSeconds(1, [&] {
             if (m == 0) {
               const MeshSweepHit hit = tree.sweep(s.box, s.d, 0.0, r == 0 ? &work : nullptr);
               t = hit.contact ? hit.t : kNone;

@@ -101,8 +101,12 @@ Document renderDocument(const std::string& title, const std::string& benchmark, 
   return doc;
 }
 
-void printFrames(Document& doc, const std::string& legend) {
-  doc.text << "frames:";
+void printRenderSetup(Document& doc, const std::string& legend) {
+  const Json& j = doc.json;
+  doc.text << j["size"][0] << "x" << j["size"][1];
+  if (j.contains("gl_renderer"))
+    doc.text << ", " << j["gl_renderer"].get<std::string>() << " (" << j["route"].get<std::string>() << ")";
+  doc.text << "\nframes:";
   for (const Json& f : doc.json["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
   doc.text << legend;
 }
@@ -266,9 +270,7 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   for (const Config& c : configs)
     table.add(renderConfig(scene, c, width, height, poses, table.rows().empty() ? &cull : nullptr, j));
 
-  doc.text << width << "x" << height << ", " << j["gl_renderer"].get<std::string>() << " ("
-           << j["route"].get<std::string>() << ")\n";
-  printFrames(doc, " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n");
+  printRenderSetup(doc, " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n");
   doc.table("configs", table);
   const double n = double(std::max<std::size_t>(cull.frames, 1));
   char line[1024];

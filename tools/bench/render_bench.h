@@ -56,8 +56,10 @@ inline constexpr int kMaxSettleFrames = 64;
 Document renderDocument(const std::string& title, const std::string& benchmark, const RenderBenchOptions& opts,
                         const Json& more = Json::object());
 
-/// The text line of the frames each flythrough gave ("frames: SCRIPT N ..."), then `legend`.
-void printFrames(Document& doc, const std::string& legend);
+/// The text lines of the run's frame size with the GL renderer and route (once a frame has given
+/// them: "320x180, llvmpipe (...) (pbuffer)"), and of the frames each flythrough gave ("frames:
+/// SCRIPT N ..."), then `legend`.
+void printRenderSetup(Document& doc, const std::string& legend);
 
 /// Renders the configurations (quick: the first two) and prints their table, the culling
 /// comparison and the target (or one JSON document) to `out`. Returns 0. With terrainSweep (or

@@ -360,12 +360,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
       .column({"p95 x", "/ratio/p95", 6, 2});
   for (Json& row : rows) table.add(std::move(row));
 
-  doc.text << width << "x" << height;
-  if (j.contains("gl_renderer"))
-    doc.text << ", " << j["gl_renderer"].get<std::string>() << " (" << j["route"].get<std::string>() << ")";
-  doc.text << "\n";
-  printFrames(doc, " (poses sampled evenly along each flythrough, rendered back to back with background terrain "
-                   "loading)\n");
+  printRenderSetup(doc, " (poses sampled evenly along each flythrough, rendered back to back with background "
+                        "terrain loading)\n");
   doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << limitText(kCellM)
            << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);

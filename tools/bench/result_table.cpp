@@ -54,23 +54,18 @@ Table& Table::ratio(Column c, std::string numerator, std::string denominator) {
   return column(std::move(c));
 }
 
-Table& Table::peers(const std::string& group, const std::vector<Peer>& peers, int width, int decimals,
-                    int ratioWidth, int ratioDecimals) {
-  for (const Peer& p : peers) {
-    const std::string value = "/" + group + "/" + p.key;
-    column({p.title, value, width, decimals});
-    ratio({"ratio", "/ratio/" + p.key, ratioWidth, ratioDecimals}, value, "/" + group + "/nestwalk");
-  }
-  return *this;
-}
-
 Table Table::againstPeers(Column test, Column set, std::vector<Column> columns, const std::string& group,
                           const std::vector<Peer>& peers, int width, int decimals, int ratioDecimals) {
   Table t;
   t.column(std::move(test)).column(std::move(set));
   for (Column& c : columns) t.column(std::move(c));
-  t.column({"nestwalk", "/" + group + "/nestwalk", width, decimals});
-  return t.peers(group, peers, width, decimals, 8, ratioDecimals);
+  const std::string nestwalk = "/" + group + "/nestwalk";
+  t.column({"nestwalk", nestwalk, width, decimals});
+  for (const Peer& p : peers) {
+    const std::string value = "/" + group + "/" + p.key;
+    t.column({p.title, value, width, decimals}).ratio({"ratio", "/ratio/" + p.key, 8, ratioDecimals}, value, nestwalk);
+  }
+  return t;
 }
 
 void Table::add(Json row) {

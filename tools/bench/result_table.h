@@ -50,14 +50,11 @@ class Table {
   /// Adds a ratio column: the row's value at `numerator` / its value at `denominator`, stored at
   /// c.path when the row has both (null when either is null).
   Table& ratio(Column c, std::string numerator, std::string denominator);
-  /// Per peer, a column of its value at "/<group>/<key>" and one of the ratio to nestwalk's value
-  /// at "/<group>/nestwalk", stored at "/ratio/<key>" (> 1: nestwalk faster, for times).
-  Table& peers(const std::string& group, const std::vector<Peer>& peers, int width, int decimals, int ratioWidth,
-               int ratioDecimals);
 
   /// The table of nestwalk against its peers: `test` and `set` (left-aligned, at "/test" and
   /// "/set"), the row's own `columns`, nestwalk's time at "/<group>/nestwalk", then per peer its time
-  /// and the ratio (peers()). Times are `width` characters with `decimals`.
+  /// at "/<group>/<key>" and the ratio to nestwalk's, stored at "/ratio/<key>" (> 1: nestwalk
+  /// faster). Times are `width` characters with `decimals`.
   static Table againstPeers(Column test, Column set, std::vector<Column> columns, const std::string& group,
                             const std::vector<Peer>& peers, int width, int decimals, int ratioDecimals);
 

@@ -17,6 +17,7 @@
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/value_noise.h"
 
 #include <algorithm>
 #include <iomanip>
@@ -48,22 +49,17 @@ Config& config() {
   return c;
 }
 
-std::uint64_t hash2(std::int64_t x, std::int64_t y, std::uint64_t seed) {
-  return SplitMix64(seed ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full))
-      .next();
+/// A lattice point's value in [-1, 1], hashed from the point and the seed.
+double latticeValue(std::int64_t x, std::int64_t y, std::uint64_t seed) {
+  SplitMix64 rng(seed ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full));
+  return rng.uniform(-1.0, 1.0);
 }
 
-/// Value noise in [-1, 1] with smoothstep interpolation on a lattice of `wavelength` samples.
+/// Value noise in [-1, 1] with smoothstep interpolation on a lattice of `wavelength` samples
+/// (terrain/value_noise.h, the synthetic mining dump's).
 double valueNoise(double x, double y, double wavelength, std::uint64_t seed) {
-  const double fx = x / wavelength, fy = y / wavelength;
-  const double ix = std::floor(fx), iy = std::floor(fy);
-  const double u = fx - ix, v = fy - iy;
-  const double su = u * u * (3 - 2 * u), sv = v * v * (3 - 2 * v);
-  auto at = [&](double a, double b) {
-    return double(hash2(std::int64_t(a), std::int64_t(b), seed) >> 11) * 0x1.0p-52 - 1.0;
-  };
-  const double a = at(ix, iy), b = at(ix + 1, iy), c = at(ix, iy + 1), d = at(ix + 1, iy + 1);
-  return (a * (1 - su) + b * su) * (1 - sv) + (c * (1 - su) + d * su) * sv;
+  return terrain::valueNoise([seed](std::int64_t i, std::int64_t j) { return latticeValue(i, j, seed); }, x, y,
+                             wavelength);
 }
 
 /// The rough DEM: fBm (wavelengths 512 m down to 4 m, amplitude halving) plus +-0.25 m per sample.
@@ -81,15 +77,6 @@ HeightGrid makeGrid(int n) {
   g.minH = *lo;
   g.maxH = *hi;
   return g;
-}
-
-/// The triangulated surface at local (x, y) (the heightfield's rule), for placing rays above it.
-double surface(const HeightGrid& g, double x, double y) {
-  const double fx = x / kSpacing, fy = -y / kSpacing;
-  const int c = std::clamp(int(fx), 0, g.n - 2), r = std::clamp(int(fy), 0, g.n - 2);
-  const double u = fx - c, v = fy - r;
-  const double a = g.at(c, r), b = g.at(c + 1, r), cc = g.at(c + 1, r + 1), d = g.at(c, r + 1);
-  return u >= v ? a + u * (b - a) + v * (cc - b) : a + v * (d - a) + u * (cc - d);
 }
 
 /// The grid, nestwalk's heightfield of it and the peers' structures (built on first use).
@@ -150,7 +137,8 @@ struct RaySet {
   std::vector<double> reference;           // nestwalk's answers (hit z, NaN on a miss); empty: not yet
 };
 
-void makeRays(const SetSpec& spec, const HeightGrid& g, RaySet& s) {
+void makeRays(const SetSpec& spec, const Terrain& t, RaySet& s) {
+  const HeightGrid& g = t.grid;
   Rays& q = s.rays;
   SplitMix64 rng(spec.seed);
   const double extent = (g.n - 1) * kSpacing;
@@ -184,7 +172,7 @@ void makeRays(const SetSpec& spec, const HeightGrid& g, RaySet& s) {
   } else {
     for (std::size_t k = 0; k < s.n; ++k) {
       const double x = rng.uniform(0, extent), y = -rng.uniform(0, extent);
-      const double z = surface(g, x, y) + rng.uniform(1.5, 50.0);
+      const double z = *t.hf->groundHeight(kOriginX + x, kOriginY + y) + rng.uniform(1.5, 50.0);
       const double az = rng.uniform(0, 2 * std::numbers::pi);
       const double el = rng.uniform(5.0, 60.0) * std::numbers::pi / 180.0;
       q.origin.push_back({x, y, z});
@@ -204,7 +192,7 @@ RaySet& raySet(const SetSpec& spec) {
   RaySet& s = raySets()[spec.key];
   if (s.n != config().rays) {
     s = RaySet{config().rays, {}, {}, {}};
-    makeRays(spec, terrainData().grid, s);
+    makeRays(spec, terrainData(), s);
   }
   return s;
 }

@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <memory>
 #include <ostream>
+#include <type_traits>
 
 namespace nestwalk::bench {
 namespace {
@@ -152,7 +153,8 @@ BoxSet& boxSet(const SetSpec& spec) {
 // ------------------------------------------------------------------------------------------------
 // The methods: nestwalk's tests and the peers, each a pass over a set (bench_runner.h).
 
-template <class T, class F>
+/// The boxes converted by f (a method's own layout, built once, outside the timed loop).
+template <class F, class T = std::invoke_result_t<const F&, const Obb<double>&>>
 std::shared_ptr<const std::vector<T>> convert(const std::vector<Obb<double>>& boxes, const F& f) {
   auto out = std::make_shared<std::vector<T>>();
   out->reserve(boxes.size());
@@ -174,6 +176,12 @@ Pass<std::uint8_t> pairPass(std::shared_ptr<const std::vector<A>> a, std::shared
     const std::vector<B>& y = *b;
     return answerAll(x.size(), verdicts, [&](std::size_t k) { return test(x[k], y[k]); });
   };
+}
+
+/// The pass of test over the pairs with both boxes converted by f.
+template <class F, class Test>
+Pass<std::uint8_t> convertedPairPass(const BoxSet& s, const F& f, Test test) {
+  return pairPass(convert(s.a, f), convert(s.b, f), test);
 }
 
 constexpr auto kAabbAabb = [](const auto& x, const auto& y) { return satAabbAabb(x, y).overlap; };
@@ -223,26 +231,17 @@ const MethodDef kMethods[] = {
        return pairPass(own(s.a), own(s.b), [](const auto& x, const auto& y) { return testBoxPair(x, y).overlap; });
      }},
     {"aabb_aabb_double", "AABB-AABB double", false,
-     [](const BoxSet& s, Facts&) {
-       return pairPass(convert<Aabb<double>>(s.a, kAabb), convert<Aabb<double>>(s.b, kAabb), kAabbAabb);
-     }},
+     [](const BoxSet& s, Facts&) { return convertedPairPass(s, kAabb, kAabbAabb); }},
     {"aabb_aabb_float", "AABB-AABB float", false,
-     [](const BoxSet& s, Facts&) {
-       return pairPass(convert<Aabb<float>>(s.a, kAabbFloat), convert<Aabb<float>>(s.b, kAabbFloat), kAabbAabb);
-     }},
+     [](const BoxSet& s, Facts&) { return convertedPairPass(s, kAabbFloat, kAabbAabb); }},
     {"aabb_obb_double", "AABB-OBB double", false,
-     [](const BoxSet& s, Facts&) { return pairPass(convert<Aabb<double>>(s.a, kAabb), own(s.b), kAabbObb); }},
+     [](const BoxSet& s, Facts&) { return pairPass(convert(s.a, kAabb), own(s.b), kAabbObb); }},
     {"obb_obb_double", "OBB-OBB double scalar", true,
      [](const BoxSet& s, Facts&) { return pairPass(own(s.a), own(s.b), kObbObb); }},
     {"obb_obb_float", "OBB-OBB float scalar", true,
-     [](const BoxSet& s, Facts&) {
-       return pairPass(convert<Obb<float>>(s.a, kObbFloat), convert<Obb<float>>(s.b, kObbFloat), kObbObb);
-     }},
+     [](const BoxSet& s, Facts&) { return convertedPairPass(s, kObbFloat, kObbObb); }},
     {"nested_double", "nested double (3-stage)", true,
-     [](const BoxSet& s, Facts&) {
-       using V = NestedVolume<double>;
-       return pairPass(convert<V>(s.a, kNestedVolume), convert<V>(s.b, kNestedVolume), kNested);
-     }},
+     [](const BoxSet& s, Facts&) { return convertedPairPass(s, kNestedVolume, kNested); }},
     {"peer_fcl_obb", nullptr, true, [](const BoxSet& s, Facts&) { return fclBoxPairs(s.a, s.b); }},
     {"peer_ccd_mpr", nullptr, true, [](const BoxSet& s, Facts&) { return ccdBoxPairs(s.a, s.b); }},
     {"peer_bullet_boxbox", nullptr, true, [](const BoxSet& s, Facts&) { return bulletBoxPairs(s.a, s.b); }},
