@@ -101,6 +101,7 @@ TerrainPyramid::TerrainPyramid(const std::string& terrainPath)
         GDALGetRasterCount(pd) != page.bands || GDALGetRasterDataType(GDALGetRasterBand(pd, 1)) != GDT_Float32)
       throw InputError(path_ + ": terrain pyramid page " + std::to_string(p) + " is missing or not " +
                        std::to_string(page.width) + " x " + std::to_string(page.height) + " Float32 (truncated or corrupt)");
+    for (int b = 1; b <= page.bands; ++b) checkBand(pd, b, pageName(path_, p));  // no block a corrupt header inflates
     if (std::size_t(page.width) * std::size_t(page.height) * std::size_t(page.bands) <= kPyramidResidentValues) {
       page.resident = readPage(p, 0, 0, page.width, page.height);
       if (crc32Floats(0, page.resident.data(), page.resident.size()) != page.crc)
