@@ -217,15 +217,110 @@ double triangleError(const Heightfield& hf, const FineTriangle& t) {
   return err;
 }
 
+/// A clipped piece smaller than this share of its triangle (squared fine cells, relative) is taken
+/// to have no area: far above the clipping's rounding (1e-16 of the coordinates, in the thousands
+/// of cells), far below any real overlap of two triangles whose corners are grid samples.
+constexpr double kNoAreaCells2 = 1e-9;
+
+/// A bound of max |fine - plane| over a simplified triangle of a coarse chunk that reads no fine
+/// sample (terrain_chunk.h, "Errors from the pyramid"): over each piece of the triangle cut by the
+/// level grid's triangles, |fine - plane| <= |fine - level| + |level - plane|; the first is at most
+/// the piece's block error, the second is linear on the piece and largest at one of its corners
+/// (the level triangle clipped to the simplified one, in fine (column, row) coordinates).
+template <class GridError>
+double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridError& gridErrorOf) {
+  using P2 = Eigen::Vector2d;
+  const std::array<P2, 3> tv = {P2(t.v[0][0], t.v[0][1]), P2(t.v[1][0], t.v[1][1]), P2(t.v[2][0], t.v[2][1])};
+  const double area = (tv[1] - tv[0]).x() * (tv[2] - tv[0]).y() - (tv[1] - tv[0]).y() * (tv[2] - tv[0]).x();
+  if (area == 0) return 0.0;
+  // The simplified triangle's plane h = h0 + gc (col - c0) + gr (row - r0).
+  auto planeOf = [](const std::array<P2, 3>& v, const std::array<double, 3>& h) {
+    const P2 e1 = v[1] - v[0], e2 = v[2] - v[0];
+    const double det = e1.x() * e2.y() - e2.x() * e1.y();
+    const double d1 = h[1] - h[0], d2 = h[2] - h[0];
+    const double gc = (d1 * e2.y() - d2 * e1.y()) / det, gr = (e1.x() * d2 - e2.x() * d1) / det;
+    return [=](const P2& p) { return h[0] + gc * (p.x() - v[0].x()) + gr * (p.y() - v[0].y()); };
+  };
+  const auto plane = planeOf(tv, t.h);
+  // Inside the simplified triangle: on the inner side of all three edges (orientation by `area`).
+  auto side = [&](const P2& a, const P2& b, const P2& p) {
+    const double s = (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
+    return area > 0 ? s : -s;
+  };
+  // The level cells the triangle's box overlaps.
+  auto range = [](const std::vector<int>& kept, double lo, double hi) {
+    const std::size_t a = std::size_t(std::upper_bound(kept.begin(), kept.end(), int(std::floor(lo))) - kept.begin());
+    const std::size_t b = std::size_t(std::lower_bound(kept.begin(), kept.end(), int(std::ceil(hi))) - kept.begin());
+    return std::pair<std::size_t, std::size_t>(a > 0 ? a - 1 : 0, std::min(b, kept.size() - 1));
+  };
+  const auto [ia, ib] = range(g.cols, std::min({tv[0].x(), tv[1].x(), tv[2].x()}), std::max({tv[0].x(), tv[1].x(), tv[2].x()}));
+  const auto [ja, jb] = range(g.rows, std::min({tv[0].y(), tv[1].y(), tv[2].y()}), std::max({tv[0].y(), tv[1].y(), tv[2].y()}));
+  double bound = 0;
+  std::vector<P2> poly, next;
+  for (std::size_t j = ja; j < jb; ++j)
+    for (std::size_t i = ia; i < ib; ++i)
+      for (int half = 0; half < 2; ++half) {
+        if (half == 0 ? !g.upper(i, j) : !g.lower(i, j)) continue;
+        const std::array<std::size_t, 3> ci = half == 0 ? std::array<std::size_t, 3>{i, i + 1, i + 1}
+                                                         : std::array<std::size_t, 3>{i, i + 1, i};
+        const std::array<std::size_t, 3> cj = half == 0 ? std::array<std::size_t, 3>{j, j, j + 1}
+                                                         : std::array<std::size_t, 3>{j, j + 1, j + 1};
+        std::array<P2, 3> lv;
+        std::array<double, 3> lh;
+        for (int k = 0; k < 3; ++k) {
+          lv[std::size_t(k)] = P2(g.cols[ci[std::size_t(k)]], g.rows[cj[std::size_t(k)]]);
+          lh[std::size_t(k)] = g.height(ci[std::size_t(k)], cj[std::size_t(k)]);
+        }
+        // Sutherland-Hodgman: the level triangle clipped by the simplified one's three edges.
+        poly.assign(lv.begin(), lv.end());
+        for (int e = 0; e < 3 && !poly.empty(); ++e) {
+          const P2& a = tv[std::size_t(e)];
+          const P2& b = tv[std::size_t((e + 1) % 3)];
+          next.clear();
+          for (std::size_t k = 0; k < poly.size(); ++k) {
+            const P2& p = poly[k];
+            const P2& q = poly[(k + 1) % poly.size()];
+            const double sp = side(a, b, p), sq = side(a, b, q);
+            if (sp >= 0) next.push_back(p);
+            if ((sp > 0 && sq < 0) || (sp < 0 && sq > 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
+          }
+          poly.swap(next);
+        }
+        // A piece of no area (the triangles only touch) holds no point its neighbours do not.
+        double twiceArea = 0;
+        for (std::size_t k = 0; k < poly.size(); ++k) {
+          const P2& p = poly[k];
+          const P2& q = poly[(k + 1) % poly.size()];
+          twiceArea += p.x() * q.y() - q.x() * p.y();
+        }
+        if (poly.size() < 3 || std::abs(twiceArea) <= kNoAreaCells2 * std::abs(area)) continue;
+        const auto level = planeOf(lv, lh);
+        double worst = 0;
+        for (const P2& p : poly) worst = std::max(worst, std::abs(level(p) - plane(p)));
+        bound = std::max(bound, worst + gridErrorOf(i, j));
+      }
+  return bound;
+}
+
 }  // namespace
 
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading,
-                     double simplifyFraction) {
+                     double simplifyFraction, const ChunkGridErrors* gridErrors) {
   if (layout.cols() != hf.cols() || layout.rows() != hf.rows() || !layout.exists(key))
     throw std::invalid_argument("buildChunk: the chunk is not in the heightfield's layout");
   ChunkMesh m;
   m.key = key;
   const ChunkGrid g{hf, layout.columns(key), layout.rowsOf(key)};
+  const std::size_t blockCells = std::size_t(chunkBlockCells(layout));
+  if (gridErrors &&
+      (gridErrors->blocksX != int((g.nc() - 1 + blockCells - 1) / blockCells) ||
+       gridErrors->blocksY != int((g.nr() - 1 + blockCells - 1) / blockCells) ||
+       gridErrors->error.size() != std::size_t(gridErrors->blocksX) * std::size_t(gridErrors->blocksY)))
+    throw std::invalid_argument("buildChunk: the grid errors are not the chunk's blocks");
+  // The level grid's error at chunk cell (i, j): its block's, as given.
+  auto gridErrorOf = [&](std::size_t i, std::size_t j) {
+    return double(gridErrors->error[(j / blockCells) * std::size_t(gridErrors->blocksX) + i / blockCells]);
+  };
   const std::size_t nc = g.nc(), nr = g.nr();
   const int step = 1 << key.level;
   const double dx = hf.dx(), dy = hf.dy();
@@ -363,9 +458,10 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     ChunkQuadrant& quad = m.quadrants[std::size_t(q)];
     quad.firstIndex = m.indices.size();
     if (i0 >= i1 || j0 >= j1) continue;
-    // Blocks: cell i of the quadrant's n goes to block i * blocks / n.
-    const std::size_t bx = std::min<std::size_t>(kChunkBlocksPerSide / 2, i1 - i0);
-    const std::size_t by = std::min<std::size_t>(kChunkBlocksPerSide / 2, j1 - j0);
+    // Blocks: cell i of the quadrant goes to block i / blockCells (the quadrant starts at a multiple
+    // of blockCells, so blocks are aligned on the level's grid as the pyramid's are).
+    const std::size_t bx = (i1 - i0 + blockCells - 1) / blockCells, by = (j1 - j0 + blockCells - 1) / blockCells;
+    auto blockOf = [&](std::size_t i, std::size_t j) { return ((j - j0) / blockCells) * bx + (i - i0) / blockCells; };
     quad.blocks.assign(bx * by, ChunkBlock{0.0, Eigen::Vector3d::Constant(kInf), Eigen::Vector3d::Constant(-kInf)});
     // Surface: the heightfield's vertex order is clockwise seen from above; OpenGL's front faces are
     // counter-clockwise, so the second and third vertices swap.
@@ -375,8 +471,8 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         if (up) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i + 1, j + 1), vertex(i + 1, j)});
         if (low) m.indices.insert(m.indices.end(), {vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1)});
         if (!up && !low) continue;
-        ChunkBlock& blk = quad.blocks[((j - j0) * by / (j1 - j0)) * bx + (i - i0) * bx / (i1 - i0)];
-        if (key.level > 0) blk.error = std::max(blk.error, cellError(g, i, j));
+        ChunkBlock& blk = quad.blocks[blockOf(i, j)];
+        if (key.level > 0) blk.error = std::max(blk.error, gridErrors ? gridErrorOf(i, j) : cellError(g, i, j));
         for (std::size_t jj = j; jj <= j + 1; ++jj)
           for (std::size_t ii = i; ii <= i + 1; ++ii)
             if (g.valid(ii, jj)) {
@@ -453,8 +549,9 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
           // The block of the cell holding the centroid.
           const std::size_t ci = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.x() - c0) / step)), i0, i1 - 1);
           const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
-          ChunkBlock& blk = out.blocks[((cj - j0) * by / (j1 - j0)) * bx + (ci - i0) * bx / (i1 - i0)];
-          blk.error = std::max(blk.error, triangleError(hf, tri));
+          ChunkBlock& blk = out.blocks[blockOf(ci, cj)];
+          blk.error = std::max(blk.error, gridErrors && key.level > 0 ? triangleErrorBound(g, tri, gridErrorOf)
+                                                                       : triangleError(hf, tri));
           for (std::size_t k = 0; k < 3; ++k) {
             const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
             blk.min = blk.min.cwiseMin(p);

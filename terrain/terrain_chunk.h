@@ -22,8 +22,9 @@
 // replaces a chunk quadrant by quadrant (a chunk near the eye on one side only sends one quadrant
 // down a level), so a quadrant's triangles and its own skirts are one range of the index array.
 //
-// Blocks: each quadrant's cells are grouped into at most kChunkBlocksPerSide / 2 blocks a side,
-// each with the maximum error of its own cells and the box of its cells' surface vertices. Every
+// Blocks: each quadrant's cells are grouped into blocks of chunkBlockCells() cells a side (aligned
+// on the level's grid: 8 x 8 cells for 64-cell chunks, the terrain pyramid's blocks), at most
+// kChunkBlocksPerSide / 2 a side, each with the maximum error of its own cells and the box of its cells' surface vertices. Every
 // point of the coarse surface lies in a block whose box holds it and whose error bounds its own, so
 // max over blocks of (error / distance from the eye to the box) bounds the projected error of a
 // quadrant far more tightly than one error at its nearest point.
@@ -41,6 +42,16 @@
 // holds. Level 0 keeps its exact grid beside the simplified one (ChunkQuadrant::exact*), drawn where
 // the simplified one's error would show; coarser levels have their children for that. On the bundled
 // dump the renderer draws about two thirds of the grids' triangles at the same 1 px (bench render).
+//
+// Errors from the pyramid (when buildChunk is given the chunk's grid errors, read from the terrain
+// pyramid, terrain_pyramid.h): a coarse chunk is then built from its level's samples alone. Its
+// grid's block errors are the given ones (the pyramid's exact errors, rounded up to float), and a
+// simplified triangle's error is bounded instead of evaluated at fine samples: over each piece of
+// the triangle cut by the level grid's triangles, |fine - simplified| <= |fine - level grid| +
+// |level grid - simplified|, the first at most the piece's block error, the second linear on the
+// piece and so largest at a corner of it (the level triangle clipped to the simplified one). The
+// bound is at least the exact error and at most the exact error plus the block's grid error; the
+// 1 px rule stays a guarantee, a quadrant is only replaced by its children a little sooner.
 //
 // Refinements: near the eye a level-0 quadrant's simplified surface can show more than the allowed
 // error while the exact grid would draw far more triangles than needed. Level 0 therefore also keeps
@@ -81,6 +92,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -164,6 +176,17 @@ class ChunkLayout {
 using ColourGridReader =
     std::function<std::vector<std::uint8_t>(double x0, double y0, double sx, double sy, int width, int height)>;
 
+/// Cells a side of a chunk's blocks: chunkCells / kChunkBlocksPerSide, at least 1.
+inline int chunkBlockCells(const ChunkLayout& layout) { return std::max(1, layout.chunkCells() / kChunkBlocksPerSide); }
+
+/// The level grid's exact errors of a chunk's blocks, known beforehand (the terrain pyramid's, see
+/// "Errors from the pyramid" above): blocksX x blocksY of them, row-major, the chunk's blocks of
+/// chunkBlockCells() cells (fewer at the grid's east and south edges), metres.
+struct ChunkGridErrors {
+  int blocksX = 0, blocksY = 0;
+  std::vector<float> error;
+};
+
 /// A block of a chunk's cells: their largest error (metres) and the mesh-frame box of their surface
 /// vertices (empty, min > max, when none of its cells has a triangle).
 struct ChunkBlock {
@@ -234,9 +257,12 @@ struct ChunkShading {
 
 /// Builds one chunk (see above). The layout must be the heightfield's (same cols and rows).
 /// simplifyFraction > 0 simplifies each quadrant's surface (see "Simplification" above) to about
-/// that fraction of its grid's own error; 0 keeps the level's grid.
+/// that fraction of its grid's own error; 0 keeps the level's grid. gridErrors: the chunk's grid
+/// errors (see "Errors from the pyramid"); null: computed from the fine samples, exactly.
+/// std::invalid_argument when gridErrors is not the chunk's blocks.
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key,
-                     const ChunkShading& shading = {}, double simplifyFraction = 0);
+                     const ChunkShading& shading = {}, double simplifyFraction = 0,
+                     const ChunkGridErrors* gridErrors = nullptr);
 
 /// The coarse surface of a chunk at mesh-frame (x, y): the closed union of its existing triangles
 /// (nullopt outside them). For tests and measurements; O(1).

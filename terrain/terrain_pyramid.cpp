@@ -127,6 +127,7 @@ std::vector<float> TerrainPyramid::readPage(int number, int x0, int y0, int w, i
     return out;
   }
   auto* ds = static_cast<GDALDatasetH>(p.dataset.get());
+  const std::lock_guard lock(*reading_);
   for (int b = 1; b <= p.bands; ++b) {
     CPLErrorReset();
     if (GDALRasterIO(GDALGetRasterBand(ds, b), GF_Read, x0, y0, w, h,
@@ -144,6 +145,7 @@ std::vector<float> TerrainPyramid::readHeights(int level, int i0, int j0, int w,
     throw std::out_of_range("TerrainPyramid::readHeights: window outside level " + std::to_string(level));
   if (level > 0) return readPage(layout_.heightsPage(level), i0, j0, w, h);
   std::vector<float> out(std::size_t(w) * std::size_t(h));
+  const std::lock_guard lock(*reading_);
   CPLErrorReset();
   if (GDALRasterIO(GDALGetRasterBand(static_cast<GDALDatasetH>(terrain_.get()), 1), GF_Read, i0, j0, w, h,
                    out.data(), w, h, GDT_Float32, 0, 0) != CE_None)
@@ -162,7 +164,24 @@ std::vector<PyramidBlock> TerrainPyramid::readBlocks(int level, int bx0, int by0
   return out;
 }
 
+ChunkGridErrors TerrainPyramid::chunkGridErrors(const ChunkKey& key) const {
+  static_assert(kPyramidTopCells / kChunkBlocksPerSide == kPyramidBlockCells, "a 64-cell chunk's blocks are the pyramid's");
+  constexpr int kPerChunk = kChunkBlocksPerSide;
+  if (key.level < 0 || key.level >= layout_.levels || key.x < 0 || key.y < 0 ||
+      key.x * kPerChunk >= layout_.blocksX(key.level) || key.y * kPerChunk >= layout_.blocksY(key.level))
+    throw std::out_of_range("TerrainPyramid::chunkGridErrors: no such chunk");
+  ChunkGridErrors out;
+  out.blocksX = std::min(kPerChunk, layout_.blocksX(key.level) - key.x * kPerChunk);
+  out.blocksY = std::min(kPerChunk, layout_.blocksY(key.level) - key.y * kPerChunk);
+  const std::vector<float> bands =
+      readPage(layout_.blocksPage(key.level), key.x * kPerChunk, key.y * kPerChunk, out.blocksX, out.blocksY);
+  const std::size_t n = std::size_t(out.blocksX) * std::size_t(out.blocksY);
+  out.error.assign(bands.begin() + std::ptrdiff_t(2 * n), bands.begin() + std::ptrdiff_t(3 * n));
+  return out;
+}
+
 void TerrainPyramid::verify() const {
+  const std::lock_guard lock(*reading_);
   for (int p = 1; p <= layout_.pages(); ++p) {
     const Page& pg = page(p);
     if (!pg.resident.empty()) continue;  // checked when opened

@@ -11,12 +11,16 @@
 //
 // Errors: InputError naming the file and what is wrong (missing sidecar, stale, future version,
 // truncated or corrupt page). Ownership: the pyramid owns its open GDAL datasets. Thread safety:
-// one thread at a time (GDAL datasets are not thread-safe); copies are not allowed, moves are.
+// the const reads may come from several threads: one mutex serialises them (GDAL datasets are not
+// thread-safe); copies are not allowed, moves are (not while another thread reads).
 #pragma once
 
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_chunk.h"
 #include "nestwalk/terrain/terrain_pyramid_format.h"
 
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +56,9 @@ class TerrainPyramid {
   std::vector<float> readHeights(int level, int i0, int j0, int w, int h) const;
   /// Level `level`'s blocks in the window [bx0, bx0 + w) x [by0, by0 + h), row-major.
   std::vector<PyramidBlock> readBlocks(int level, int bx0, int by0, int w, int h) const;
+  /// The grid errors of chunk `key` of the kPyramidTopCells-cell chunk layout (terrain_chunk.h:
+  /// its blocks are the pyramid's). std::out_of_range for a chunk not in that layout.
+  ChunkGridErrors chunkGridErrors(const ChunkKey& key) const;
   /// Reads every page whole and checks it against its CRC-32: InputError naming the page otherwise.
   void verify() const;
 
@@ -70,6 +77,7 @@ class TerrainPyramid {
   std::optional<float> noData_;
   std::vector<Page> pages_;
   mutable GdalDataset terrain_;
+  std::unique_ptr<std::mutex> reading_ = std::make_unique<std::mutex>();  // GDAL's datasets, one reader at a time
 };
 
 }  // namespace nestwalk::terrain

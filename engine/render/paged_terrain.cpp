@@ -113,6 +113,9 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
       layout_(hf_ ? hf_->cols() : 0, hf_ ? hf_->rows() : 0, options_.chunkCells) {
   if (!(options_.pixelsPerRadian > 0) || !(options_.maxPixels >= 0))
     throw std::invalid_argument("PagedTerrain: pixelsPerRadian must be positive and maxPixels not negative");
+  if (options_.pyramid && (options_.chunkCells != terrain::kPyramidTopCells ||
+                           options_.pyramid->layout().cols != hf_->cols() || options_.pyramid->layout().rows != hf_->rows()))
+    throw std::invalid_argument("PagedTerrain: the pyramid is not of the heightfield's grid and 64-cell chunks");
   budget_ = options_.budgetBytes > 0 ? options_.budgetBytes : defaultTerrainBudgetBytes();
   shading_.shade = options_.shade;
   shading_.imagery = options_.imagery;
@@ -155,7 +158,16 @@ void PagedTerrain::releaseGLObjects(osg::State* state) const {
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
-  const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_, options_.simplifyFraction);
+  std::optional<terrain::ChunkGridErrors> gridErrors;
+  if (options_.pyramid && key.level > 0 && !pyramidFailed_) {
+    try {
+      gridErrors = options_.pyramid->chunkGridErrors(key);
+    } catch (const std::exception&) {
+      pyramidFailed_ = true;  // computed from now on: the answer is the same, only slower
+    }
+  }
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_, options_.simplifyFraction,
+                                                   gridErrors ? &*gridErrors : nullptr);
   Built b;
   b.key = key;
   if (!m.empty()) {

@@ -38,12 +38,14 @@
 #include "nestwalk/render/view_options.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 
 #include <osg/BoundingBox>
 #include <osg/MatrixTransform>
 #include <osg/Node>
 #include <osg/ref_ptr>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -86,6 +88,11 @@ struct PagedTerrainOptions {
   double simplifyFraction = kTerrainSimplifyFraction;
   terrain::ColourGridReader imagery;  // draped imagery (empty: colours by height)
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
+  /// The terrain's pyramid (the heightfield's grid; chunkCells must then be its kPyramidTopCells):
+  /// coarse chunks take their grid errors from it instead of reading every fine sample under them
+  /// (terrain_chunk.h, "Errors from the pyramid"). Null: computed. A read that fails (a page
+  /// corrupted on disk) falls back to computing, for good.
+  std::shared_ptr<const terrain::TerrainPyramid> pyramid;
 };
 
 
@@ -163,6 +170,7 @@ class PagedTerrain : public osg::Node {
 
   // The loader: wanted_ and done_ are shared with its thread under mutex_.
   mutable std::mutex mutex_;
+  mutable std::atomic<bool> pyramidFailed_{false};  // a pyramid read failed: errors computed from then on
   std::condition_variable wake_, idle_;
   std::vector<Want> wanted_;
   std::vector<terrain::ChunkKey> inFlight_;

@@ -128,6 +128,7 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
   terrainOptions.loading = options_.terrainLoading;
   terrainOptions.shade = options_.terrainShading;
   terrainOptions.mapOrigin = hf.origin();
+  if (options_.terrainChunkCells == terrain::kPyramidTopCells) terrainOptions.pyramid = scene_.terrainPyramid;
   if (scene_.spec.imagery && !options_.idPass) {
     // Opened here, so a bad file is refused before the first frame; read only by the thread that
     // builds the chunks (paged_terrain.h).

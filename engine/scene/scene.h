@@ -30,6 +30,10 @@
 #include <string>
 #include <vector>
 
+namespace nestwalk::terrain {
+class TerrainPyramid;
+}
+
 namespace nestwalk {
 
 struct SceneModel {
@@ -84,6 +88,11 @@ struct CollisionUnit {
 struct Scene {
   SceneSpec spec;
   std::shared_ptr<const terrain::Heightfield> terrain;  // map frame
+  /// The terrain file's pyramid (terrain/terrain_pyramid.h) when it has a valid one: the renderer
+  /// then reads its coarse chunks' errors instead of computing them. Null without one; a pyramid
+  /// that is refused (stale, corrupt, from a newer nestwalk) is not used, and says why here.
+  std::shared_ptr<const terrain::TerrainPyramid> terrainPyramid;
+  std::string terrainPyramidRefused;
   std::map<std::string, Similarity<double>> typeTransforms;  // per type: model file frame -> the
                                                              // engine's model frame (model_catalog.h)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // map point of the local origin

@@ -8,11 +8,13 @@
 #include "nestwalk/scene/placement.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 
 namespace nestwalk {
@@ -74,6 +76,14 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     scene.terrain = std::make_shared<const terrain::Heightfield>(s.isZero() ? std::move(hf) : shifted(hf, s));
   } catch (const InputError& e) {
     throw InputError(file + ": terrain: " + e.what());
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(terrain::pyramidPathOf(spec.terrain), ec)) {
+    try {
+      scene.terrainPyramid = std::make_shared<const terrain::TerrainPyramid>(spec.terrain);
+    } catch (const InputError& e) {
+      scene.terrainPyramidRefused = e.what();
+    }
   }
   const terrain::Heightfield& hf = *scene.terrain;
   if (spec.origin) {

@@ -7,6 +7,8 @@
 #include "nestwalk/scene/node_geometry.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+#include "nestwalk/terrain/terrain_pyramid_writer.h"
 #include "tests/common/build_paths.h"
 #include "tests/common/box_model.h"
 #include "tests/scene/scene_test_util.h"
@@ -105,6 +107,28 @@ TEST_P(SceneLoad, GroundHeightOriginAndModelsLoadedOnce) {
     EXPECT_EQ(s.findUnit(s.spec.equipment[i].name), int(i));
   }
   EXPECT_EQ(s.findUnit("nothing"), -1);
+}
+
+TEST_P(SceneLoad, TheTerrainsPyramidIsOpenedWhenValidAndSetAsideWhenStale) {
+  const std::string terrainFile = (dir() / "terrain.tif").string();
+  const Json none = Json::array();
+  Scene s = load(none);
+  EXPECT_EQ(s.terrainPyramid, nullptr);  // a plain GeoTIFF: no pyramid beside it
+  EXPECT_EQ(s.terrainPyramidRefused, "");
+  terrain::writeTerrainPyramid(terrainFile, terrain::pyramidPathOf(terrainFile));
+  s = load(none);
+  ASSERT_NE(s.terrainPyramid, nullptr);
+  EXPECT_EQ(s.terrainPyramid->layout().cols, s.terrain->cols());
+  // The terrain rewritten with another cell size: its pyramid is set aside with the reason, the scene
+  // still loads (from the terrain file alone).
+  test::PlaneTerrain other = terrain_;
+  other.cell = 1.5;
+  test::writePlaneTiff(dir() / "terrain.tif", other);
+  s = load(none);
+  EXPECT_EQ(s.terrainPyramid, nullptr);
+  EXPECT_NE(s.terrainPyramidRefused.find("changed since"), std::string::npos) << s.terrainPyramidRefused;
+  EXPECT_NEAR(*s.terrain->groundHeight(other.sampleX(3), other.sampleY(4)), other.height(other.sampleX(3), other.sampleY(4)),
+              1e-9);
 }
 
 TEST(SceneAttitude, ConventionsAndEigenAgree) {

@@ -20,7 +20,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <array>
+#include <random>
 #include <set>
+#include <utility>
 
 namespace nestwalk::test {
 namespace {
@@ -36,11 +39,15 @@ struct PyramidCase {
   std::string terrain;
   terrain::Heightfield hf;
   PyramidCase(int cols, int rows, unsigned seed, double holes)
-      : terrain((dir / "dump.tif").string()), hf(write(terrain, cols, rows, seed, holes)) {}
-  static terrain::Heightfield write(const std::string& path, int cols, int rows, unsigned seed, double holes) {
-    terrain::writeTerrainCog(path, cols, rows, roughHeights(cols, rows, seed, holes), 512345.5, 7765432.5, 0.5, 0.5,
-                             "EPSG:32633", false);
+      : PyramidCase(cols, rows, roughHeights(cols, rows, seed, holes)) {}
+  PyramidCase(int cols, int rows, const std::vector<float>& heights)
+      : terrain((dir / "dump.tif").string()), hf(write(terrain, cols, rows, heights)) {}
+  static terrain::Heightfield write(const std::string& path, int cols, int rows, const std::vector<float>& heights) {
+    terrain::writeTerrainCog(path, cols, rows, heights, 512345.5, 7765432.5, 0.5, 0.5, "EPSG:32633", false);
     return terrain::readDem(path);
+  }
+  static terrain::Heightfield write(const std::string& path, int cols, int rows, unsigned seed, double holes) {
+    return write(path, cols, rows, roughHeights(cols, rows, seed, holes));
   }
 };
 
@@ -187,6 +194,130 @@ TEST(TerrainPyramid, AChunksErrorIsTheLargestOfItsBlocks) {
         if (double(chunkError) < mesh.maxError) chunkError = std::nextafter(chunkError, INFINITY);
         EXPECT_EQ(largest, chunkError) << "chunk " << level << "/" << x << "/" << y;
       }
+}
+
+/// A mesh's surface triangles [first, first + count) as mesh-frame corners, with their boxes.
+struct MeshTriangle {
+  std::array<Eigen::Vector3d, 3> p;
+  Eigen::Vector2d lo, hi;
+};
+std::vector<MeshTriangle> surfaceTriangles(const terrain::ChunkMesh& m, std::size_t first, std::size_t count) {
+  std::vector<MeshTriangle> out;
+  for (std::size_t t = 0; t < count; ++t) {
+    MeshTriangle tri;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.indices[first + 3 * t + k];
+      tri.p[k] = Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]) + m.offset;
+    }
+    tri.lo = tri.p[0].head<2>().cwiseMin(tri.p[1].head<2>()).cwiseMin(tri.p[2].head<2>());
+    tri.hi = tri.p[0].head<2>().cwiseMax(tri.p[1].head<2>()).cwiseMax(tri.p[2].head<2>());
+    out.push_back(tri);
+  }
+  return out;
+}
+/// The drawn surface at mesh-frame (x, y), by brute force over the triangles.
+std::optional<double> drawnAt(const std::vector<MeshTriangle>& tris, double x, double y) {
+  for (const MeshTriangle& t : tris) {
+    if (x < t.lo.x() - 1e-9 || x > t.hi.x() + 1e-9 || y < t.lo.y() - 1e-9 || y > t.hi.y() + 1e-9) continue;
+    const auto& a = t.p;
+    const double d = (a[1].x() - a[0].x()) * (a[2].y() - a[0].y()) - (a[1].y() - a[0].y()) * (a[2].x() - a[0].x());
+    if (std::abs(d) < 1e-12) continue;
+    const double w1 = ((x - a[0].x()) * (a[2].y() - a[0].y()) - (y - a[0].y()) * (a[2].x() - a[0].x())) / d;
+    const double w2 = ((a[1].x() - a[0].x()) * (y - a[0].y()) - (a[1].y() - a[0].y()) * (x - a[0].x())) / d;
+    if (w1 < -1e-9 || w2 < -1e-9 || 1 - w1 - w2 < -1e-9) continue;
+    return (1 - w1 - w2) * a[0].z() + w1 * a[1].z() + w2 * a[2].z();
+  }
+  return std::nullopt;
+}
+
+TEST(TerrainPyramid, ChunksBuiltFromItsErrorsBoundTheirExactErrorsAndHoldEveryPoint) {
+  // Coarse chunks built with the pyramid's grid errors (terrain_chunk.h, "Errors from the
+  // pyramid"): unsimplified, their blocks' errors are the exact ones rounded up to float; simplified
+  // (the renderer's 1.5), a dense brute force of |fine - drawn| (every fine sample and 8 points along
+  // every fine edge) never exceeds a quadrant's error, which exceeds it by at most the level grid's
+  // largest block error there (plus the brute force's spacing: 1/16 cell of slopes below 2); random
+  // points of the drawn surface lie in a block whose box holds them and whose error is theirs or more.
+  // Benches around a centre (flat treads, 6 m faces) with centimetre waves and a few holes: the kind
+  // of surface simplification is for.
+  std::vector<float> heights(161 * 131);
+  std::mt19937 holes(9);
+  for (int r = 0; r < 131; ++r)
+    for (int col = 0; col < 161; ++col) {
+      const double d = std::hypot(col - 70.0, r - 60.0), step = std::floor(d / 20.0), within = d - 20.0 * step;
+      double v = 200.0 - 6.0 * step - (within > 12.0 ? 0.75 * (within - 12.0) : 0.0) + 0.05 * std::sin(0.8 * col);
+      if (holes() % 200 == 0) v = NAN;
+      heights[std::size_t(r) * 161 + std::size_t(col)] = float(v);
+    }
+  PyramidCase c(161, 131, heights);
+  const TerrainPyramid pyramid(c.terrain);
+  const terrain::ChunkLayout l(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+  ASSERT_EQ(l.levels(), 3);
+  constexpr int kPerEdge = 8;
+  constexpr double kSpacingSlackM = 0.13;  // the rough heights' slopes (below 2) over 1/16 cell
+  std::mt19937 rng(5);
+  int checked = 0, points = 0;
+  for (int level = 1; level < l.levels(); ++level)
+    for (int y = 0; y < l.chunksY(level); ++y)
+      for (int x = 0; x < l.chunksX(level); ++x) {
+        const terrain::ChunkKey key{level, x, y};
+        const terrain::ChunkGridErrors errors = pyramid.chunkGridErrors(key);
+        const terrain::ChunkMesh plainExact = terrain::buildChunk(c.hf, l, key);
+        const terrain::ChunkMesh plainPyramid = terrain::buildChunk(c.hf, l, key, {}, 0, &errors);
+        for (std::size_t q = 0; q < 4; ++q) {
+          const auto& a = plainExact.quadrants[q].blocks;
+          const auto& b = plainPyramid.quadrants[q].blocks;
+          ASSERT_EQ(a.size(), b.size());
+          for (std::size_t k = 0; k < a.size(); ++k) {
+            float up = float(a[k].error);
+            if (double(up) < a[k].error) up = std::nextafter(up, INFINITY);
+            EXPECT_EQ(b[k].error, double(up)) << "chunk " << level << "/" << x << "/" << y << " quadrant " << q;
+          }
+        }
+        const terrain::ChunkMesh m = terrain::buildChunk(c.hf, l, key, {}, 1.5, &errors);
+        for (std::size_t q = 0; q < 4; ++q) {
+          const terrain::ChunkQuadrant& quad = m.quadrants[q];
+          if (quad.empty()) continue;
+          const auto tris = surfaceTriangles(m, quad.firstIndex, quad.surfaceTriangles);
+          double gridMax = 0;
+          for (const terrain::ChunkBlock& b : plainPyramid.quadrants[q].blocks) gridMax = std::max(gridMax, b.error);
+          Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+          for (const MeshTriangle& t : tris) lo = lo.cwiseMin(t.lo), hi = hi.cwiseMax(t.hi);
+          double brute = 0;
+          for (double yy = hi.y(); yy >= lo.y() - 1e-9; yy -= c.hf.dy())
+            for (double xx = lo.x(); xx <= hi.x() + 1e-9; xx += c.hf.dx())
+              for (int i = 0; i < kPerEdge; ++i) {
+                const double t = double(i) / kPerEdge;
+                for (const auto& [px, py] : {std::pair(xx + t * c.hf.dx(), yy), std::pair(xx, yy - t * c.hf.dy()),
+                                             std::pair(xx + t * c.hf.dx(), yy - t * c.hf.dy())}) {
+                  const auto drawn = drawnAt(tris, px, py);
+                  const auto fine = c.hf.groundHeight(c.hf.origin().x() + px, c.hf.origin().y() + py);
+                  if (drawn && fine) brute = std::max(brute, std::abs(*drawn - *fine));
+                }
+              }
+          const std::string where = "chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" +
+                                    std::to_string(y) + " quadrant " + std::to_string(q);
+          EXPECT_GE(quad.maxError, brute - 1e-9) << where;
+          EXPECT_LE(quad.maxError, brute + gridMax + kSpacingSlackM) << where;
+          ++checked;
+          std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
+          for (int i = 0; i < 300; ++i) {
+            const double px = ux(rng), py = uy(rng);
+            const auto drawn = drawnAt(tris, px, py);
+            const auto fine = c.hf.groundHeight(c.hf.origin().x() + px, c.hf.origin().y() + py);
+            if (!drawn || !fine) continue;
+            const Eigen::Vector3d p(px, py, *drawn);
+            const double e = std::abs(*drawn - *fine);
+            const bool held = std::any_of(quad.blocks.begin(), quad.blocks.end(), [&](const terrain::ChunkBlock& b) {
+              return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
+                     b.error >= e - 1e-8;
+            });
+            EXPECT_TRUE(held) << where << " at " << px << " " << py;
+            ++points;
+          }
+        }
+      }
+  EXPECT_GE(checked, 8);
+  EXPECT_GT(points, 1500);
 }
 
 /// The header's values of page 1 (version, sizes, fingerprint, CRC-32s).
