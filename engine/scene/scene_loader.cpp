@@ -7,6 +7,7 @@
 #include "nestwalk/scene/node_geometry.h"
 #include "nestwalk/scene/placement.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/scene/terrain_cache.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
 
@@ -60,6 +61,8 @@ std::string quotedName(const EquipmentSpec& e) { return "'" + e.name + "'"; }
 
 }  // namespace
 
+void printSceneNote(const std::string& text) { std::fprintf(stderr, "nestwalk: note: %s\n", text.c_str()); }
+
 Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   return loadScene(readSceneFile(path), options);
 }
@@ -72,18 +75,20 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
   // Terrain (map frame, moved by the shift).
   try {
     terrain::Heightfield hf = terrain::readDem(spec.terrain);
+    // Its pyramid: its own beside it, else (none, or one refused) the terrain cache's.
+    std::error_code ec;
+    if (std::filesystem::exists(terrain::pyramidPathOf(spec.terrain), ec)) {
+      try {
+        scene.terrainPyramid = std::make_shared<const terrain::TerrainPyramid>(spec.terrain);
+      } catch (const InputError& e) {
+        scene.terrainPyramidRefused = e.what();
+      }
+    }
+    if (!scene.terrainPyramid) scene.terrainPyramid = cachedTerrainPyramid(spec.terrain, hf, options.note);
     const Eigen::Vector3d& s = options.mapShift;
     scene.terrain = std::make_shared<const terrain::Heightfield>(s.isZero() ? std::move(hf) : shifted(hf, s));
   } catch (const InputError& e) {
     throw InputError(file + ": terrain: " + e.what());
-  }
-  std::error_code ec;
-  if (std::filesystem::exists(terrain::pyramidPathOf(spec.terrain), ec)) {
-    try {
-      scene.terrainPyramid = std::make_shared<const terrain::TerrainPyramid>(spec.terrain);
-    } catch (const InputError& e) {
-      scene.terrainPyramidRefused = e.what();
-    }
   }
   const terrain::Heightfield& hf = *scene.terrain;
   if (spec.origin) {

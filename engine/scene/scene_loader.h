@@ -12,17 +12,25 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <string>
 
 namespace nestwalk {
+
+/// Prints "nestwalk: note: " + text on stderr.
+void printSceneNote(const std::string& text);
 
 struct SceneLoadOptions {
   // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
   // a scene at its UTM position and moved near the map origin and compare.
   Eigen::Vector3d mapShift = Eigen::Vector3d::Zero();
+  /// Told of slow first-time work (a plain DEM imported into the terrain cache, terrain_cache.h);
+  /// by default printed on stderr as "nestwalk: note: ...". Empty: silent.
+  std::function<void(const std::string&)> note = printSceneNote;
 };
 
-// Loads the terrain (readDem), every model once (osgDB), fits volumes, places instances and forms
+// Loads the terrain (readDem) and its pyramid (Scene::terrainPyramid: the terrain file's own, else
+// the terrain cache's, terrain_cache.h), every model once (osgDB), fits volumes, places instances and forms
 // the units.
 //
 // Standing on the ground: an instance whose position has no z stands with its model-frame z = 0

@@ -18,6 +18,8 @@
 
 #include <chrono>
 #include <numbers>
+#include <optional>
+#include <cstdlib>
 
 namespace nestwalk {
 namespace {
@@ -109,24 +111,59 @@ TEST_P(SceneLoad, GroundHeightOriginAndModelsLoadedOnce) {
   EXPECT_EQ(s.findUnit("nothing"), -1);
 }
 
-TEST_P(SceneLoad, TheTerrainsPyramidIsOpenedWhenValidAndSetAsideWhenStale) {
+/// Sets an environment variable for the scope, and restores it.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(const char* name, const std::string& value) : name_(name) {
+    if (const char* old = std::getenv(name)) saved_ = old;
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnvironment() {
+    if (saved_) ::setenv(name_, saved_->c_str(), 1);
+    else ::unsetenv(name_);
+  }
+
+ private:
+  const char* name_;
+  std::optional<std::string> saved_;
+};
+
+TEST_P(SceneLoad, ATerrainsPyramidIsItsOwnWhenValidElseTheTerrainCachesImport) {
   const std::string terrainFile = (dir() / "terrain.tif").string();
   const Json none = Json::array();
-  Scene s = load(none);
-  EXPECT_EQ(s.terrainPyramid, nullptr);  // a plain GeoTIFF: no pyramid beside it
-  EXPECT_EQ(s.terrainPyramidRefused, "");
-  terrain::writeTerrainPyramid(terrainFile, terrain::pyramidPathOf(terrainFile));
-  s = load(none);
+  std::vector<std::string> notes;
+  SceneLoadOptions options;
+  options.note = [&](const std::string& text) { notes.push_back(text); };
+  {
+    const ScopedEnvironment off("NESTWALK_TERRAIN_CACHE", "off");
+    EXPECT_EQ(load(none, options).terrainPyramid, nullptr);  // a plain GeoTIFF and no cache
+  }
+  const ScopedEnvironment cache("NESTWALK_TERRAIN_CACHE", (dir() / "cache").string());
+  // A plain GeoTIFF: imported into the cache once (one note), then reused.
+  Scene s = load(none, options);
   ASSERT_NE(s.terrainPyramid, nullptr);
   EXPECT_EQ(s.terrainPyramid->layout().cols, s.terrain->cols());
-  // The terrain rewritten with another cell size: its pyramid is set aside with the reason, the scene
-  // still loads (from the terrain file alone).
+  EXPECT_NE(s.terrainPyramid->terrainPath().find((dir() / "cache").string()), std::string::npos);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("terrain cache"), std::string::npos) << notes[0];
+  s = load(none, options);
+  EXPECT_NE(s.terrainPyramid, nullptr);
+  EXPECT_EQ(notes.size(), 1u);  // reused, not imported again
+  // Its own pyramid beside it comes first.
+  terrain::writeTerrainPyramid(terrainFile, terrain::pyramidPathOf(terrainFile));
+  s = load(none, options);
+  ASSERT_NE(s.terrainPyramid, nullptr);
+  EXPECT_EQ(s.terrainPyramid->terrainPath(), terrainFile);
+  // The terrain rewritten with another cell size: its own pyramid is set aside with the reason, the
+  // cache imports the new one, and the scene loads as always.
   test::PlaneTerrain other = terrain_;
   other.cell = 1.5;
   test::writePlaneTiff(dir() / "terrain.tif", other);
-  s = load(none);
-  EXPECT_EQ(s.terrainPyramid, nullptr);
+  s = load(none, options);
   EXPECT_NE(s.terrainPyramidRefused.find("changed since"), std::string::npos) << s.terrainPyramidRefused;
+  ASSERT_NE(s.terrainPyramid, nullptr);
+  EXPECT_NE(s.terrainPyramid->terrainPath(), terrainFile);
+  EXPECT_EQ(notes.size(), 2u);
   EXPECT_NEAR(*s.terrain->groundHeight(other.sampleX(3), other.sampleY(4)), other.height(other.sampleX(3), other.sampleY(4)),
               1e-9);
 }

@@ -1,0 +1,107 @@
+// The terrain cache (terrain_cache.h).
+#include "nestwalk/scene/terrain_cache.h"
+
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/scene/model_cache.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <vector>
+
+namespace nestwalk {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// What an entry's `source` file says: the DEM's canonical path and identity.
+std::string sourceText(const std::string& canonical, const ModelFileIdentity& id) {
+  std::ostringstream s;
+  s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n';
+  return s.str();
+}
+
+/// Removes the least recently used entries (folders) beyond kMaxTerrainCacheEntries - 1, making room
+/// for one more.
+void prune(const fs::path& folder) {
+  std::error_code ec;
+  std::vector<std::pair<fs::file_time_type, fs::path>> entries;
+  for (const auto& e : fs::directory_iterator(folder, ec))
+    if (e.is_directory(ec) && e.path().filename().string().front() != '.')
+      entries.emplace_back(fs::last_write_time(e.path(), ec), e.path());
+  if (entries.size() < std::size_t(kMaxTerrainCacheEntries)) return;
+  std::sort(entries.begin(), entries.end());
+  for (std::size_t i = 0; i + std::size_t(kMaxTerrainCacheEntries) <= entries.size(); ++i)
+    fs::remove_all(entries[i].second, ec);
+}
+
+/// The entry's pyramid when its source matches and it opens, else null.
+std::shared_ptr<const terrain::TerrainPyramid> openEntry(const fs::path& entry, const std::string& source) {
+  std::ifstream in(entry / "source");
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (!in || s.str() != source) return nullptr;
+  try {
+    return std::make_shared<const terrain::TerrainPyramid>((entry / "terrain.tif").string());
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+}
+
+}  // namespace
+
+std::string terrainCacheFolder() {
+  if (const char* env = std::getenv("NESTWALK_TERRAIN_CACHE"); env && *env)
+    return std::string(env) == "off" ? std::string() : std::string(env);
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/nestwalk/terrain";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/nestwalk/terrain";
+  return "";
+}
+
+std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::string& demPath,
+                                                                    const terrain::Heightfield& hf,
+                                                                    const std::function<void(const std::string&)>& note) {
+  const std::string folder = terrainCacheFolder();
+  if (folder.empty()) return nullptr;
+  // A valid sample at the terrain files' nodata value would become a hole in the import.
+  if (const auto range = hf.heightRange();
+      range && range->first <= terrain::kTerrainNoData && terrain::kTerrainNoData <= range->second)
+    return nullptr;
+  std::error_code ec;
+  const std::string canonical = fs::weakly_canonical(fs::absolute(demPath, ec), ec).string();
+  const std::optional<ModelFileIdentity> before = modelFileIdentity(demPath);
+  if (ec || !before) return nullptr;
+  char name[32];
+  std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(std::hash<std::string>{}(canonical)));
+  const fs::path entry = fs::path(folder) / name;
+  const std::string source = sourceText(canonical, *before);
+  std::shared_ptr<const terrain::TerrainPyramid> pyramid = openEntry(entry, source);
+  if (!pyramid) {
+    try {
+      fs::create_directories(folder, ec);
+      if (ec) return nullptr;
+      prune(folder);
+      if (note) note(demPath + ": importing it once into the terrain cache (" + entry.string() + ")");
+      OutputFolder out(entry.string());
+      terrain::importTerrain(demPath, (fs::path(out.tempPath()) / "terrain.tif").string(), {});
+      if (!(modelFileIdentity(demPath) == before)) return nullptr;  // changed while it was imported
+      writeFileAtomically((fs::path(out.tempPath()) / "source").string(), source);
+      out.commit();
+      pyramid = openEntry(entry, source);
+    } catch (const std::exception&) {
+      return nullptr;  // best effort: the scene loads without a pyramid
+    }
+  }
+  if (!pyramid || pyramid->layout().cols != hf.cols() || pyramid->layout().rows != hf.rows()) return nullptr;
+  fs::last_write_time(entry, fs::file_time_type::clock::now(), ec);  // used: the last to go
+  return pyramid;
+}
+
+}  // namespace nestwalk
