@@ -79,9 +79,10 @@ void checkOutput(const std::string& in, const std::string& out, bool overwrite) 
 }
 
 /// Writes the staging dataset (at `stagingPath`) as the terrain COG to a temporary file, then its
-/// pyramid (terrain_pyramid_writer.h, renamed into place first), and renames the COG to `out`.
-void writeCogFrom(GDALDatasetH staging, const std::string& stagingPath, const std::string& out,
-                  const StageProgress& progress, const StageProgress& pyramidProgress) {
+/// pyramid (terrain_pyramid_writer.h, renamed into place first; its levels are returned, 0 when none),
+/// and renames the COG to `out`.
+int writeCogFrom(GDALDatasetH staging, const std::string& stagingPath, const std::string& out,
+                 const StageProgress& progress, const StageProgress& pyramidProgress) {
   GDALDriverH cog = GDALGetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver");
   OutputFile tmp(out, ".tif");
@@ -99,9 +100,11 @@ void writeCogFrom(GDALDatasetH staging, const std::string& stagingPath, const st
   pyramidOptions.samplesPath = stagingPath;
   if (pyramidProgress.data) pyramidOptions.progress = [&](double f) { pyramidProgress.report(f); };
   // A grid of one row or column is no terrain the engine can walk (heightfield.h): it has no pyramid.
+  int levels = 0;
   if (GDALGetRasterXSize(staging) >= 2 && GDALGetRasterYSize(staging) >= 2)
-    writeTerrainPyramid(tmp.tempPath(), pyramidPathOf(out), pyramidOptions);
+    levels = writeTerrainPyramid(tmp.tempPath(), pyramidPathOf(out), pyramidOptions).levels;
   tmp.commit();
+  return levels;
 }
 
 GDALDatasetH createStaging(const std::string& path, int cols, int rows) {
@@ -344,7 +347,8 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
   // 4. The COG, through a temporary file renamed at the end.
   {
     const StageProgress cogProgress(options.progress, 0.6, 0.8), pyramidProgress(options.progress, 0.8, 1.0);
-    writeCogFrom(st, stagingFile.tempPath(), out, cogProgress, pyramidProgress);
+    summary.pyramidLevels = writeCogFrom(st, stagingFile.tempPath(), out, cogProgress, pyramidProgress);
+    if (summary.pyramidLevels > 0) summary.pyramidPath = pyramidPathOf(out);
   }
 
   summary.cols = cols;

@@ -59,6 +59,8 @@ struct ImportSummary {
   std::string crsName;  // "none" when the output has no CRS
   float minHeight = 0, maxHeight = 0;
   double noDataFraction = 0;
+  std::string pyramidPath;  // the terrain pyramid written beside OUT (empty for a grid of one row or column)
+  int pyramidLevels = 0;
   std::vector<std::string> warnings;
 };
 

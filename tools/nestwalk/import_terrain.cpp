@@ -33,6 +33,8 @@ void runImportTerrain(ImportArgs& args) {
   std::printf("  CRS:          %s\n", s.crsName.c_str());
   std::printf("  height range: %.3f .. %.3f m\n", double(s.minHeight), double(s.maxHeight));
   std::printf("  nodata:       %.4f %%\n", 100.0 * s.noDataFraction);
+  if (!s.pyramidPath.empty())
+    std::printf("  pyramid:      %s (%d levels)\n", s.pyramidPath.c_str(), s.pyramidLevels);
 }
 
 }  // namespace

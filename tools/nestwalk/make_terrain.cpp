@@ -29,6 +29,12 @@ struct MakeTerrainArgs {
 void runMakeTerrain(const MakeTerrainArgs& args) {
   if (!(args.params.size >= 16 * args.params.cell && args.params.cell > 0))
     throw InputError("--size must be at least 16 cells and --cell positive");
+  if (const double n = std::round(args.params.size / args.params.cell); n * n > 4.0e8) {
+    char text[160];
+    std::snprintf(text, sizeof text, "--size %g at --cell %g is %.0f cells a side: more than the generator's 4e8 samples",
+                  args.params.size, args.params.cell, n);
+    throw InputError(std::string(text) + " (it holds them in memory)");
+  }
   if (!args.ortho.empty()) {
     // Refused before anything is written, so that a refusal leaves OUT as it was too.
     std::error_code ec, ecOrtho, ecOut;
