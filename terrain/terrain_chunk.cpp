@@ -217,10 +217,11 @@ double triangleError(const Heightfield& hf, const FineTriangle& t) {
   return err;
 }
 
-/// A clipped piece smaller than this share of its triangle (squared fine cells, relative) is taken
-/// to have no area: far above the clipping's rounding (1e-16 of the coordinates, in the thousands
-/// of cells), far below any real overlap of two triangles whose corners are grid samples.
-constexpr double kNoAreaCells2 = 1e-9;
+/// A clipped piece of less area than this (squared fine cells, its corners taken relative to its
+/// first) is taken to have none, the two triangles only touching: far above the clipping's rounding
+/// (1e-16 of coordinates up to 1e6 cells, times pieces up to 1e3 cells long: 1e-7), and a real piece
+/// that thin lies within 1e-6 cells of its neighbours, whose corners bound it to the nanometre.
+constexpr double kNoAreaCells2 = 1e-6;
 
 /// A bound of max |fine - plane| over a simplified triangle of a coarse chunk that reads no fine
 /// sample (terrain_chunk.h, "Errors from the pyramid"): over each piece of the triangle cut by the
@@ -288,12 +289,11 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
         }
         // A piece of no area (the triangles only touch) holds no point its neighbours do not.
         double twiceArea = 0;
-        for (std::size_t k = 0; k < poly.size(); ++k) {
-          const P2& p = poly[k];
-          const P2& q = poly[(k + 1) % poly.size()];
+        for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+          const P2 p = poly[k] - poly[0], q = poly[k + 1] - poly[0];
           twiceArea += p.x() * q.y() - q.x() * p.y();
         }
-        if (poly.size() < 3 || std::abs(twiceArea) <= kNoAreaCells2 * std::abs(area)) continue;
+        if (poly.size() < 3 || std::abs(twiceArea) <= 2 * kNoAreaCells2) continue;
         const auto level = planeOf(lv, lh);
         double worst = 0;
         for (const P2& p : poly) worst = std::max(worst, std::abs(level(p) - plane(p)));

@@ -50,8 +50,9 @@
 // the triangle cut by the level grid's triangles, |fine - simplified| <= |fine - level grid| +
 // |level grid - simplified|, the first at most the piece's block error, the second linear on the
 // piece and so largest at a corner of it (the level triangle clipped to the simplified one). The
-// bound is at least the exact error and at most the exact error plus the block's grid error; the
-// 1 px rule stays a guarantee, a quadrant is only replaced by its children a little sooner.
+// bound is at least the exact error and at most the exact error plus twice the largest grid error
+// of the blocks the triangle crosses; the 1 px rule stays a guarantee, a quadrant is only replaced
+// by its children sooner (bench render's 100 M terrain: 18 % more triangles when settled).
 //
 // Refinements: near the eye a level-0 quadrant's simplified surface can show more than the allowed
 // error while the exact grid would draw far more triangles than needed. Level 0 therefore also keeps

@@ -8,6 +8,8 @@
 #include <gdal.h>
 
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -37,6 +39,8 @@ TerrainPyramid::TerrainPyramid(const std::string& terrainPath)
   auto* terrain = static_cast<GDALDatasetH>(terrain_.get());
   const int cols = GDALGetRasterXSize(terrain), rows = GDALGetRasterYSize(terrain);
   if (cols < 2 || rows < 2) throw InputError(terrainPath + ": a terrain needs at least 2 x 2 samples");
+  if (const RasterFrame f = rasterFrame(terrain); f.flipRows || f.flipColumns || f.rotated)
+    throw InputError(terrainPath + ": stored south-up, east-to-west or rotated: its rows are not the pyramid's");
   const BandNoData nd = bandNoData(GDALGetRasterBand(terrain, 1));
   if (nd.has) noData_ = float(nd.value);
 
@@ -106,6 +110,22 @@ TerrainPyramid::TerrainPyramid(const std::string& terrainPath)
       page.resident = readPage(p, 0, 0, page.width, page.height);
       if (crc32Floats(0, page.resident.data(), page.resident.size()) != page.crc)
         throw InputError(path_ + ": terrain pyramid page " + std::to_string(p) + " is corrupt (CRC-32 mismatch)");
+    } else {
+      // Every tile of a page read by windows is stored: GDAL would fill a missing (sparse) one with
+      // zeros, which reads as heights or errors of 0.
+      for (int b = 1; b <= page.bands; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(pd, b);
+        int tileX = 0, tileY = 0;
+        GDALGetBlockSize(band, &tileX, &tileY);
+        for (int ty = 0; ty * std::int64_t(tileY) < page.height; ++ty)
+          for (int tx = 0; tx * std::int64_t(tileX) < page.width; ++tx) {
+            const std::string key = "BLOCK_OFFSET_" + std::to_string(tx) + "_" + std::to_string(ty);
+            const char* offset = GDALGetMetadataItem(band, key.c_str(), "TIFF");
+            if (!offset || std::strtoull(offset, nullptr, 10) == 0)
+              throw InputError(path_ + ": terrain pyramid page " + std::to_string(p) + " lacks its tile " +
+                               std::to_string(tx) + ", " + std::to_string(ty) + " (truncated or corrupt)");
+          }
+      }
     }
   }
 }
@@ -177,6 +197,11 @@ ChunkGridErrors TerrainPyramid::chunkGridErrors(const ChunkKey& key) const {
       readPage(layout_.blocksPage(key.level), key.x * kPerChunk, key.y * kPerChunk, out.blocksX, out.blocksY);
   const std::size_t n = std::size_t(out.blocksX) * std::size_t(out.blocksY);
   out.error.assign(bands.begin() + std::ptrdiff_t(2 * n), bands.begin() + std::ptrdiff_t(3 * n));
+  // An error is a finite distance: anything else is a damaged page (a NaN would vanish in a max).
+  for (const float e : out.error)
+    if (!(e >= 0.0f && std::isfinite(e)))
+      throw InputError(path_ + ": terrain pyramid page " + std::to_string(layout_.blocksPage(key.level)) +
+                       " holds an error that is not a distance (corrupt)");
   return out;
 }
 

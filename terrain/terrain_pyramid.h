@@ -5,9 +5,12 @@
 // grid against the terrain file's, the terrain file's fingerprint (a terrain file changed since the
 // pyramid was written is refused, never read with the old errors) and that every page is there with
 // its size. The pages of at most kPyramidResidentValues values (the coarse levels' heights and
-// blocks: a few hundred KB whatever the DEM) are read whole at once, checked against their CRC-32
-// and kept; finer windows are read when asked, through GDAL's block cache (DEFLATE tiles, each
-// checked by its Adler-32 as GDAL decodes it).
+// blocks: at most 4 MB each) are read whole at once, checked against their CRC-32 and kept; of the
+// larger ones, every tile must be stored (GDAL reads a missing one as zeros), and windows are read
+// when asked, through GDAL's block cache: a DEFLATE tile is checked by its Adler-32 as Debian's GDAL
+// (libdeflate) decodes it, and errors that are not finite distances are refused. Not caught there:
+// a tile offset corrupted to point at another valid tile (the format keeps no per-tile CRC-32;
+// verify() reads every page against its CRC-32).
 //
 // Errors: InputError naming the file and what is wrong (missing sidecar, stale, future version,
 // truncated or corrupt page). Ownership: the pyramid owns its open GDAL datasets. Thread safety:
@@ -67,7 +70,7 @@ class TerrainPyramid {
     int width = 0, height = 0, bands = 0;
     std::uint32_t crc = 0;
     std::vector<float> resident;  // band after band, when held whole
-    mutable GdalDataset dataset;  // opened on first use
+    mutable GdalDataset dataset;  // opened with the pyramid
   };
   /// Reads a window of every band of page `page` (1-based), band after band.
   std::vector<float> readPage(int page, int x0, int y0, int w, int h) const;

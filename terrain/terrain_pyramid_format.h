@@ -1,5 +1,5 @@
 // The terrain pyramid: what `nestwalk import-terrain` writes beside the terrain file so that a DEM of
-// any size opens by reading a few kilobytes, and the renderer builds a coarse chunk without reading
+// any size opens by reading its header, the terrain file's ends and the coarse pages, and the renderer builds a coarse chunk without reading
 // a fine sample. This header is the format's one description (README, "Terrain pyramid" repeats it
 // for users); terrain_pyramid_writer.h writes it, terrain_pyramid.h reads it.
 //
@@ -34,8 +34,11 @@
 // CRC-32 (of its values as little-endian Float32, row-major, band after band).
 //
 // Integrity: the header and the pages a reader holds whole (the coarse ones) are checked against
-// their CRC-32 when opened; a window of a fine page is protected by its DEFLATE tiles' own Adler-32,
-// which GDAL checks as it decodes (a corrupt tile is an error, never other heights).
+// their CRC-32 when opened; a window of a fine page relies on its DEFLATE tiles' own Adler-32 and
+// the reader's checks (terrain_pyramid.h); TerrainPyramid::verify() checks every page's CRC-32.
+// The fingerprint covers the terrain file's size and ends: a same-size edit in its middle (the tile
+// data of a GeoTIFF rewritten in place) is not seen; a COG's header (in its first MiB up to some
+// 100,000 tiles) changes with any tile's compressed size.
 //
 // Units: heights and errors metres, as the terrain file. Thread safety: plain values and pure
 // functions.
@@ -87,8 +90,8 @@ struct PyramidLayout {
   /// The fine column of level column i (and row of level row j).
   int fineColumn(int level, int i) const { return int(std::min<std::int64_t>(std::int64_t(i) << level, cols - 1)); }
   int fineRow(int level, int j) const { return int(std::min<std::int64_t>(std::int64_t(j) << level, rows - 1)); }
-  int blocksX(int level) const { return (levelCols(level) - 1 + kPyramidBlockCells - 1) / kPyramidBlockCells; }
-  int blocksY(int level) const { return (levelRows(level) - 1 + kPyramidBlockCells - 1) / kPyramidBlockCells; }
+  int blocksX(int level) const { return int((std::int64_t(levelCols(level)) - 2 + kPyramidBlockCells) / kPyramidBlockCells); }
+  int blocksY(int level) const { return int((std::int64_t(levelRows(level)) - 2 + kPyramidBlockCells) / kPyramidBlockCells); }
   /// Pages (1-based, see above).
   int heightsPage(int level) const { return level; }  // level >= 1
   int blocksPage(int level) const { return levels + level; }

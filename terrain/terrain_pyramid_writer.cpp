@@ -170,6 +170,11 @@ PyramidWriteSummary writeTerrainPyramid(const std::string& terrainPath, const st
   auto* src = static_cast<GDALDatasetH>(source.get());
   const int cols = GDALGetRasterXSize(src), rows = GDALGetRasterYSize(src);
   if (cols < 2 || rows < 2) throw InputError(samplesPath + ": a terrain needs at least 2 x 2 samples");
+  // The pyramid's rows and columns are the file's; they are the heightfield's only when the file is
+  // north-up and west-to-east, as every terrain file nestwalk writes is.
+  if (const RasterFrame f = rasterFrame(src); f.flipRows || f.flipColumns || f.rotated)
+    throw InputError(samplesPath + ": stored south-up, east-to-west or rotated: import it (nestwalk import-terrain) "
+                                   "to get a terrain file with a pyramid");
   GDALRasterBandH band = GDALGetRasterBand(src, 1);
   const BandNoData noData = bandNoData(band);
   const PyramidLayout layout(cols, rows);
@@ -188,8 +193,11 @@ PyramidWriteSummary writeTerrainPyramid(const std::string& terrainPath, const st
 
   if (options.minStripeRows < kPyramidBlockCells || options.minStripeRows % kPyramidBlockCells != 0)
     throw std::invalid_argument("writeTerrainPyramid: minStripeRows must be a positive multiple of 8");
-  const int stripeRows = std::max(PyramidLayout::step(levels - 1), options.minStripeRows);
-  std::vector<float> stripe(std::size_t(stripeRows + 1) * std::size_t(cols));
+  // A multiple of every level's step (the top one's), so that a stripe holds whole cells of each.
+  const int top = PyramidLayout::step(levels - 1);
+  const int stripeRows = (std::max(top, options.minStripeRows) + top - 1) / top * top;
+  // A short grid needs no more rows than it has.
+  std::vector<float> stripe(std::size_t(std::min(stripeRows, rows - 1) + 1) * std::size_t(cols));
   StripeGrid grid{stripe.data(), cols, 0, noData.has && !noData.isNan ? float(noData.value) : kNaN};
   // Unfinished block rows of every level, by block row.
   std::vector<std::map<int, std::vector<BlockStats>>> open(levelCount);

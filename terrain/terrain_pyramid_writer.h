@@ -2,10 +2,12 @@
 // last stage, and what `make-terrain`, `build-scene` and every other writer of a terrain file run
 // after it.
 //
-// The pass reads the fine grid in stripes of T rows (T = max(2^(levels - 1), minStripeRows),
-// a multiple of every level's step, so each stripe holds whole cells of every level), keeping one
+// The pass reads the fine grid in stripes of T rows (minStripeRows rounded up to a multiple of the
+// top level's step 2^(levels - 1), so each stripe holds whole cells of every level), keeping one
 // stripe and the accumulators of the unfinished block rows: peak memory about (T + 1) x cols x 4
-// bytes plus GDAL's block cache, whatever the number of rows. Per stripe it
+// bytes plus GDAL's block cache, whatever the number of rows. T grows with the grid's larger side
+// (the top step is about side / 64): 256 rows up to 16,384 cells a side, 512 for 32,768 (64 MB a
+// stripe), 1,024 for 65,536 (256 MB). Per stripe it
 //   - takes every level's kept samples (level L's heights page),
 //   - bounds every level-0 block by its lowest and highest valid fine sample, and every coarser
 //     block by the level-0 blocks inside it (a max-pyramid, linear),
@@ -25,16 +27,16 @@
 
 namespace nestwalk::terrain {
 
-/// Stripes are at least this many fine rows (a multiple of 8, for the level-0 blocks): fewer reads
-/// of GDAL's tiles for small pyramids, and still a few MB a stripe for a 40,000-column survey.
+/// Stripes are at least this many fine rows (a multiple of 8, for the level-0 blocks): whole rows of
+/// GDAL's 256- and 512-row tiles.
 inline constexpr int kPyramidStripeRows = 256;
 
 struct PyramidWriteOptions {
   /// Read the samples from this raster instead of the terrain file: the same grid and values (the
   /// import's staging file, faster to decode than the COG). Empty: the terrain file.
   std::string samplesPath;
-  /// The stripes' least height, fine rows (a multiple of 8): tests make it small so that few rows
-  /// take many stripes.
+  /// The stripes' least height, fine rows (a multiple of 8; rounded up to the top step): tests make
+  /// it small so that few rows take many stripes.
   int minStripeRows = kPyramidStripeRows;
   /// Called with the fraction done, 0 to 1, now and then (on the calling thread).
   std::function<void(double)> progress;

@@ -163,7 +163,7 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
     try {
       gridErrors = options_.pyramid->chunkGridErrors(key);
     } catch (const std::exception&) {
-      pyramidFailed_ = true;  // computed from now on: the answer is the same, only slower
+      pyramidFailed_ = true;  // computed from now on (exact errors: still within the rule, only slower)
     }
   }
   const terrain::ChunkMesh m = terrain::buildChunk(*hf_, layout_, key, shading_, options_.simplifyFraction,

@@ -8,6 +8,7 @@
 #include "nestwalk/terrain/terrain_pyramid.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,21 +22,37 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// What an entry's `source` file says: the DEM's canonical path and identity.
-std::string sourceText(const std::string& canonical, const ModelFileIdentity& id) {
+/// What an entry's `source` file says: the DEM's canonical path and identity, and the grid as the
+/// scene read it (size, holes, height range: what changes with files beside the DEM, such as a
+/// VRT's sources or a nodata value in an .aux.xml, which the identity does not see).
+std::string sourceText(const std::string& canonical, const ModelFileIdentity& id, const terrain::Heightfield& hf) {
   std::ostringstream s;
-  s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n';
+  s.precision(17);
+  s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n'
+    << hf.cols() << ' ' << hf.rows() << ' ' << hf.noDataFraction();
+  if (const auto range = hf.heightRange()) s << ' ' << range->first << ' ' << range->second;
+  s << '\n';
   return s.str();
 }
+
+/// Temporary folders of imports that never finished (a process killed meanwhile) go after this.
+constexpr auto kStaleTemporaryAge = std::chrono::hours(24);
 
 /// Removes the least recently used entries (folders) beyond kMaxTerrainCacheEntries - 1, making room
 /// for one more.
 void prune(const fs::path& folder) {
   std::error_code ec;
   std::vector<std::pair<fs::file_time_type, fs::path>> entries;
-  for (const auto& e : fs::directory_iterator(folder, ec))
-    if (e.is_directory(ec) && e.path().filename().string().front() != '.')
-      entries.emplace_back(fs::last_write_time(e.path(), ec), e.path());
+  const auto now = fs::file_time_type::clock::now();
+  for (const auto& e : fs::directory_iterator(folder, ec)) {
+    if (!e.is_directory(ec)) continue;
+    const fs::file_time_type written = fs::last_write_time(e.path(), ec);
+    if (e.path().filename().string().front() == '.') {
+      if (now - written > kStaleTemporaryAge) fs::remove_all(e.path(), ec);
+      continue;
+    }
+    entries.emplace_back(written, e.path());
+  }
   if (entries.size() < std::size_t(kMaxTerrainCacheEntries)) return;
   std::sort(entries.begin(), entries.end());
   for (std::size_t i = 0; i + std::size_t(kMaxTerrainCacheEntries) <= entries.size(); ++i)
@@ -81,7 +98,7 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
   char name[32];
   std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(std::hash<std::string>{}(canonical)));
   const fs::path entry = fs::path(folder) / name;
-  const std::string source = sourceText(canonical, *before);
+  const std::string source = sourceText(canonical, *before, hf);
   std::shared_ptr<const terrain::TerrainPyramid> pyramid = openEntry(entry, source);
   if (!pyramid) {
     try {

@@ -5,8 +5,9 @@
 //
 // An entry is a folder named after a hash of the DEM's canonical path, holding terrain.tif (the
 // import), its terrain.pyramid.tif and `source`: the DEM's path and identity (size, modification
-// time in nanoseconds, inode, device) when it was imported. An entry is used only when the identity
-// still matches and its pyramid opens (its own checks: version, fingerprint, CRC-32s); otherwise it
+// time in nanoseconds, inode, device) when it was imported, and the grid the scene read (size,
+// share of holes, height range). An entry is used only when all of them still match and its
+// pyramid opens (its own checks: version, fingerprint, CRC-32s); otherwise it
 // is imported again. Entries are written as a temporary folder renamed into place
 // (core/output_file.h). The cache is best effort: when the folder cannot be written or the import
 // fails, the scene is loaded without a pyramid (the renderer then computes its errors).
@@ -22,7 +23,10 @@
 //
 // Thread safety: as the model cache (model_cache.h): entries are whole folders renamed into place;
 // two processes importing the same DEM at once each write their own temporary folder, the last
-// rename wins with the same content. The folder is looked up in the environment on every call.
+// rename wins with the same content. Two threads of one process share the temporary folder's name
+// (core/output_file.h) and may spoil each other's import: the scene then loads without a pyramid.
+// Temporary folders left by a killed import are removed after a day. The folder is looked up in
+// the environment on every call.
 #pragma once
 
 #include <functional>

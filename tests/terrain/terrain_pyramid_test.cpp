@@ -341,9 +341,14 @@ TEST(TerrainPyramid, StripesOfAnyHeightWriteTheSamePyramid) {
   terrain::PyramidWriteOptions options;
   options.minStripeRows = 8;
   terrain::writeTerrainPyramid(c.terrain, thin, options);
-  const std::vector<std::string> a = headerOf(defaultPyramid), b = headerOf(thin);
+  // 24 rows: not a multiple of the top step (16), rounded up to 32.
+  const std::string odd = (c.dir / "odd.pyramid.tif").string();
+  options.minStripeRows = 24;
+  terrain::writeTerrainPyramid(c.terrain, odd, options);
+  const std::vector<std::string> a = headerOf(defaultPyramid), b = headerOf(thin), d = headerOf(odd);
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(a, b);  // same CRC-32 for every page
+  EXPECT_EQ(a, d);
   EXPECT_GT(PyramidLayout(157, 700).levels, 3);
 }
 
@@ -438,6 +443,25 @@ TEST(TerrainPyramid, ATruncatedOrCorruptPyramidIsRefusedNeverRead) {
     }
   }
   EXPECT_GT(refused, 0) << tries;
+}
+
+TEST(TerrainPyramid, ARasterStoredSouthUpGetsNoPyramidOfItsRows) {
+  // Its rows are the heightfield's upside down: the writer refuses it (import makes it north-up).
+  TempFolder dir;
+  const std::string path = (dir / "south_up.tif").string();
+  terrain::initGdal();
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), 20, 15, 1, GDT_Float32, nullptr);
+  ASSERT_NE(ds, nullptr);
+  double gt[6] = {500000.0, 1.0, 0.0, 7000000.0, 0.0, 1.0};  // rows run north
+  GDALSetGeoTransform(ds, gt);
+  std::vector<float> v(20 * 15, 5.0f);
+  ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, 20, 15, v.data(), 20, 15, GDT_Float32, 0, 0), CE_None);
+  GDALClose(ds);
+  const std::string e =
+      inputError([&] { terrain::writeTerrainPyramid(path, terrain::pyramidPathOf(path)); });
+  EXPECT_NE(e.find("south-up"), std::string::npos) << e;
+  EXPECT_FALSE(std::filesystem::exists(terrain::pyramidPathOf(path)));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"south_up.tif"});  // no staging file left
 }
 
 TEST(TerrainPyramid, ImportWritesThePyramidAndReplacesItOnlyWhenAsked) {
