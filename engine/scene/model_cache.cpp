@@ -2,6 +2,7 @@
 #include "nestwalk/scene/model_cache.h"
 
 #include "nestwalk/core/output_file.h"
+#include "nestwalk/scene/cache_folder.h"
 
 #include <sys/stat.h>
 
@@ -78,13 +79,7 @@ std::optional<fs::path> entryOf(const std::string& path) {
 
 }  // namespace
 
-std::string modelCacheFolder() {
-  if (const char* env = std::getenv("NESTWALK_MODEL_CACHE"); env && *env)
-    return std::string(env) == "off" ? std::string() : std::string(env);
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/nestwalk/models";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/nestwalk/models";
-  return "";
-}
+std::string modelCacheFolder() { return cacheFolder("NESTWALK_MODEL_CACHE", "models"); }
 
 std::optional<std::string> cachedModel(const std::string& path) {
   const std::optional<fs::path> entry = entryOf(path);

@@ -2,6 +2,7 @@
 #include "nestwalk/scene/terrain_cache.h"
 
 #include "nestwalk/core/output_file.h"
+#include "nestwalk/scene/cache_folder.h"
 #include "nestwalk/scene/model_cache.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
@@ -74,13 +75,7 @@ std::shared_ptr<const terrain::TerrainPyramid> openEntry(const fs::path& entry, 
 
 }  // namespace
 
-std::string terrainCacheFolder() {
-  if (const char* env = std::getenv("NESTWALK_TERRAIN_CACHE"); env && *env)
-    return std::string(env) == "off" ? std::string() : std::string(env);
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/nestwalk/terrain";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/nestwalk/terrain";
-  return "";
-}
+std::string terrainCacheFolder() { return cacheFolder("NESTWALK_TERRAIN_CACHE", "terrain"); }
 
 std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::string& demPath,
                                                                     const terrain::Heightfield& hf,

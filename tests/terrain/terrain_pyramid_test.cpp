@@ -380,12 +380,17 @@ TEST(TerrainPyramid, GdalReadsItAsAMultiPageGeoTiffOnTheTerrainsMap) {
   GDALClose(blocks1);
 }
 
+/// Opening the pyramid of `terrain` (dump.tif) is refused with a message naming its pyramid and `why`.
+void expectRefused(const std::string& terrain, const std::string& why) {
+  const std::string e = inputError([&] { TerrainPyramid p(terrain); });
+  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+  EXPECT_NE(e.find(why), std::string::npos) << e;
+}
+
 TEST(TerrainPyramid, ATerrainWithoutItsPyramidIsNamedWithTheMissingFile) {
   PyramidCase c(40, 30, 16, 0.0);
   std::filesystem::remove(terrain::pyramidPathOf(c.terrain));
-  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
-  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
-  EXPECT_NE(e.find("no terrain pyramid"), std::string::npos) << e;
+  expectRefused(c.terrain, "no terrain pyramid");
 }
 
 TEST(TerrainPyramid, ATerrainChangedSinceItsPyramidIsRefused) {
@@ -394,9 +399,7 @@ TEST(TerrainPyramid, ATerrainChangedSinceItsPyramidIsRefused) {
   const std::string other = (c.dir / "other.tif").string();
   PyramidCase::write(other, 301, 237, 18, 0.0);
   std::filesystem::copy_file(other, c.terrain, std::filesystem::copy_options::overwrite_existing);
-  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
-  EXPECT_NE(e.find("changed since"), std::string::npos) << e;
-  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+  expectRefused(c.terrain, "changed since");
 }
 
 TEST(TerrainPyramid, APyramidFromAFutureVersionIsRefused) {
@@ -406,9 +409,7 @@ TEST(TerrainPyramid, APyramidFromAFutureVersionIsRefused) {
   ASSERT_NE(ds, nullptr);
   GDALSetMetadataItem(ds, terrain::kPyramidKeyVersion, "2", nullptr);
   GDALClose(ds);
-  const std::string e = inputError([&] { TerrainPyramid p(c.terrain); });
-  EXPECT_NE(e.find("newer"), std::string::npos) << e;
-  EXPECT_NE(e.find("dump.pyramid.tif"), std::string::npos) << e;
+  expectRefused(c.terrain, "newer");
 }
 
 TEST(TerrainPyramid, ATruncatedOrCorruptPyramidIsRefusedNeverRead) {
