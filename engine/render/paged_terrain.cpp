@@ -159,7 +159,7 @@ void PagedTerrain::releaseGLObjects(osg::State* state) const {
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   std::optional<terrain::ChunkGridErrors> gridErrors;
-  if (options_.pyramid && key.level > 0 && !pyramidFailed_) {
+  if (options_.pyramid && key.level >= std::max(1, options_.pyramidErrorsFromLevel) && !pyramidFailed_) {
     try {
       gridErrors = options_.pyramid->chunkGridErrors(key);
     } catch (const std::exception&) {

@@ -7,6 +7,9 @@
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+#include "tests/common/temp_folder.h"
 #include "tests/render/hills_terrain.h"
 #include "tests/render/terrain_checks.h"
 
@@ -207,11 +210,17 @@ TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
 
 /// Simplified chunks of `hf` seen from `view`: every drawn part against the fine surface; how many
 /// parts were level 0's exact grids and how many its refinements.
-std::pair<std::size_t, std::size_t> checkSimplifiedWithinAPixel(std::shared_ptr<const terrain::Heightfield> hf,
-                                                                const View& view) {
-  PagedTerrainOptions o = options(TerrainLoading::Complete);
+/// With `pyramid`: 64-cell chunks whose errors from level 1 up come from it (paged_terrain.h).
+std::pair<std::size_t, std::size_t> checkSimplifiedWithinAPixel(
+    std::shared_ptr<const terrain::Heightfield> hf, const View& view,
+    std::shared_ptr<const terrain::TerrainPyramid> pyramid = nullptr) {
+  PagedTerrainOptions plain = options(TerrainLoading::Complete);
+  if (pyramid) plain.chunkCells = terrain::kPyramidTopCells;
+  PagedTerrainOptions o = plain;
   o.simplifyFraction = kTerrainSimplifyFraction;
-  osg::ref_ptr<PagedTerrain> grid = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  o.pyramid = pyramid;
+  o.pyramidErrorsFromLevel = 1;
+  osg::ref_ptr<PagedTerrain> grid = new PagedTerrain(hf, plain);
   osg::ref_ptr<PagedTerrain> simple = new PagedTerrain(hf, o);
   cullOnce(grid.get(), view);
   cullOnce(simple.get(), view);
@@ -223,7 +232,10 @@ std::pair<std::size_t, std::size_t> checkSimplifiedWithinAPixel(std::shared_ptr<
   const terrain::ChunkLayout& l = simple->layout();
   std::size_t exactParts = 0, refinedParts = 0, samples = 0;
   for (const DrawnPart& part : simple->drawnParts()) {
-    const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, part.key, {}, o.simplifyFraction);
+    std::optional<terrain::ChunkGridErrors> errors;
+    if (pyramid && part.key.level > 0) errors = pyramid->chunkGridErrors(part.key);
+    const terrain::ChunkMesh m =
+        terrain::buildChunk(*hf, l, part.key, {}, o.simplifyFraction, errors ? &*errors : nullptr);
     const terrain::ChunkQuadrant& quad = m.quadrants[std::size_t(part.quadrant)];
     const std::string& name = part.node->getName();
     const bool exact = name.find(" exact") != std::string::npos;
@@ -277,6 +289,22 @@ TEST(PagedTerrain, LevelZeroRefinementsAreDrawnWithinAPixelOnTerraces) {
   const auto [exactParts, refinedParts] =
       checkSimplifiedWithinAPixel(terraces(), viewFrom({200, -250, 306}, {330, -380, 285}));
   EXPECT_GT(refinedParts, 0u);  // between the exact grids at the eye and the simplified further out
+}
+
+TEST(PagedTerrain, ChunksWithThePyramidsErrorsStayWithinAPixel) {
+  // The hills written as a terrain file with its pyramid; every level from 1 up takes its errors
+  // (and its simplified triangles' bounds) from it.
+  const auto hf = hills();
+  test::TempFolder dir;
+  const std::string file = (dir / "hills.tif").string();
+  std::vector<float> heights;
+  for (int r = 0; r < hf->rows(); ++r)
+    for (int c = 0; c < hf->cols(); ++c) heights.push_back(hf->sample(c, r));
+  terrain::writeTerrainCog(file, hf->cols(), hf->rows(), heights, hf->origin().x(), hf->origin().y(), hf->dx(),
+                           hf->dy(), "EPSG:32633", false);
+  const auto pyramid = std::make_shared<const terrain::TerrainPyramid>(file);
+  const auto [exactParts, refinedParts] = checkSimplifiedWithinAPixel(hf, kLowView, pyramid);
+  EXPECT_GT(exactParts, 0u);
 }
 
 TEST(PagedTerrain, ChunksOfHolesAreNeverDrawnAndHolesDoNotBreakTheCut) {
