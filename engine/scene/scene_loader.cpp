@@ -82,6 +82,7 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
         scene.terrainPyramid = std::make_shared<const terrain::TerrainPyramid>(spec.terrain);
       } catch (const InputError& e) {
         scene.terrainPyramidRefused = e.what();
+        if (options.note) options.note(scene.terrainPyramidRefused + " (not used)");
       }
     }
     if (!scene.terrainPyramid) scene.terrainPyramid = cachedTerrainPyramid(spec.terrain, hf, options.note);

@@ -24,8 +24,9 @@ struct SceneLoadOptions {
   // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
   // a scene at its UTM position and moved near the map origin and compare.
   Eigen::Vector3d mapShift = Eigen::Vector3d::Zero();
-  /// Told of slow first-time work (a plain DEM imported into the terrain cache, terrain_cache.h);
-  /// by default printed on stderr as "nestwalk: note: ...". Empty: silent.
+  /// Told of slow first-time work (a plain DEM imported into the terrain cache, terrain_cache.h) and
+  /// of a terrain pyramid set aside (Scene::terrainPyramidRefused); by default printed on stderr as
+  /// "nestwalk: note: ...". Empty: silent.
   std::function<void(const std::string&)> note = printSceneNote;
 };
 
