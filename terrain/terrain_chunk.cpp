@@ -169,6 +169,20 @@ struct FineTriangle {
   std::array<double, 3> h;              // heights
 };
 
+/// The plane through three corners in fine (column, row) coordinates with heights h:
+/// h(col, row) = h0 + gc (col - c0) + gr (row - r0); nullopt for corners on one line.
+struct GridPlane {
+  double h0, c0, r0, gc, gr;
+  double at(double col, double row) const { return h0 + gc * (col - c0) + gr * (row - r0); }
+};
+std::optional<GridPlane> planeThrough(const std::array<Eigen::Vector2d, 3>& v, const std::array<double, 3>& h) {
+  const Eigen::Vector2d e1 = v[1] - v[0], e2 = v[2] - v[0];
+  const double det = e1.x() * e2.y() - e2.x() * e1.y();
+  if (det == 0) return std::nullopt;
+  const double d1 = h[1] - h[0], d2 = h[2] - h[0];
+  return GridPlane{h[0], v[0].x(), v[0].y(), (d1 * e2.y() - d2 * e1.y()) / det, (e1.x() * d2 - e2.x() * d1) / det};
+}
+
 /// Max |fine - plane| over one triangle whose corners are fine samples: the difference is linear on
 /// every piece of the triangle cut by the fine triangulation, so its largest value lies at a fine
 /// sample inside the triangle (found with exact integer edge tests) or where one of its edges crosses
@@ -178,16 +192,14 @@ double triangleError(const Heightfield& hf, const FineTriangle& t) {
   const std::array<int, 2>& a = t.v[0];
   const std::array<int, 2>& b = t.v[1];
   const std::array<int, 2>& c = t.v[2];
-  // The plane in fine (column, row) coordinates: h = h0 + gc (col - a0) + gr (row - a1).
-  const double e1c = b[0] - a[0], e1r = b[1] - a[1], e2c = c[0] - a[0], e2r = c[1] - a[1];
-  const double det = e1c * e2r - e2c * e1r;
-  if (det == 0) return 0.0;
-  const double d1 = t.h[1] - t.h[0], d2 = t.h[2] - t.h[0];
-  const double gc = (d1 * e2r - d2 * e1r) / det, gr = (e1c * d2 - e2c * d1) / det;
-  auto plane = [&](double col, double row) { return t.h[0] + gc * (col - a[0]) + gr * (row - a[1]); };
+  const std::optional<GridPlane> p =
+      planeThrough({Eigen::Vector2d(a[0], a[1]), Eigen::Vector2d(b[0], b[1]), Eigen::Vector2d(c[0], c[1])}, t.h);
+  if (!p) return 0.0;
+  auto plane = [&](double col, double row) { return p->at(col, row); };
   double err = 0;
   // Fine samples inside (closed): the three edge functions share the sign of the orientation.
-  const std::int64_t orient = det > 0 ? 1 : -1;
+  const std::int64_t orient =
+      std::int64_t(b[0] - a[0]) * (c[1] - a[1]) - std::int64_t(c[0] - a[0]) * (b[1] - a[1]) > 0 ? 1 : -1;
   auto edge = [](const std::array<int, 2>& p, const std::array<int, 2>& q, int col, int row) {
     return std::int64_t(q[0] - p[0]) * (row - p[1]) - std::int64_t(q[1] - p[1]) * (col - p[0]);
   };
@@ -234,15 +246,7 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
   const std::array<P2, 3> tv = {P2(t.v[0][0], t.v[0][1]), P2(t.v[1][0], t.v[1][1]), P2(t.v[2][0], t.v[2][1])};
   const double area = (tv[1] - tv[0]).x() * (tv[2] - tv[0]).y() - (tv[1] - tv[0]).y() * (tv[2] - tv[0]).x();
   if (area == 0) return 0.0;
-  // The simplified triangle's plane h = h0 + gc (col - c0) + gr (row - r0).
-  auto planeOf = [](const std::array<P2, 3>& v, const std::array<double, 3>& h) {
-    const P2 e1 = v[1] - v[0], e2 = v[2] - v[0];
-    const double det = e1.x() * e2.y() - e2.x() * e1.y();
-    const double d1 = h[1] - h[0], d2 = h[2] - h[0];
-    const double gc = (d1 * e2.y() - d2 * e1.y()) / det, gr = (e1.x() * d2 - e2.x() * d1) / det;
-    return [=](const P2& p) { return h[0] + gc * (p.x() - v[0].x()) + gr * (p.y() - v[0].y()); };
-  };
-  const auto plane = planeOf(tv, t.h);
+  const GridPlane plane = *planeThrough(tv, t.h);  // area != 0
   // Inside the simplified triangle: on the inner side of all three edges (orientation by `area`).
   auto side = [&](const P2& a, const P2& b, const P2& p) {
     const double s = (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
@@ -294,9 +298,9 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
           twiceArea += p.x() * q.y() - q.x() * p.y();
         }
         if (poly.size() < 3 || std::abs(twiceArea) <= 2 * kNoAreaCells2) continue;
-        const auto level = planeOf(lv, lh);
+        const GridPlane level = *planeThrough(lv, lh);  // a level cell's triangle is never flat
         double worst = 0;
-        for (const P2& p : poly) worst = std::max(worst, std::abs(level(p) - plane(p)));
+        for (const P2& p : poly) worst = std::max(worst, std::abs(level.at(p.x(), p.y()) - plane.at(p.x(), p.y())));
         bound = std::max(bound, worst + gridErrorOf(i, j));
       }
   return bound;
