@@ -7,6 +7,8 @@
 // JCGT 2(1), 2013, evaluated in double in the local frame.
 #include "nestwalk/terrain/heightfield.h"
 
+#include "nestwalk/terrain/height_tiles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -14,9 +16,6 @@
 #include <stdexcept>
 
 #include <sys/mman.h>
-
-#if defined(__linux__)
-#endif
 
 namespace nestwalk::terrain {
 
@@ -104,10 +103,38 @@ struct Heightfield::RayAccel {
         range[k] = std::numeric_limits<float>::infinity(), range[k + 1] = -std::numeric_limits<float>::infinity();
     }
   };
-  std::vector<Level> levels;
+  std::vector<Level> levels;  // empty when paged (the tiles hold the base level's ranges)
   int baseLevel = 0;  // min(kBlockLevel, the root's level)
+  int blocksX = 0, blocksY = 0;  // nodes of the base level
+  float rootLo = std::numeric_limits<float>::infinity(), rootHi = -std::numeric_limits<float>::infinity();
   double noDataFraction = 0.0;
 };
+
+namespace {
+
+/// min(kBlockLevel, the root's level) for a grid of cellsX x cellsY cells.
+int baseLevelFor(int cellsX, int cellsY) {
+  int root = 0;
+  while (((cellsX - 1) >> root) > 0 || ((cellsY - 1) >> root) > 0) ++root;
+  return std::min(kBlockLevel, root);
+}
+
+}  // namespace
+
+void Heightfield::initFrame(double originX, double originY, double dx, double dy) {
+  if (cols_ < 2 || rows_ < 2) throw std::invalid_argument("Heightfield: need at least 2 x 2 samples");
+  if (!(std::isfinite(dx) && std::isfinite(dy) && dx > 0.0 && dy > 0.0 && std::isfinite(1.0 / dx) &&
+        std::isfinite(1.0 / dy)))
+    throw std::invalid_argument("Heightfield: dx and dy must be finite and > 0, with finite inverses");
+  if (!(std::isfinite(originX) && std::isfinite(originY) && std::isfinite(originX + (cols_ - 1) * dx) &&
+        std::isfinite(originY - (rows_ - 1) * dy)))
+    throw std::invalid_argument("Heightfield: origin and extent must be finite");
+  noDataCompare_ = noData_ ? *noData_ : std::numeric_limits<float>::quiet_NaN();
+  xLast_ = originX_ + (cols_ - 1) * dx_;  // as samplePosition(cols - 1, .) computes it
+  yLast_ = originY_ - (rows_ - 1) * dy_;
+  invDx_ = 1.0 / dx_;
+  invDy_ = 1.0 / dy_;
+}
 
 Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double originX, double originY, double dx,
                          double dy, std::optional<float> noData, std::string crsWkt)
@@ -120,18 +147,9 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
       dy_(dy),
       noData_(noData),
       crsWkt_(std::move(crsWkt)) {
-  if (cols < 2 || rows < 2) throw std::invalid_argument("Heightfield: need at least 2 x 2 samples");
+  initFrame(originX, originY, dx, dy);
   if (heights_.size() != std::size_t(cols) * std::size_t(rows))
     throw std::invalid_argument("Heightfield: heights.size() != cols * rows");
-  if (!(std::isfinite(dx) && std::isfinite(dy) && dx > 0.0 && dy > 0.0 && std::isfinite(1.0 / dx) &&
-        std::isfinite(1.0 / dy)))
-    throw std::invalid_argument("Heightfield: dx and dy must be finite and > 0, with finite inverses");
-  if (!(std::isfinite(originX) && std::isfinite(originY) && std::isfinite(originX + (cols - 1) * dx) &&
-        std::isfinite(originY - (rows - 1) * dy)))
-    throw std::invalid_argument("Heightfield: origin and extent must be finite");
-  noDataCompare_ = noData_ ? *noData_ : std::numeric_limits<float>::quiet_NaN();
-  xLast_ = originX_ + (cols_ - 1) * dx_;  // as samplePosition(cols - 1, .) computes it
-  yLast_ = originY_ - (rows_ - 1) * dy_;
 
   auto accel = std::make_shared<RayAccel>();
   accel->cellsX = cols - 1;
@@ -148,9 +166,7 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
   // The base level: min(kBlockLevel, the root's level), straight from the samples of each node's
   // cells (the same as taking every finer level in turn).
   {
-    int root = 0;
-    while (((accel->cellsX - 1) >> root) > 0 || ((accel->cellsY - 1) >> root) > 0) ++root;
-    const int K = std::min(kBlockLevel, root);
+    const int K = baseLevelFor(accel->cellsX, accel->cellsY);
     accel->baseLevel = K;
     RayAccel::Level L{((accel->cellsX - 1) >> K) + 1, ((accel->cellsY - 1) >> K) + 1, {}};
     L.allocate();
@@ -189,10 +205,62 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
       }
     accel->levels.push_back(std::move(L));
   }
+  accel->blocksX = accel->levels.front().nx;
+  accel->blocksY = accel->levels.front().ny;
+  accel->rootLo = accel->levels.back().range[0];
+  accel->rootHi = accel->levels.back().range[1];
   accel_ = std::move(accel);
   clean_ = accel_->clean.data();
-  invDx_ = 1.0 / dx_;
-  invDy_ = 1.0 / dy_;
+}
+
+Heightfield::Heightfield(int cols, int rows, std::shared_ptr<const HeightTileCache> tiles,
+                         std::optional<std::pair<float, float>> heightRange, double originX, double originY, double dx,
+                         double dy, std::optional<float> noData, std::string crsWkt)
+    : cols_(cols),
+      rows_(rows),
+      originX_(originX),
+      originY_(originY),
+      dx_(dx),
+      dy_(dy),
+      noData_(noData),
+      crsWkt_(std::move(crsWkt)),
+      tiles_(std::move(tiles)) {
+  initFrame(originX, originY, dx, dy);
+  if (!tiles_) throw std::invalid_argument("Heightfield: no tiles");
+  auto accel = std::make_shared<RayAccel>();
+  accel->cellsX = cols - 1;
+  accel->cellsY = rows - 1;
+  accel->baseLevel = baseLevelFor(accel->cellsX, accel->cellsY);
+  if (accel->baseLevel != kBlockLevel || kHeightTileBlockCells != (1 << kBlockLevel) ||
+      kHeightTileCells % kHeightTileBlockCells != 0)
+    throw std::invalid_argument("Heightfield: a paged grid needs more than 8 cells a side");
+  if (tiles_->tilesX() != (cols - 2) / kHeightTileCells + 1 || tiles_->tilesY() != (rows - 2) / kHeightTileCells + 1)
+    throw std::invalid_argument("Heightfield: the tiles are of another grid");
+  accel->blocksX = ((accel->cellsX - 1) >> kBlockLevel) + 1;
+  accel->blocksY = ((accel->cellsY - 1) >> kBlockLevel) + 1;
+  if (heightRange) accel->rootLo = heightRange->first, accel->rootHi = heightRange->second;
+  accel->noDataFraction = std::numeric_limits<double>::quiet_NaN();
+  accel_ = std::move(accel);
+}
+
+float Heightfield::pagedSample(int col, int row) const {
+  return *tiles_->threadTile(std::min(col / kHeightTileCells, tiles_->tilesX() - 1),
+                             std::min(row / kHeightTileCells, tiles_->tilesY() - 1))
+              .at(col, row);
+}
+
+void Heightfield::prefetch(double x0, double y0, double x1, double y1) const {
+  if (!tiles_) return;
+  const double u0 = (std::min(x0, x1) - originX_) * invDx_, u1 = (std::max(x0, x1) - originX_) * invDx_;
+  const double v0 = (originY_ - std::max(y0, y1)) * invDy_, v1 = (originY_ - std::min(y0, y1)) * invDy_;
+  if (!(u1 >= 0.0 && v1 >= 0.0 && u0 <= cols_ - 1 && v0 <= rows_ - 1)) return;  // NaN or outside
+  const int tx0 = int(std::max(u0, 0.0)) / kHeightTileCells, ty0 = int(std::max(v0, 0.0)) / kHeightTileCells;
+  const int tx1 = std::min(int(std::min(u1, double(cols_ - 2))) / kHeightTileCells, tiles_->tilesX() - 1);
+  const int ty1 = std::min(int(std::min(v1, double(rows_ - 2))) / kHeightTileCells, tiles_->tilesY() - 1);
+  std::vector<std::pair<int, int>> wanted;
+  for (int ty = ty0; ty <= ty1; ++ty)
+    for (int tx = tx0; tx <= tx1; ++tx) wanted.emplace_back(tx, ty);
+  tiles_->prefetch(wanted);
 }
 
 bool Heightfield::valid(int col, int row) const {
@@ -255,7 +323,17 @@ double Heightfield::groundHeightFull(double x, double y) const {
       snapToLine(x, originX_, dx_, cols_, c, fx);
     if (fy < kSnapBand_ || fy > 1.0 - kSnapBand_) [[unlikely]]
       snapToLine(-y, -originY_, dy_, rows_, r, fy);
-    const float* H = clean_ + std::size_t(r) * std::size_t(cols_) + std::size_t(c);
+    const float* H;
+    std::ptrdiff_t stride;
+    if (clean_) [[likely]] {
+      H = clean_ + std::size_t(r) * std::size_t(cols_) + std::size_t(c);
+      stride = cols_;
+    } else {
+      // Paged: the tile holding cell (c, r), alive until this thread's next tile (read just below).
+      const HeightTile& tile = tiles_->threadTile(c / kHeightTileCells, r / kHeightTileCells);
+      H = tile.at(c, r);
+      stride = tile.cols;
+    }
     // Upper triangle (c,r),(c+1,r),(c+1,r+1) where fx >= fy: h00 + fx (h10 - h00) + fy (h11 - h10);
     // lower (c,r),(c+1,r+1),(c,r+1) where fy > fx: h00 + fy (h01 - h00) + fx (h11 - h01). Both are
     // h00 + p (b - h00) + q (h11 - b) with p = max(fx, fy), q = min(fx, fy) and b the third corner:
@@ -263,10 +341,10 @@ double Heightfield::groundHeightFull(double x, double y) const {
     // h00 + f (h1 - h00), and fx == 1 / fy == 1 gives h10 + fy (h11 - h10) / h01 + fx (h11 - h01)
     // (h00 + (h10 - h00) == h10 exactly for float samples widened to double).
     const double p = std::max(fx, fy), q = std::min(fx, fy);
-    const std::ptrdiff_t third = 1 + std::ptrdiff_t(fx < fy) * std::ptrdiff_t(cols_ - 1);  // (c+1,r) or (c,r+1)
-    const double h00 = H[0], h11 = H[cols_ + 1], b = H[third];
+    const std::ptrdiff_t third = 1 + std::ptrdiff_t(fx < fy) * (stride - 1);  // (c+1,r) or (c,r+1)
+    const double h00 = H[0], h11 = H[stride + 1], b = H[third];
     h = h00 + p * (b - h00) + q * (h11 - b);
-    if (std::isnan(h)) h = groundHeightNearHoleOrNaN(fx, fy, h00, H[1], H[cols_], h11);
+    if (std::isnan(h)) h = groundHeightNearHoleOrNaN(fx, fy, h00, H[1], H[stride], h11);
   }
   return h;
 }
@@ -364,213 +442,263 @@ std::optional<RayHit> Heightfield::intersectRay(const Eigen::Vector3d& origin, c
 
   const double extX = A.cellsX * dx_, extY = A.cellsY * dy_;
   const double padXY = kNodePadRelative * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
-  const float* H = A.clean.data();
-  const std::size_t stride = std::size_t(cols_);
 
-  double tBest = tMax;
-  RayHit best;
-  bool found = false;
-
-  // The two triangles of cell (c, r), Woop's test on shared sheared vertices.
-  auto testCell = [&](int c, int r) {
-    const float* P = H + std::size_t(r) * stride + std::size_t(c);
-    const double h00 = P[0], h10 = P[1], h01 = P[cols_], h11 = P[cols_ + 1];
-    if (std::isnan(h00) || std::isnan(h11)) return;  // both triangles need the diagonal
-    const double X0 = c * dx_, X1 = (c + 1) * dx_, Y0 = r * dy_, Y1 = (r + 1) * dy_;
-    const ShearedVertex s00 = shear(W, X0, Y0, h00), s11 = shear(W, X1, Y1, h11);
-    if (!std::isnan(h10)) {
-      const double t = woopTest(s00, shear(W, X1, Y0, h10), s11);
-      if (t >= tMin && t <= tBest) {
-        tBest = t;
-        best.col = c, best.row = r, best.half = 0;
-        found = true;
-      }
+  // The samples, resident or paged: cell(c, r) points at sample (c, r) of a run in which (c + 1, r),
+  // (c, r + 1) and (c + 1, r + 1) are at +1, +stride() and +stride() + 1; block(i, j, za, zb, padZ)
+  // is the base level's node test (and, paged, makes the node's tile current: its cells are read
+  // next). Both read the same values, so the traversal below is one for both.
+  auto nodeMisses = [](const float* rg, double za, double zb, double padZ) {
+    const double lo = rg[0], hi = rg[1];
+    if (!(lo <= hi)) return true;
+    return std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ;
+  };
+  struct ResidentSamples {
+    const float* H;
+    std::ptrdiff_t rowStride;
+    const RayAccel::Level& base;
+    const float* cell(int c, int r) { return H + std::size_t(r) * std::size_t(rowStride) + std::size_t(c); }
+    std::ptrdiff_t stride() const { return rowStride; }
+    const float* blockRange(int i, int j, double, double, double) { return base.range.data() + 2 * base.index(i, j); }
+  };
+  struct PagedSamples {
+    const HeightTileCache& tiles;
+    std::shared_ptr<const HeightTile> tile;
+    int tx = -1, ty = -1;
+    void use(int x, int y) {
+      if (x != tx || y != ty) tile = tiles.tile(x, y), tx = x, ty = y;
     }
-    if (!std::isnan(h01)) {
-      const double t = woopTest(s00, s11, shear(W, X0, Y1, h01));
-      if (t >= tMin && t <= tBest) {
-        tBest = t;
-        best.col = c, best.row = r, best.half = 1;
-        found = true;
+    const float* cell(int c, int r) {
+      use(c / kHeightTileCells, r / kHeightTileCells);
+      return tile->at(c, r);
+    }
+    std::ptrdiff_t stride() const { return tile->cols; }
+    /// nullptr when the node's tile as a whole misses (then so does the node: its range is inside).
+    const float* blockRange(int i, int j, double za, double zb, double padZ) {
+      constexpr int kPerTile = kHeightTileCells / kHeightTileBlockCells;
+      const int x = i / kPerTile, y = j / kPerTile;
+      if (x != tx || y != ty) {
+        const auto [lo, hi] = tiles.tileRange(x, y);
+        const float rg[2] = {lo, hi};
+        const double l = rg[0], h = rg[1];
+        if (!(l <= h) || std::max(za, zb) < l - padZ || std::min(za, zb) > h + padZ) return nullptr;
+        use(x, y);
       }
+      return tile->range(i, j);
     }
   };
 
-  if (d[0] == 0.0 && d[1] == 0.0) {
-    // Vertical ray: the surface is a graph, so the ray meets it at most at one height. Test the cell
-    // containing the point and, within kSnapBand of a grid line, the cell across it (the band covers
-    // the rounding of u, v; a point on a line touches the cells on both sides).
-    const double u = o[0] / dx_, v = o[1] / dy_;
-    if (!(u >= -kSnapBand && u <= A.cellsX + kSnapBand && v >= -kSnapBand && v <= A.cellsY + kSnapBand))
-      return std::nullopt;
-    const int c0 = int(std::floor(u)), r0 = int(std::floor(v));
-    const double fu = u - c0, fv = v - r0;
-    const int cLo = std::max(fu <= kSnapBand ? c0 - 1 : c0, 0), cHi = std::min(fu >= 1.0 - kSnapBand ? c0 + 1 : c0, A.cellsX - 1);
-    const int rLo = std::max(fv <= kSnapBand ? r0 - 1 : r0, 0), rHi = std::min(fv >= 1.0 - kSnapBand ? r0 + 1 : r0, A.cellsY - 1);
-    for (int r = rLo; r <= rHi; ++r)
-      for (int c = cLo; c <= cHi; ++c) testCell(c, r);
-  } else {
-    // Root interval: the ray's 2D direction is non-zero, so the exit parameter is finite and every
-    // node's t-interval below is finite too.
-    const RayAccel::Level& root = A.levels.back();
-    if (!(root.range[0] <= root.range[1])) return std::nullopt;
-    double ta, tb;
-    {
-      double xa, xb, ya, yb;
-      slab(o[0], inv[0], -padXY, extX + padXY, xa, xb);
-      slab(o[1], inv[1], -padXY, extY + padXY, ya, yb);
-      ta = std::max({xa, ya, tMin});
-      tb = std::min({xb, yb, tMax});
-      if (!(ta <= tb)) return std::nullopt;
-    }
-    tBest = tb;
-    // Height slack of the node tests: the ray heights over [ta, tb] and the samples bound every
-    // magnitude in the per-node comparisons (see kNodePadRelative).
-    const double padZ =
-        kNodePadRelative * (std::abs(o[2]) + std::abs(d[2]) * std::max(std::abs(ta), std::abs(tb)) +
-                            std::max(std::abs(double(root.range[0])), std::abs(double(root.range[1])))) +
-        1e-300;
-    const double oz = o[2], dz = d[2];
-    // Traversal: the blocks of pyramid level kBlockLevel (rows of blocks in the ray's y order, the
-    // blocks of a row in its x order), then the cells of each block whose node test passes, the same
-    // way; a cell's height range comes straight from its samples. Every node test is the pyramid's
-    // (same padded footprint and height range), so every cell that can hold a hit at or before the
-    // best so far is tested. Equal parameters are resolved as the quadtree's front-to-back order
-    // would (the last tested there wins): see laterInQuadtreeOrder.
-    const int K = A.baseLevel;
-    const RayAccel::Level& BL = A.levels.front();
-    const bool finX = std::isfinite(inv[0]), finY = std::isfinite(inv[1]);
-    const int sx = d[0] >= 0.0 ? 0 : 1, sy = d[1] >= 0.0 ? 0 : 1;
-    const std::uint32_t mx = sx ? ~0u : 0u, my = sy ? ~0u : 0u;
-    auto take = [&](double t, int c, int r, int half) {
-      if (!(t >= tMin)) return;
-      if (t < tBest || (t == tBest && (!found || laterInQuadtreeOrder(std::uint32_t(c) ^ mx, std::uint32_t(r) ^ my, half,
-                                                                        std::uint32_t(best.col) ^ mx,
-                                                                        std::uint32_t(best.row) ^ my, best.half)))) {
-        tBest = t;
-        best.col = c, best.row = r, best.half = std::int8_t(half);
-        found = true;
-      }
-    };
-    auto testCellOrdered = [&](int c, int r, double h00, double h10, double h01, double h11) {
+  auto traverse = [&](auto& samples) -> std::optional<RayHit> {
+    double tBest = tMax;
+    RayHit best;
+    bool found = false;
+
+    // The two triangles of cell (c, r), Woop's test on shared sheared vertices.
+    auto testCell = [&](int c, int r) {
+      const float* P = samples.cell(c, r);
+      const std::ptrdiff_t stride = samples.stride();
+      const double h00 = P[0], h10 = P[1], h01 = P[stride], h11 = P[stride + 1];
       if (std::isnan(h00) || std::isnan(h11)) return;  // both triangles need the diagonal
       const double X0 = c * dx_, X1 = (c + 1) * dx_, Y0 = r * dy_, Y1 = (r + 1) * dy_;
       const ShearedVertex s00 = shear(W, X0, Y0, h00), s11 = shear(W, X1, Y1, h11);
-      if (!std::isnan(h10)) take(woopTest(s00, shear(W, X1, Y0, h10), s11), c, r, 0);
-      if (!std::isnan(h01)) take(woopTest(s00, s11, shear(W, X0, Y1, h01)), c, r, 1);
-    };
-    // Conservative index range [lo, hi] (clamped to [0, n - 1]) of the intervals of width w covering
-    // the positions p0, p1 widened by slack, plus one on each side; the whole range when not finite.
-    auto indexRange = [](double p0, double p1, double slack, double w, int n, int& lo, int& hi) {
-      const double a = (std::min(p0, p1) - slack) / w, b = (std::max(p0, p1) + slack) / w;
-      if (!(std::isfinite(a) && std::isfinite(b))) {
-        lo = 0, hi = n - 1;
-        return;
+      if (!std::isnan(h10)) {
+        const double t = woopTest(s00, shear(W, X1, Y0, h10), s11);
+        if (t >= tMin && t <= tBest) {
+          tBest = t;
+          best.col = c, best.row = r, best.half = 0;
+          found = true;
+        }
       }
-      lo = int(std::max(std::floor(std::max(a, -2.0)) - 1.0, 0.0));
-      hi = int(std::min(std::floor(std::min(b, double(n) + 2.0)) + 1.0, double(n - 1)));
-    };
-    const double slack = padXY + kIndexRangeRelativeSlack * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
-    const int B = 1 << K;
-    const double bw = dx_ * B, bh = dy_ * B;
-    int j0, j1;
-    indexRange(o[1] + ta * d[1], o[1] + tb * d[1], slack, bh, BL.ny, j0, j1);
-    const int jn = j1 - j0 + 1;
-    for (int jk = 0; jk < jn; ++jk) {
-      const int j = sy ? j1 - jk : j0 + jk;
-      const int br0 = j << K, br1 = std::min((j + 1) << K, A.cellsY);
-      double bya, byb;
-      slab(o[1], inv[1], br0 * dy_ - padXY, br1 * dy_ + padXY, bya, byb);
-      const double ra = std::max(bya, ta), rb = std::min(byb, tBest);
-      if (!(ra <= rb)) {
-        if (finY && ra > tBest) break;  // later rows start later still
-        continue;
+      if (!std::isnan(h01)) {
+        const double t = woopTest(s00, s11, shear(W, X0, Y1, h01));
+        if (t >= tMin && t <= tBest) {
+          tBest = t;
+          best.col = c, best.row = r, best.half = 1;
+          found = true;
+        }
       }
-      int i0, i1;
-      indexRange(o[0] + ra * d[0], o[0] + rb * d[0], slack, bw, BL.nx, i0, i1);
-      const int in = i1 - i0 + 1;
-      for (int ik = 0; ik < in; ++ik) {
-        const int i = sx ? i1 - ik : i0 + ik;
-        const int bc0 = i << K, bc1 = std::min((i + 1) << K, A.cellsX);
-        double bxa, bxb;
-        slab(o[0], inv[0], bc0 * dx_ - padXY, bc1 * dx_ + padXY, bxa, bxb);
-        const double na = std::max(std::max(bxa, bya), tMin);
-        const double nb = std::min(std::min(bxb, byb), tBest);
-        if (!(na <= nb)) {
-          if (finX && na > tBest) break;  // later blocks of the row start later still
+    };
+
+    if (d[0] == 0.0 && d[1] == 0.0) {
+      // Vertical ray: the surface is a graph, so the ray meets it at most at one height. Test the cell
+      // containing the point and, within kSnapBand of a grid line, the cell across it (the band covers
+      // the rounding of u, v; a point on a line touches the cells on both sides).
+      const double u = o[0] / dx_, v = o[1] / dy_;
+      if (!(u >= -kSnapBand && u <= A.cellsX + kSnapBand && v >= -kSnapBand && v <= A.cellsY + kSnapBand))
+        return std::nullopt;
+      const int c0 = int(std::floor(u)), r0 = int(std::floor(v));
+      const double fu = u - c0, fv = v - r0;
+      const int cLo = std::max(fu <= kSnapBand ? c0 - 1 : c0, 0), cHi = std::min(fu >= 1.0 - kSnapBand ? c0 + 1 : c0, A.cellsX - 1);
+      const int rLo = std::max(fv <= kSnapBand ? r0 - 1 : r0, 0), rHi = std::min(fv >= 1.0 - kSnapBand ? r0 + 1 : r0, A.cellsY - 1);
+      for (int r = rLo; r <= rHi; ++r)
+        for (int c = cLo; c <= cHi; ++c) testCell(c, r);
+    } else {
+      // Root interval: the ray's 2D direction is non-zero, so the exit parameter is finite and every
+      // node's t-interval below is finite too.
+      if (!(A.rootLo <= A.rootHi)) return std::nullopt;
+      double ta, tb;
+      {
+        double xa, xb, ya, yb;
+        slab(o[0], inv[0], -padXY, extX + padXY, xa, xb);
+        slab(o[1], inv[1], -padXY, extY + padXY, ya, yb);
+        ta = std::max({xa, ya, tMin});
+        tb = std::min({xb, yb, tMax});
+        if (!(ta <= tb)) return std::nullopt;
+      }
+      tBest = tb;
+      // Height slack of the node tests: the ray heights over [ta, tb] and the samples bound every
+      // magnitude in the per-node comparisons (see kNodePadRelative).
+      const double padZ =
+          kNodePadRelative * (std::abs(o[2]) + std::abs(d[2]) * std::max(std::abs(ta), std::abs(tb)) +
+                              std::max(std::abs(double(A.rootLo)), std::abs(double(A.rootHi)))) +
+          1e-300;
+      const double oz = o[2], dz = d[2];
+      // Traversal: the blocks of pyramid level kBlockLevel (rows of blocks in the ray's y order, the
+      // blocks of a row in its x order), then the cells of each block whose node test passes, the same
+      // way; a cell's height range comes straight from its samples. Every node test is the pyramid's
+      // (same padded footprint and height range), so every cell that can hold a hit at or before the
+      // best so far is tested. Equal parameters are resolved as the quadtree's front-to-back order
+      // would (the last tested there wins): see laterInQuadtreeOrder.
+      const int K = A.baseLevel;
+      const bool finX = std::isfinite(inv[0]), finY = std::isfinite(inv[1]);
+      const int sx = d[0] >= 0.0 ? 0 : 1, sy = d[1] >= 0.0 ? 0 : 1;
+      const std::uint32_t mx = sx ? ~0u : 0u, my = sy ? ~0u : 0u;
+      auto take = [&](double t, int c, int r, int half) {
+        if (!(t >= tMin)) return;
+        if (t < tBest || (t == tBest && (!found || laterInQuadtreeOrder(std::uint32_t(c) ^ mx, std::uint32_t(r) ^ my, half,
+                                                                          std::uint32_t(best.col) ^ mx,
+                                                                          std::uint32_t(best.row) ^ my, best.half)))) {
+          tBest = t;
+          best.col = c, best.row = r, best.half = std::int8_t(half);
+          found = true;
+        }
+      };
+      auto testCellOrdered = [&](int c, int r, double h00, double h10, double h01, double h11) {
+        if (std::isnan(h00) || std::isnan(h11)) return;  // both triangles need the diagonal
+        const double X0 = c * dx_, X1 = (c + 1) * dx_, Y0 = r * dy_, Y1 = (r + 1) * dy_;
+        const ShearedVertex s00 = shear(W, X0, Y0, h00), s11 = shear(W, X1, Y1, h11);
+        if (!std::isnan(h10)) take(woopTest(s00, shear(W, X1, Y0, h10), s11), c, r, 0);
+        if (!std::isnan(h01)) take(woopTest(s00, s11, shear(W, X0, Y1, h01)), c, r, 1);
+      };
+      // Conservative index range [lo, hi] (clamped to [0, n - 1]) of the intervals of width w covering
+      // the positions p0, p1 widened by slack, plus one on each side; the whole range when not finite.
+      auto indexRange = [](double p0, double p1, double slack, double w, int n, int& lo, int& hi) {
+        const double a = (std::min(p0, p1) - slack) / w, b = (std::max(p0, p1) + slack) / w;
+        if (!(std::isfinite(a) && std::isfinite(b))) {
+          lo = 0, hi = n - 1;
+          return;
+        }
+        lo = int(std::max(std::floor(std::max(a, -2.0)) - 1.0, 0.0));
+        hi = int(std::min(std::floor(std::min(b, double(n) + 2.0)) + 1.0, double(n - 1)));
+      };
+      const double slack = padXY + kIndexRangeRelativeSlack * (std::abs(o[0]) + std::abs(o[1]) + extX + extY);
+      const int B = 1 << K;
+      const double bw = dx_ * B, bh = dy_ * B;
+      int j0, j1;
+      indexRange(o[1] + ta * d[1], o[1] + tb * d[1], slack, bh, A.blocksY, j0, j1);
+      const int jn = j1 - j0 + 1;
+      for (int jk = 0; jk < jn; ++jk) {
+        const int j = sy ? j1 - jk : j0 + jk;
+        const int br0 = j << K, br1 = std::min((j + 1) << K, A.cellsY);
+        double bya, byb;
+        slab(o[1], inv[1], br0 * dy_ - padXY, br1 * dy_ + padXY, bya, byb);
+        const double ra = std::max(bya, ta), rb = std::min(byb, tBest);
+        if (!(ra <= rb)) {
+          if (finY && ra > tBest) break;  // later rows start later still
           continue;
         }
-        {
-          const float* rg = BL.range.data() + 2 * BL.index(i, j);
-          const double lo = rg[0], hi = rg[1];
-          if (!(lo <= hi)) continue;
-          const double za = oz + na * dz, zb = oz + nb * dz;
-          if (std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ) continue;
-        }
-        // The cells of the block.
-        int r0, r1;
-        indexRange(o[1] + na * d[1], o[1] + nb * d[1], slack, dy_, A.cellsY, r0, r1);
-        r0 = std::max(r0, br0), r1 = std::min(r1, br1 - 1);
-        {
-          // Fetch the sample rows the cells below read, all at once (the loads are the cost here).
-          int pc0, pc1;
-          indexRange(o[0] + na * d[0], o[0] + nb * d[0], slack, dx_, A.cellsX, pc0, pc1);
-          pc0 = std::max(pc0, bc0), pc1 = std::min(pc1, bc1 - 1);
-          for (int r = r0; r <= r1 + 1; ++r) {
-            const float* rowP = H + std::size_t(r) * stride;
-            __builtin_prefetch(rowP + pc0);
-            __builtin_prefetch(rowP + pc1 + 1);
-          }
-        }
-        for (int rk = 0, rn = r1 - r0 + 1; rk < rn; ++rk) {
-          const int r = sy ? r1 - rk : r0 + rk;
-          double cya, cyb;
-          slab(o[1], inv[1], r * dy_ - padXY, (r + 1) * dy_ + padXY, cya, cyb);
-          const double cra = std::max(cya, na), crb = std::min(cyb, tBest);
-          if (!(cra <= crb)) {
-            if (finY && cra > tBest) break;
+        int i0, i1;
+        indexRange(o[0] + ra * d[0], o[0] + rb * d[0], slack, bw, A.blocksX, i0, i1);
+        const int in = i1 - i0 + 1;
+        for (int ik = 0; ik < in; ++ik) {
+          const int i = sx ? i1 - ik : i0 + ik;
+          const int bc0 = i << K, bc1 = std::min((i + 1) << K, A.cellsX);
+          double bxa, bxb;
+          slab(o[0], inv[0], bc0 * dx_ - padXY, bc1 * dx_ + padXY, bxa, bxb);
+          const double na = std::max(std::max(bxa, bya), tMin);
+          const double nb = std::min(std::min(bxb, byb), tBest);
+          if (!(na <= nb)) {
+            if (finX && na > tBest) break;  // later blocks of the row start later still
             continue;
           }
-          int c0, c1;
-          indexRange(o[0] + cra * d[0], o[0] + crb * d[0], slack, dx_, A.cellsX, c0, c1);
-          c0 = std::max(c0, bc0), c1 = std::min(c1, bc1 - 1);
-          const float* rowP = H + std::size_t(r) * stride;
-          for (int ck = 0, cn = c1 - c0 + 1; ck < cn; ++ck) {
-            const int c = sx ? c1 - ck : c0 + ck;
-            double cxa, cxb;
-            slab(o[0], inv[0], c * dx_ - padXY, (c + 1) * dx_ + padXY, cxa, cxb);
-            const double ca = std::max(std::max(cxa, cya), tMin);
-            const double cb = std::min(std::min(cxb, cyb), tBest);
-            if (!(ca <= cb)) {
-              if (finX && ca > tBest) break;
+          {
+            const double za = oz + na * dz, zb = oz + nb * dz;
+            const float* rg = samples.blockRange(i, j, za, zb, padZ);
+            if (!rg || nodeMisses(rg, za, zb, padZ)) continue;
+          }
+          // The cells of the block.
+          int r0, r1;
+          indexRange(o[1] + na * d[1], o[1] + nb * d[1], slack, dy_, A.cellsY, r0, r1);
+          r0 = std::max(r0, br0), r1 = std::min(r1, br1 - 1);
+          {
+            // Fetch the sample rows the cells below read, all at once (the loads are the cost here).
+            int pc0, pc1;
+            indexRange(o[0] + na * d[0], o[0] + nb * d[0], slack, dx_, A.cellsX, pc0, pc1);
+            pc0 = std::max(pc0, bc0), pc1 = std::min(pc1, bc1 - 1);
+            if (pc0 <= pc1)
+              for (int r = r0; r <= r1 + 1; ++r) {
+                const float* rowP = samples.cell(pc0, std::min(r, r1));
+                const std::ptrdiff_t down = r > r1 ? samples.stride() : 0;  // the block's last sample row
+                __builtin_prefetch(rowP + down);
+                __builtin_prefetch(rowP + down + (pc1 - pc0) + 1);
+              }
+          }
+          for (int rk = 0, rn = r1 - r0 + 1; rk < rn; ++rk) {
+            const int r = sy ? r1 - rk : r0 + rk;
+            double cya, cyb;
+            slab(o[1], inv[1], r * dy_ - padXY, (r + 1) * dy_ + padXY, cya, cyb);
+            const double cra = std::max(cya, na), crb = std::min(cyb, tBest);
+            if (!(cra <= crb)) {
+              if (finY && cra > tBest) break;
               continue;
             }
-            const float* P = rowP + c;
-            const float f00 = P[0], f10 = P[1], f01 = P[cols_], f11 = P[cols_ + 1];
-            // min / max of the samples, or NaN when one is a hole (then the test passes; the triangle tests sort it out).
-            // (nan0 is 0, or NaN when some sample is a hole: the sum of four floats in double is exact
-            // enough not to overflow.)
-            const double sum = (double(f00) + double(f10)) + (double(f01) + double(f11)), nan0 = sum - sum;
-            const double lo = double(std::min(std::min(f00, f10), std::min(f01, f11))) + nan0;
-            const double hi = double(std::max(std::max(f00, f10), std::max(f01, f11))) + nan0;
-            const double za = oz + ca * dz, zb = oz + cb * dz;
-            if (std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ) continue;
-            testCellOrdered(c, r, f00, f10, f01, f11);
+            int c0, c1;
+            indexRange(o[0] + cra * d[0], o[0] + crb * d[0], slack, dx_, A.cellsX, c0, c1);
+            c0 = std::max(c0, bc0), c1 = std::min(c1, bc1 - 1);
+            if (c0 > c1) continue;
+            const float* rowP = samples.cell(c0, r);  // sample (c0, r)
+            const std::ptrdiff_t stride = samples.stride();
+            for (int ck = 0, cn = c1 - c0 + 1; ck < cn; ++ck) {
+              const int c = sx ? c1 - ck : c0 + ck;
+              double cxa, cxb;
+              slab(o[0], inv[0], c * dx_ - padXY, (c + 1) * dx_ + padXY, cxa, cxb);
+              const double ca = std::max(std::max(cxa, cya), tMin);
+              const double cb = std::min(std::min(cxb, cyb), tBest);
+              if (!(ca <= cb)) {
+                if (finX && ca > tBest) break;
+                continue;
+              }
+              const float* P = rowP + (c - c0);
+              const float f00 = P[0], f10 = P[1], f01 = P[stride], f11 = P[stride + 1];
+              // min / max of the samples, or NaN when one is a hole (then the test passes; the triangle tests sort it out).
+              // (nan0 is 0, or NaN when some sample is a hole: the sum of four floats in double is exact
+              // enough not to overflow.)
+              const double sum = (double(f00) + double(f10)) + (double(f01) + double(f11)), nan0 = sum - sum;
+              const double lo = double(std::min(std::min(f00, f10), std::min(f01, f11))) + nan0;
+              const double hi = double(std::max(std::max(f00, f10), std::max(f01, f11))) + nan0;
+              const double za = oz + ca * dz, zb = oz + cb * dz;
+              if (std::max(za, zb) < lo - padZ || std::min(za, zb) > hi + padZ) continue;
+              testCellOrdered(c, r, f00, f10, f01, f11);
+            }
           }
         }
       }
     }
+    if (!found) return std::nullopt;
+    best.t = tBest;
+    best.point = origin + tBest * direction;
+    return best;
+  };
+  if (clean_) {
+    ResidentSamples samples{clean_, cols_, A.levels.front()};
+    return traverse(samples);
   }
-  if (!found) return std::nullopt;
-  best.t = tBest;
-  best.point = origin + tBest * direction;
-  return best;
+  PagedSamples samples{*tiles_, nullptr};
+  return traverse(samples);
 }
 
 std::optional<std::pair<float, float>> Heightfield::heightRange() const {
-  const auto& top = accel_->levels.back().range;
-  if (!(top[0] <= top[1])) return std::nullopt;
-  return std::make_pair(top[0], top[1]);
+  if (!(accel_->rootLo <= accel_->rootHi)) return std::nullopt;
+  return std::make_pair(accel_->rootLo, accel_->rootHi);
 }
 
 double Heightfield::noDataFraction() const {

@@ -21,9 +21,15 @@
 //
 // Units: metres for a projected CRS; for a geographic CRS x, y, dx and dy are degrees and heights
 // metres (dem_reader.h).
+// Storage: resident (every sample in memory, 8 bytes a sample with the ray data) or paged (the
+// samples in tiles read on demand through a HeightTileCache with a byte budget, height_tiles.h; for
+// DEMs too large to hold, opened from their terrain pyramid by paged_heightfield.h). Both run the same
+// arithmetic on the same samples: every answer of a paged heightfield is bit-identical to the
+// resident one's. A paged query that needs a tile not held waits for its read; prefetch() asks for
+// the tiles of a region ahead of time.
 // Thread safety: a Heightfield is immutable once constructed (the ray pyramid is built by the
-// constructor and shared, read-only, by copies); its const queries keep no state and may run from
-// several threads at once.
+// constructor and shared, read-only, by copies; a paged one's tile cache is shared and
+// thread-safe); its const queries may run from several threads at once.
 #pragma once
 
 #include <Eigen/Core>
@@ -36,6 +42,8 @@
 #include <vector>
 
 namespace nestwalk::terrain {
+
+class HeightTileCache;
 
 /// A ray hit: the parameter t along the ray (point = origin + t * direction), the hit point in map
 /// coordinates and the triangle (cell and which half: 0 upper, 1 lower).
@@ -53,6 +61,12 @@ class Heightfield {
   /// and infinities are always holes). Throws std::invalid_argument on inconsistent sizes.
   Heightfield(int cols, int rows, std::vector<float> heights, double originX, double originY, double dx, double dy,
               std::optional<float> noData = std::nullopt, std::string crsWkt = {});
+  /// Paged: the samples come from `tiles` (its grid is cols x rows); heightRange: the lowest and
+  /// highest valid sample (nullopt when there is none), as the tiles' source records it. Throws
+  /// std::invalid_argument on inconsistent sizes or a grid of at most 8 cells a side.
+  Heightfield(int cols, int rows, std::shared_ptr<const HeightTileCache> tiles,
+              std::optional<std::pair<float, float>> heightRange, double originX, double originY, double dx, double dy,
+              std::optional<float> noData = std::nullopt, std::string crsWkt = {});
 
   int cols() const { return cols_; }
   int rows() const { return rows_; }
@@ -62,8 +76,19 @@ class Heightfield {
   const std::string& crsWkt() const { return crsWkt_; }
   std::optional<float> noData() const { return noData_; }
 
-  /// The stored sample (may be the nodata value or NaN).
-  float sample(int col, int row) const { return heights_[std::size_t(row) * std::size_t(cols_) + std::size_t(col)]; }
+  /// The stored sample (may be the nodata value or NaN; a paged heightfield gives NaN for every hole,
+  /// as readDem's resident one does).
+  float sample(int col, int row) const {
+    if (!heights_.empty()) [[likely]]
+      return heights_[std::size_t(row) * std::size_t(cols_) + std::size_t(col)];
+    return pagedSample(col, row);
+  }
+  /// Whether the samples are paged (see above), and their tiles (nullptr when resident).
+  bool paged() const { return tiles_ != nullptr; }
+  const std::shared_ptr<const HeightTileCache>& tiles() const { return tiles_; }
+  /// Paged: queues the tiles under the map rectangle [x0, x1] x [y0, y1] (either order) that are not
+  /// held for reading in the background. Resident: nothing to do.
+  void prefetch(double x0, double y0, double x1, double y1) const;
   bool valid(int col, int row) const;
   /// Map coordinates of sample (col, row).
   Eigen::Vector2d samplePosition(int col, int row) const { return {originX_ + col * dx_, originY_ - row * dy_}; }
@@ -87,7 +112,7 @@ class Heightfield {
 
   /// Lowest and highest valid sample (nullopt when every sample is a hole).
   std::optional<std::pair<float, float>> heightRange() const;
-  /// Fraction of samples that are holes.
+  /// Fraction of samples that are holes (NaN when paged: it would take reading every sample).
   double noDataFraction() const;
 
  private:
@@ -99,7 +124,10 @@ class Heightfield {
   float noDataCompare_;  // *noData_, or NaN (never equal) when there is no sentinel
   double xLast_, yLast_;  // map x of the last column, map y of the last row
   double invDx_, invDy_;
-  const float* clean_ = nullptr;  // heights with holes as NaN, owned by *accel_ (shared, so copies stay valid)
+  const float* clean_ = nullptr;  // heights with holes as NaN, owned by *accel_ (shared, so copies stay valid); nullptr when paged
+  std::shared_ptr<const HeightTileCache> tiles_;  // paged only
+  void initFrame(double originX, double originY, double dx, double dy);
+  [[gnu::cold]] float pagedSample(int col, int row) const;
   // groundHeight() in full (snapping to grid lines, holes), NaN where there is no ground (a ground
   // height is never NaN); the inline groundHeight() (heightfield_inline.h) calls it near grid lines
   // and holes. Ground near a hole: the smallest closed simplex containing the point decides.

@@ -21,7 +21,8 @@ inline std::optional<double> Heightfield::groundHeight(double x, double y) const
     const double fx = u - c, fy = v - r;
     // Within kSnapBand_ of a grid line the query may lie exactly on it: the full path (out of line)
     // snaps; it also settles the points whose triangle has a hole.
-    if (fx < kSnapBand_ || fx > 1.0 - kSnapBand_ || fy < kSnapBand_ || fy > 1.0 - kSnapBand_) [[unlikely]] {
+    // Paged samples (clean_ null) take the full path too (heightfield.h: the same arithmetic).
+    if (fx < kSnapBand_ || fx > 1.0 - kSnapBand_ || fy < kSnapBand_ || fy > 1.0 - kSnapBand_ || !clean_) [[unlikely]] {
       h = groundHeightFull(x, y);
     } else {
       // Upper triangle where fx >= fy: h00 + fx (h10 - h00) + fy (h11 - h10); lower where fy > fx:

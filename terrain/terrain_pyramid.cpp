@@ -39,8 +39,10 @@ TerrainPyramid::TerrainPyramid(const std::string& terrainPath)
   auto* terrain = static_cast<GDALDatasetH>(terrain_.get());
   const int cols = GDALGetRasterXSize(terrain), rows = GDALGetRasterYSize(terrain);
   if (cols < 2 || rows < 2) throw InputError(terrainPath + ": a terrain needs at least 2 x 2 samples");
-  if (const RasterFrame f = rasterFrame(terrain); f.flipRows || f.flipColumns || f.rotated)
+  frame_ = rasterFrame(terrain);
+  if (frame_.flipRows || frame_.flipColumns || frame_.rotated)
     throw InputError(terrainPath + ": stored south-up, east-to-west or rotated: its rows are not the pyramid's");
+  crsWkt_ = terrain::crsWkt(terrain);
   const BandNoData nd = bandNoData(GDALGetRasterBand(terrain, 1));
   if (nd.has) noData_ = float(nd.value);
 

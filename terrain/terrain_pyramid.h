@@ -53,6 +53,9 @@ class TerrainPyramid {
   const std::string& path() const { return path_; }
   /// The terrain's nodata value (heights pages store it where the DEM has a hole).
   std::optional<float> noData() const { return noData_; }
+  /// The terrain file's sample frame (dem_reader.h; never flipped or rotated) and CRS as WKT.
+  const RasterFrame& frame() const { return frame_; }
+  const std::string& crsWkt() const { return crsWkt_; }
 
   /// Level `level`'s samples in its own grid's window [i0, i0 + w) x [j0, j0 + h) (level 0: the
   /// terrain file), row-major, the stored values. std::out_of_range outside the grid.
@@ -78,6 +81,8 @@ class TerrainPyramid {
   std::string terrainPath_, path_;
   PyramidLayout layout_;
   std::optional<float> noData_;
+  RasterFrame frame_;
+  std::string crsWkt_;
   std::vector<Page> pages_;
   mutable GdalDataset terrain_;
   std::unique_ptr<std::mutex> reading_ = std::make_unique<std::mutex>();  // GDAL's datasets, one reader at a time

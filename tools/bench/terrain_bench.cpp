@@ -16,15 +16,20 @@
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/paged_heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/terrain_import.h"
 #include "nestwalk/terrain/value_noise.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <ostream>
+
+#include <unistd.h>
 
 namespace nestwalk::bench {
 namespace {
@@ -85,6 +90,30 @@ struct Terrain {
   std::unique_ptr<terrain::Heightfield> hf;
   std::map<std::string, RayPeer> peers;
   std::map<std::string, double> buildSeconds;
+  /// The same grid paged (terrain/paged_heightfield.h) from a terrain file and its pyramid written
+  /// to a temporary folder on first use (the write not timed); the default tile budget holds it all,
+  /// so the rows measure a paged query's own cost once its tiles are read.
+  std::unique_ptr<terrain::Heightfield> paged;
+  std::filesystem::path pagedFolder;
+  ~Terrain() {
+    paged.reset();
+    std::error_code ec;
+    if (!pagedFolder.empty()) std::filesystem::remove_all(pagedFolder, ec);
+  }
+  const terrain::Heightfield& pagedField() {
+    if (!paged) {
+      pagedFolder = std::filesystem::temp_directory_path() / ("nestwalk-bench-paged-" + std::to_string(::getpid()));
+      std::filesystem::create_directories(pagedFolder);
+      const std::string path = (pagedFolder / "grid.tif").string();
+      terrain::writeTerrainCog(path, grid.n, grid.n, grid.heights, kOriginX, kOriginY, kSpacing, kSpacing, "EPSG:32633",
+                               true);
+      const auto t0 = std::chrono::steady_clock::now();
+      paged = std::make_unique<terrain::Heightfield>(
+          terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(path)));
+      buildSeconds["nestwalk_paged_open"] = secondsSince(t0);
+    }
+    return *paged;
+  }
 
   const RayPeer& peer(const std::string& key, RayPeer (*make)(const HeightGrid&)) {
     auto it = peers.find(key);
@@ -235,6 +264,26 @@ const MethodDef kMethods[] = {
     {"nestwalk_intersect_ray", "intersect_ray", "intersectRay", false, false, false,
      [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
        return [&hf = *t.hf, &s, n](double* z) {
+         const terrain::Heightfield& field = hf;
+         const RaySet& set = s;
+         return answerAll(n, z, [&](std::size_t k) {
+           const std::optional<terrain::RayHit> h =
+               field.intersectRay(set.mapOrigin[k], set.rays.dir[k], 0.0, set.rays.tMax[k]);
+           return h ? h->point.z() : kNaN;
+         });
+       };
+     }},
+    {"nestwalk_paged_ground_height", "paged_ground_height", "paged ground", true, false, false,
+     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
+       return [&hf = t.pagedField(), &s, n](double* z) {
+         const terrain::Heightfield& field = hf;
+         const std::vector<Eigen::Vector3d>& at = s.mapOrigin;
+         return answerAll(n, z, [&](std::size_t k) { return field.groundHeight(at[k].x(), at[k].y()).value_or(kNaN); });
+       };
+     }},
+    {"nestwalk_paged_intersect_ray", "paged_intersect_ray", "paged ray", false, false, false,
+     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
+       return [&hf = t.pagedField(), &s, n](double* z) {
          const terrain::Heightfield& field = hf;
          const RaySet& set = s;
          return answerAll(n, z, [&](std::size_t k) {

@@ -1,0 +1,222 @@
+#include "nestwalk/terrain/height_tiles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace nestwalk::terrain {
+namespace {
+
+std::atomic<std::uint64_t> nextCacheId{1};
+
+/// Each thread's last tile: a hit there takes no lock (see height_tiles.h).
+struct LastTile {
+  std::uint64_t cache = 0, key = 0;
+  std::shared_ptr<const HeightTile> tile;
+};
+thread_local LastTile lastTile;
+
+int tilesFor(int samples) { return std::max(1, (samples - 2) / kHeightTileCells + 1); }
+
+}  // namespace
+
+HeightTileCache::HeightTileCache(int cols, int rows, std::optional<float> noData, Loader loader,
+                                 std::vector<float> tileRanges, std::size_t budgetBytes)
+    : cols_(cols),
+      rows_(rows),
+      tilesX_(tilesFor(cols)),
+      tilesY_(tilesFor(rows)),
+      noDataCompare_(noData ? *noData : std::numeric_limits<float>::quiet_NaN()),
+      loader_(std::move(loader)),
+      tileRanges_(std::move(tileRanges)),
+      budget_(budgetBytes),
+      id_(nextCacheId.fetch_add(1)) {
+  if (cols < 2 || rows < 2) throw std::invalid_argument("HeightTileCache: need at least 2 x 2 samples");
+  if (!loader_) throw std::invalid_argument("HeightTileCache: no loader");
+  if (!tileRanges_.empty() && tileRanges_.size() != 2 * std::size_t(tilesX_) * std::size_t(tilesY_))
+    throw std::invalid_argument("HeightTileCache: tileRanges must hold {min, max} per tile");
+  prefetcher_ = std::thread([this] { prefetchLoop(); });
+}
+
+HeightTileCache::~HeightTileCache() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  prefetcher_.join();
+}
+
+std::pair<float, float> HeightTileCache::tileRange(int tx, int ty) const {
+  if (tileRanges_.empty()) return {-std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+  const std::size_t k = 2 * key(tx, ty);
+  return {tileRanges_[k], tileRanges_[k + 1]};
+}
+
+std::shared_ptr<const HeightTile> HeightTileCache::read(int tx, int ty) const {
+  auto tile = std::make_shared<HeightTile>();
+  tile->c0 = tx * kHeightTileCells;
+  tile->r0 = ty * kHeightTileCells;
+  tile->cols = std::min(kHeightTileCells + 1, cols_ - tile->c0);
+  tile->rows = std::min(kHeightTileCells + 1, rows_ - tile->r0);
+  {
+    const std::lock_guard lock(readMutex_);
+    tile->clean = loader_(tile->c0, tile->r0, tile->cols, tile->rows);
+  }
+  if (tile->clean.size() != std::size_t(tile->cols) * std::size_t(tile->rows))
+    throw std::logic_error("HeightTileCache: the loader returned a window of the wrong size");
+  for (float& h : tile->clean)
+    if (!std::isfinite(h) || h == noDataCompare_) h = std::numeric_limits<float>::quiet_NaN();
+  // Ray blocks: the valid samples at the corners of the block's cells (heightfield.cpp's base level).
+  constexpr int B = kHeightTileBlockCells;
+  const int cells = tile->cols - 1, cellRows = tile->rows - 1;
+  tile->blocksX = (cells + B - 1) / B;
+  tile->blocksY = (cellRows + B - 1) / B;
+  tile->blockRange.resize(2 * std::size_t(tile->blocksX) * std::size_t(tile->blocksY));
+  for (int j = 0; j < tile->blocksY; ++j)
+    for (int i = 0; i < tile->blocksX; ++i) {
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int r = j * B; r <= std::min((j + 1) * B, cellRows); ++r)
+        for (int c = i * B; c <= std::min((i + 1) * B, cells); ++c) {
+          const float h = tile->clean[std::size_t(r) * std::size_t(tile->cols) + std::size_t(c)];
+          if (!std::isnan(h)) lo = std::min(lo, h), hi = std::max(hi, h);
+        }
+      const std::size_t k = 2 * (std::size_t(j) * std::size_t(tile->blocksX) + std::size_t(i));
+      tile->blockRange[k] = lo;
+      tile->blockRange[k + 1] = hi;
+    }
+  return tile;
+}
+
+void HeightTileCache::insert(std::uint64_t k, std::shared_ptr<const HeightTile> tile) const {
+  tile->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
+  stats_.bytesHeld += tile->bytes();
+  held_[k] = std::move(tile);
+  ++stats_.reads;
+  while (stats_.bytesHeld > budget_ && held_.size() > 1) {
+    auto oldest = held_.end();
+    std::uint64_t oldestUse = std::numeric_limits<std::uint64_t>::max();
+    for (auto it = held_.begin(); it != held_.end(); ++it) {
+      const std::uint64_t use = it->second->lastUse.load(std::memory_order_relaxed);
+      if (it->first != k && use < oldestUse) oldestUse = use, oldest = it;
+    }
+    if (oldest == held_.end()) break;
+    stats_.bytesHeld -= oldest->second->bytes();
+    held_.erase(oldest);
+    ++stats_.evicted;
+  }
+  stats_.peakBytesHeld = std::max(stats_.peakBytesHeld, stats_.bytesHeld);
+}
+
+std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
+  if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) throw std::out_of_range("HeightTileCache::tile: no such tile");
+  const std::uint64_t k = key(tx, ty);
+  LastTile& last = lastTile;
+  if (last.cache == id_ && last.key == k && last.tile) return last.tile;  // its use was stamped when it came in
+  std::shared_ptr<const HeightTile> found;
+  {
+    std::unique_lock lock(mutex_);
+    if (auto it = held_.find(k); it != held_.end()) {
+      found = it->second;
+    } else {
+      ++stats_.waits;
+      changed_.wait(lock, [&] { return !inFlight_.count(k); });  // the prefetch thread is reading it
+      if (auto again = held_.find(k); again != held_.end()) found = again->second;
+    }
+    if (!found) {
+      inFlight_.insert(k);
+      lock.unlock();
+      try {
+        found = read(tx, ty);
+      } catch (...) {
+        lock.lock();
+        inFlight_.erase(k);
+        changed_.notify_all();
+        throw;
+      }
+      lock.lock();
+      inFlight_.erase(k);
+      insert(k, found);
+      changed_.notify_all();
+    }
+  }
+  found->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
+  last.cache = id_;
+  last.key = k;
+  last.tile = found;
+  return found;
+}
+
+const HeightTile& HeightTileCache::threadTile(int tx, int ty) const {
+  const LastTile& last = lastTile;
+  if (last.cache == id_ && last.tile && last.key == key(tx, ty) && tx >= 0 && tx < tilesX_) return *last.tile;
+  tile(tx, ty);
+  return *lastTile.tile;
+}
+
+bool HeightTileCache::holds(int tx, int ty) const {
+  const std::lock_guard lock(mutex_);
+  return held_.count(key(tx, ty)) != 0;
+}
+
+void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
+  bool queued = false;
+  {
+    const std::lock_guard lock(mutex_);
+    for (const auto& [tx, ty] : tiles) {
+      if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) continue;
+      const std::uint64_t k = key(tx, ty);
+      if (auto it = held_.find(k); it != held_.end()) {
+        // Held: it counts as used now, so the walk's own tiles are not the next to go.
+        it->second->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
+        continue;
+      }
+      if (inFlight_.count(k) || std::find(queue_.begin(), queue_.end(), k) != queue_.end()) continue;
+      queue_.push_back(k);
+      queued = true;
+    }
+  }
+  if (queued) changed_.notify_all();
+}
+
+void HeightTileCache::prefetchLoop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+    if (stopping_) return;
+    const std::uint64_t k = queue_.front();
+    queue_.pop_front();
+    if (held_.count(k) || inFlight_.count(k)) {
+      changed_.notify_all();
+      continue;
+    }
+    inFlight_.insert(k);
+    lock.unlock();
+    std::shared_ptr<const HeightTile> tile;
+    try {
+      tile = read(int(k % std::uint64_t(tilesX_)), int(k / std::uint64_t(tilesX_)));
+    } catch (...) {
+      // Dropped: the query that needs this tile reads it and reports the error.
+    }
+    lock.lock();
+    inFlight_.erase(k);
+    if (tile) {
+      insert(k, std::move(tile));
+      ++stats_.prefetched;
+    }
+    changed_.notify_all();
+  }
+}
+
+void HeightTileCache::waitForPrefetch() const {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return queue_.empty() && inFlight_.empty(); });
+}
+
+HeightTileStats HeightTileCache::stats() const {
+  const std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,142 @@
+// Fine heights in tiles, read on demand through a cache with a byte budget: the storage of a paged
+// Heightfield (heightfield.h), for a DEM too large to hold (a survey of 0.4-2 G samples).
+//
+// Tiles: tile (tx, ty) holds the samples of the cells [tx T, (tx + 1) T) x [ty T, (ty + 1) T) with
+// T = kHeightTileCells, i.e. the samples tx T .. min((tx + 1) T, cols - 1) (and rows likewise): one
+// column and row more than its cells, shared with the next tile, so that every cell's four corners
+// lie in the one tile that holds the cell. A tile keeps the heights with every hole as NaN (as the
+// resident heightfield's clean copy) and the {min, max} of each ray block's samples
+// (kHeightTileBlockCells cells a side: the ray pyramid's base level, heightfield.cpp), computed from
+// the tile's own samples, so the ray cast reads exactly what it reads from a resident grid.
+// Each tile also has a coarse {min, max} given at construction (from the terrain pyramid), so a ray
+// passing above a tile never reads it.
+//
+// Cache: tiles read (the loader's call) when first asked for, kept until the bytes held exceed the
+// budget, then the least recently used go first (at least one tile is always kept). Tiles handed out
+// are shared: one evicted while a query still holds it lives until that query lets go, and each
+// thread keeps the last tile it used (so its hits take no lock and no atomic operation), so the
+// bytes alive can exceed the budget by a few tiles per thread. A tile's use is stamped when a thread
+// takes it into its slot and when prefetch() names it (a walker names its own tiles every step), not
+// on every hit. prefetch() queues tiles for a background thread, so that a
+// walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
+// wait (stats().waits), whether read there or in flight on the background thread.
+//
+// Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
+// the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
+// the error). Thread safety: every member may be called from several threads at once; the loader
+// is called from the querying threads and from the prefetch thread, one call at a time.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// Cells a side of a tile: 32 ray blocks, the size of the terrain file's own tiles (256 x 256, so a
+/// tile's read decodes at most four of them), 264 KB of heights.
+inline constexpr int kHeightTileCells = 256;
+/// Cells a side of a ray block (the base level of heightfield.cpp's ray pyramid, 2^3).
+inline constexpr int kHeightTileBlockCells = 8;
+/// The default budget: 1,000 tiles, 256 Mi samples' worth of area at 1 m cells, 65 km^2.
+inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(256) << 20;
+
+struct HeightTile {
+  int c0 = 0, r0 = 0;      // the fine sample held at (0, 0)
+  int cols = 0, rows = 0;  // samples held (the row stride)
+  std::vector<float> clean;  // cols * rows heights, holes NaN
+  int blocksX = 0, blocksY = 0;
+  std::vector<float> blockRange;  // {min, max} of the valid samples of each ray block (+inf, -inf if none)
+  mutable std::atomic<std::uint64_t> lastUse{0};
+
+  const float* at(int c, int r) const {
+    return clean.data() + std::size_t(r - r0) * std::size_t(cols) + std::size_t(c - c0);
+  }
+  /// Block (i, j) of the whole grid (it lies in this tile).
+  const float* range(int i, int j) const {
+    return blockRange.data() +
+           2 * (std::size_t(j - r0 / kHeightTileBlockCells) * std::size_t(blocksX) + std::size_t(i - c0 / kHeightTileBlockCells));
+  }
+  std::size_t bytes() const { return sizeof(HeightTile) + (clean.size() + blockRange.size()) * sizeof(float); }
+};
+
+struct HeightTileStats {
+  std::uint64_t reads = 0;       // tiles read (by queries and by the prefetch thread)
+  std::uint64_t waits = 0;       // tiles a query needed that were not held yet
+  std::uint64_t prefetched = 0;  // tiles the prefetch thread read
+  std::uint64_t evicted = 0;
+  std::size_t bytesHeld = 0, peakBytesHeld = 0;
+};
+
+class HeightTileCache {
+ public:
+  /// Reads the stored samples of the window [c0, c0 + w) x [r0, r0 + h), row-major.
+  using Loader = std::function<std::vector<float>(int c0, int r0, int w, int h)>;
+
+  /// cols x rows samples (at least 2 x 2); noData: the stored sentinel (NaN and infinities are
+  /// holes too); tileRanges: {min, max} per tile, row-major, each bounding every valid sample the
+  /// tile holds (empty: none known, every tile is read when a ray passes). Throws
+  /// std::invalid_argument on inconsistent sizes.
+  HeightTileCache(int cols, int rows, std::optional<float> noData, Loader loader, std::vector<float> tileRanges,
+                  std::size_t budgetBytes = kDefaultHeightTileBudgetBytes);
+  ~HeightTileCache();
+  HeightTileCache(const HeightTileCache&) = delete;
+  HeightTileCache& operator=(const HeightTileCache&) = delete;
+
+  int tilesX() const { return tilesX_; }
+  int tilesY() const { return tilesY_; }
+  std::size_t budgetBytes() const { return budget_; }
+  /// The coarse {min, max} of tile (tx, ty): -inf, +inf when none was given.
+  std::pair<float, float> tileRange(int tx, int ty) const;
+  /// The tile, read if not held (the caller's thread waits: a wait).
+  std::shared_ptr<const HeightTile> tile(int tx, int ty) const;
+  /// The tile as tile() gives it, without touching its count of owners: it stays alive (in the
+  /// calling thread's last-tile slot) until this thread next asks any cache for a tile. For the
+  /// hot single-sample queries (a ground height), which read it at once.
+  const HeightTile& threadTile(int tx, int ty) const;
+  /// Queues the tiles (tx, ty pairs; out of range ones ignored) not held yet for the background thread.
+  void prefetch(std::span<const std::pair<int, int>> tiles) const;
+  /// Whether the tile is held now (no read).
+  bool holds(int tx, int ty) const;
+  HeightTileStats stats() const;
+  /// Waits until the prefetch queue is empty (tests, benchmarks).
+  void waitForPrefetch() const;
+
+ private:
+  std::shared_ptr<const HeightTile> read(int tx, int ty) const;
+  void insert(std::uint64_t key, std::shared_ptr<const HeightTile> tile) const;  // mutex_ held
+  void prefetchLoop();
+  std::uint64_t key(int tx, int ty) const { return std::uint64_t(ty) * std::uint64_t(tilesX_) + std::uint64_t(tx); }
+
+  int cols_, rows_, tilesX_, tilesY_;
+  float noDataCompare_;
+  Loader loader_;
+  std::vector<float> tileRanges_;
+  std::size_t budget_;
+  std::uint64_t id_;  // this cache among every one of the process (the threads' last-tile slots)
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  mutable std::unordered_map<std::uint64_t, std::shared_ptr<const HeightTile>> held_;
+  mutable std::unordered_set<std::uint64_t> inFlight_;
+  mutable std::deque<std::uint64_t> queue_;
+  mutable std::atomic<std::uint64_t> clock_{0};
+  mutable HeightTileStats stats_;
+  mutable std::mutex readMutex_;  // the loader, one call at a time
+  bool stopping_ = false;
+  std::thread prefetcher_;
+};
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,36 @@
+// Opening a terrain too large to hold as a paged Heightfield (heightfield.h): its samples read in
+// tiles from the terrain file on demand (height_tiles.h), its bounds from the terrain pyramid
+// (terrain_pyramid.h), so that opening reads no fine sample and the memory held is the tile
+// budget, whatever the DEM's size.
+//
+// What the pyramid gives: the lowest and highest valid sample (the top level's blocks) and each
+// tile's bounds (the blocks of level min(5, levels - 1), a tile's being those of the blocks that
+// touch it). Every answer is bit-identical to readDem's resident heightfield of the same file (the
+// tests compare ground heights, rays and samples); `shift` moves the map frame as the scene
+// loader's mapShift does (heights by shift.z, rounded to float; holes stay holes).
+//
+// Errors: the pyramid's (InputError naming the file) when the tiles are read; std::invalid_argument
+// for a grid of at most 8 cells a side (too small to page). Ownership: the heightfield and its
+// tile cache share the pyramid. Thread safety: as Heightfield.
+#pragma once
+
+#include "nestwalk/terrain/height_tiles.h"
+#include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <memory>
+
+namespace nestwalk::terrain {
+
+struct PagedHeightfieldOptions {
+  std::size_t budgetBytes = kDefaultHeightTileBudgetBytes;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+};
+
+Heightfield openPagedHeightfield(std::shared_ptr<const TerrainPyramid> pyramid,
+                                 const PagedHeightfieldOptions& options = {});
+
+}  // namespace nestwalk::terrain

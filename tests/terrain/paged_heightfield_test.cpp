@@ -1,0 +1,201 @@
+// terrain/paged_heightfield and height_tiles: a heightfield paged through a budget of a few tiles
+// answers exactly as the resident one read from the same file (readDem): ground heights at random
+// points, at samples and on grid lines (holes around), rays of every kind, samples, the height
+// range, also with the scene loader's map shift; the tile cache keeps to its budget (least recently
+// used out first), counts the reads a query waited for, and prefetched tiles cost no wait. Real
+// DEMs of ../shared/data are imported and compared the same way.
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/height_tiles.h"
+#include "nestwalk/terrain/paged_heightfield.h"
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+#include "tests/common/temp_folder.h"
+#include "tests/common/test_data.h"
+#include "tests/terrain/rough_heights.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace nestwalk::test {
+namespace {
+
+using terrain::Heightfield;
+
+bool sameDouble(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// Whether two optional answers are the same to the bit.
+::testing::AssertionResult sameGround(const std::optional<double>& a, const std::optional<double>& b) {
+  if (a.has_value() != b.has_value() || (a && !sameDouble(*a, *b)))
+    return ::testing::AssertionFailure() << (a ? std::to_string(*a) : "none") << " vs "
+                                         << (b ? std::to_string(*b) : "none");
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult sameHit(const std::optional<terrain::RayHit>& a, const std::optional<terrain::RayHit>& b) {
+  if (a.has_value() != b.has_value()) return ::testing::AssertionFailure() << (a ? "hit" : "miss") << " vs " << (b ? "hit" : "miss");
+  if (!a) return ::testing::AssertionSuccess();
+  if (!sameDouble(a->t, b->t) || a->col != b->col || a->row != b->row || a->half != b->half ||
+      !sameDouble(a->point.z(), b->point.z()))
+    return ::testing::AssertionFailure() << "t " << a->t << " vs " << b->t << ", cell " << a->col << "," << a->row
+                                         << "/" << int(a->half) << " vs " << b->col << "," << b->row << "/" << int(b->half);
+  return ::testing::AssertionSuccess();
+}
+
+/// Every kind of query on both heightfields, over the whole grid.
+void expectSameAnswers(const Heightfield& resident, const Heightfield& paged, unsigned seed, int points, int rays) {
+  ASSERT_EQ(resident.cols(), paged.cols());
+  ASSERT_EQ(resident.rows(), paged.rows());
+  ASSERT_EQ(resident.heightRange(), paged.heightRange());
+  ASSERT_EQ(resident.origin(), paged.origin());
+  std::mt19937 rng(seed);
+  const Eigen::Vector2d a = resident.samplePosition(0, 0), b = resident.samplePosition(resident.cols() - 1, resident.rows() - 1);
+  std::uniform_real_distribution<double> ux(a.x() - 2 * resident.dx(), b.x() + 2 * resident.dx());
+  std::uniform_real_distribution<double> uy(b.y() - 2 * resident.dy(), a.y() + 2 * resident.dy());
+  std::uniform_int_distribution<int> col(0, resident.cols() - 1), row(0, resident.rows() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int k = 0; k < points; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    ASSERT_TRUE(sameGround(resident.groundHeight(x, y), paged.groundHeight(x, y))) << "at " << x << ", " << y;
+    // Exactly on a sample, on a grid line, on a cell diagonal (holes decide there).
+    const int c = col(rng), r = row(rng);
+    const Eigen::Vector2d s = resident.samplePosition(c, r);
+    ASSERT_TRUE(sameGround(resident.groundHeight(s.x(), s.y()), paged.groundHeight(s.x(), s.y()))) << "sample " << c << "," << r;
+    ASSERT_TRUE(sameGround(resident.groundHeight(s.x(), y), paged.groundHeight(s.x(), y)));
+    ASSERT_TRUE(sameGround(resident.groundHeight(x, s.y()), paged.groundHeight(x, s.y())));
+    const double f = unit(rng);
+    const double dxg = s.x() + f * resident.dx(), dyg = s.y() - f * resident.dy();
+    ASSERT_TRUE(sameGround(resident.groundHeight(dxg, dyg), paged.groundHeight(dxg, dyg)));
+    const float hr = resident.sample(c, r), hp = paged.sample(c, r);
+    ASSERT_TRUE(std::memcmp(&hr, &hp, sizeof hr) == 0) << "sample " << c << "," << r;
+    ASSERT_EQ(resident.valid(c, r), paged.valid(c, r));
+  }
+  const auto range = *resident.heightRange();
+  std::uniform_real_distribution<double> uz(range.first - 5, range.second + 30), dir(-1.0, 1.0);
+  for (int k = 0; k < rays; ++k) {
+    const Eigen::Vector3d o(ux(rng), uy(rng), uz(rng));
+    Eigen::Vector3d d;
+    switch (k % 4) {
+      case 0:  // steep, down
+        d = {dir(rng), dir(rng), -1.0 - unit(rng)};
+        break;
+      case 1:  // grazing, across many tiles
+        d = {dir(rng), dir(rng), 0.02 * dir(rng)};
+        break;
+      case 2:  // vertical, through a sample or along a grid line
+        d = {0.0, 0.0, -1.0};
+        break;
+      default:  // any
+        d = {dir(rng), dir(rng), dir(rng)};
+    }
+    Eigen::Vector3d origin = o;
+    if (k % 4 == 2) {
+      const Eigen::Vector2d s = resident.samplePosition(col(rng), row(rng));
+      origin.x() = s.x();
+      if (k % 8 == 2) origin.y() = s.y();
+    }
+    ASSERT_TRUE(sameHit(resident.intersectRay(origin, d), paged.intersectRay(origin, d))) << "ray " << k;
+    ASSERT_TRUE(sameHit(resident.intersectRay(origin, d, 0.5, 900.0), paged.intersectRay(origin, d, 0.5, 900.0))) << "ray " << k;
+  }
+}
+
+struct PagedCase {
+  TempFolder dir;
+  std::string path;
+  PagedCase(int cols, int rows, unsigned seed, double holes) : path((dir / "survey.tif").string()) {
+    terrain::writeTerrainCog(path, cols, rows, roughHeights(cols, rows, seed, holes), 512345.5, 7765432.5, 0.25, 0.25,
+                             "EPSG:32633", false);
+  }
+};
+
+/// Four whole tiles: heights, block ranges and the tile itself (under 1 KB).
+constexpr std::size_t kFourTiles = 4 * (std::size_t(terrain::kHeightTileCells + 1) * (terrain::kHeightTileCells + 1) * 4 + 8192 + 1024);
+
+TEST(PagedHeightfield, AnswersBitForBitAsTheResidentHeightfieldThroughABudgetOfFourTiles) {
+  // 3001 x 2501 at UTM magnitudes, 70 degrees north, holes: 12 x 10 tiles, the last narrow.
+  PagedCase c(3001, 2501, 5, 0.02);
+  const Heightfield resident = terrain::readDem(c.path);
+  const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path),
+                                                          {.budgetBytes = kFourTiles});
+  ASSERT_TRUE(paged.paged());
+  EXPECT_TRUE(std::isnan(paged.noDataFraction()));
+  expectSameAnswers(resident, paged, 17, 20000, 4000);
+  const terrain::HeightTileStats s = paged.tiles()->stats();
+  EXPECT_LE(s.peakBytesHeld, kFourTiles);
+  EXPECT_GT(s.evicted, 100u);
+  EXPECT_LE(s.reads - s.evicted, 4u) << "tiles held: those read less those evicted, four at most";
+  EXPECT_GE(s.waits, s.reads - s.prefetched) << "every tile a query read itself was a wait";
+}
+
+TEST(PagedHeightfield, TheMapShiftMovesThePagedGroundAsTheLoaderMovesTheResidentOne) {
+  PagedCase c(801, 613, 9, 0.05);
+  const Heightfield plain = terrain::readDem(c.path);
+  const Eigen::Vector3d shift(-512000.0, -7765000.0, 123.25);
+  // The resident grid moved as scene_loader.cpp's shifted() does.
+  std::vector<float> h;
+  for (int r = 0; r < plain.rows(); ++r)
+    for (int col = 0; col < plain.cols(); ++col) h.push_back(float(plain.sample(col, r) + shift.z()));
+  const Heightfield resident(plain.cols(), plain.rows(), std::move(h), plain.origin().x() + shift.x(),
+                             plain.origin().y() + shift.y(), plain.dx(), plain.dy(), plain.noData(), plain.crsWkt());
+  const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path),
+                                                          {.budgetBytes = kFourTiles, .shift = shift});
+  expectSameAnswers(resident, paged, 23, 5000, 2000);
+}
+
+TEST(HeightTileCache, KeepsToItsBudgetLeastRecentlyUsedOutFirstAndCountsWaits) {
+  PagedCase c(1400, 900, 3, 0.0);  // 6 x 4 tiles
+  const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path),
+                                                          {.budgetBytes = kFourTiles});
+  const terrain::HeightTileCache& tiles = *paged.tiles();
+  ASSERT_EQ(tiles.tilesX(), 6);
+  ASSERT_EQ(tiles.tilesY(), 4);
+  for (int t = 0; t < 4; ++t) tiles.tile(t, 0);
+  EXPECT_EQ(tiles.stats().waits, 4u);
+  tiles.tile(0, 0);  // used again: tile (1, 0) is now the least recently used
+  EXPECT_EQ(tiles.stats().waits, 4u);
+  tiles.tile(4, 0);
+  EXPECT_EQ(tiles.stats().waits, 5u);
+  EXPECT_TRUE(tiles.holds(0, 0));
+  EXPECT_FALSE(tiles.holds(1, 0));
+  EXPECT_TRUE(tiles.holds(2, 0) && tiles.holds(3, 0) && tiles.holds(4, 0));
+  EXPECT_EQ(tiles.stats().evicted, 1u);
+
+  // Prefetched tiles are held before they are asked for: no wait.
+  paged.prefetch(paged.samplePosition(1100, 500).x(), paged.samplePosition(1100, 500).y(),
+                 paged.samplePosition(1390, 890).x(), paged.samplePosition(1390, 890).y());
+  tiles.waitForPrefetch();
+  const std::uint64_t before = tiles.stats().waits;
+  EXPECT_TRUE(tiles.holds(4, 1) && tiles.holds(5, 1) && tiles.holds(4, 3) && tiles.holds(5, 3));
+  for (int r = 500; r < 890; r += 7)
+    for (int col = 1100; col < 1390; col += 7) {
+      const Eigen::Vector2d p = paged.samplePosition(col, r);
+      paged.groundHeight(p.x() + 0.1, p.y() - 0.05);
+    }
+  EXPECT_EQ(tiles.stats().waits, before);
+  EXPECT_GT(tiles.stats().prefetched, 0u);
+}
+
+TEST(PagedHeightfield, RealDemsAnswerAsTheirResidentHeightfields) {
+  const auto data = sharedData();
+  if (data.empty()) GTEST_SKIP() << "../shared/data is absent (NESTWALK_SHARED_DATA): no real DEM to compare";
+  for (const char* name : {"storml_elev_orig.tif", "mt_rainier_90m.tif", "pre_runout_DEM.asc"}) {
+    SCOPED_TRACE(name);
+    const auto source = data / "terrain" / name;
+    if (!std::filesystem::exists(source)) {
+      std::printf("%s absent: skipped\n", source.c_str());
+      continue;
+    }
+    TempFolder dir;
+    const std::string out = (dir / "imported.tif").string();
+    terrain::importTerrain(source.string(), out, {});
+    const Heightfield resident = terrain::readDem(out);
+    const Heightfield paged =
+        terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(out), {.budgetBytes = kFourTiles});
+    expectSameAnswers(resident, paged, 31, 5000, 1500);
+  }
+}
+
+}  // namespace
+}  // namespace nestwalk::test
