@@ -135,6 +135,12 @@ std::string crsName(const std::string& wkt) {
   return name;
 }
 
+std::pair<int, int> rasterSize(const std::string& path) {
+  initGdal();
+  const GdalDataset ds = openRaster(path);
+  return {GDALGetRasterXSize(static_cast<GDALDatasetH>(ds.get())), GDALGetRasterYSize(static_cast<GDALDatasetH>(ds.get()))};
+}
+
 Heightfield readDem(const std::string& path, const DemReadOptions& options, std::vector<std::string>* warnings) {
   GdalDataset owned = openRaster(path);
   auto* ds = static_cast<GDALDatasetH>(owned.get());

@@ -88,6 +88,9 @@ struct DemReadOptions {
   std::uint64_t maxSamples = kMaxDemSamples;
 };
 
+/// The raster's size in samples (columns, rows), from its header alone (openRaster's errors).
+std::pair<int, int> rasterSize(const std::string& path);
+
 /// Reads band `options.band` of the raster at `path` into a Heightfield (see above). Warnings (no
 /// georeferencing) are appended to `warnings` when given. InputError on any bad input, naming the
 /// file: the errors of openRaster, fewer than 2 x 2 samples, a band out of range, a rotated

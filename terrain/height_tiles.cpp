@@ -16,6 +16,7 @@ struct LastTile {
   std::shared_ptr<const HeightTile> tile;
 };
 thread_local LastTile lastTile;
+thread_local std::uint64_t waitsOfThisThread = 0;
 
 int tilesFor(int samples) { return std::max(1, (samples - 2) / kHeightTileCells + 1); }
 
@@ -121,6 +122,7 @@ std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
       found = it->second;
     } else {
       ++stats_.waits;
+      ++waitsOfThisThread;
       changed_.wait(lock, [&] { return !inFlight_.count(k); });  // the prefetch thread is reading it
       if (auto again = held_.find(k); again != held_.end()) found = again->second;
     }
@@ -213,6 +215,8 @@ void HeightTileCache::waitForPrefetch() const {
   std::unique_lock lock(mutex_);
   changed_.wait(lock, [&] { return queue_.empty() && inFlight_.empty(); });
 }
+
+std::uint64_t HeightTileCache::threadWaits() { return waitsOfThisThread; }
 
 HeightTileStats HeightTileCache::stats() const {
   const std::lock_guard lock(mutex_);

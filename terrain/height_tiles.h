@@ -111,6 +111,9 @@ class HeightTileCache {
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;
   HeightTileStats stats() const;
+  /// Waits (see stats()) of the calling thread, on every cache, since it started: a walker's count
+  /// of ground reads that waited, apart from the renderer's.
+  static std::uint64_t threadWaits();
   /// Waits until the prefetch queue is empty (tests, benchmarks).
   void waitForPrefetch() const;
 

@@ -9,6 +9,7 @@
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/scene/terrain_cache.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/paged_heightfield.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
 
 
@@ -72,10 +73,14 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
   Scene scene;
   scene.spec = spec;
 
-  // Terrain (map frame, moved by the shift).
+  // Terrain (map frame, moved by the shift): its pyramid (its own beside it, else the terrain
+  // cache's), then the samples paged from the pyramid's terrain file or read whole.
   try {
-    terrain::Heightfield hf = terrain::readDem(spec.terrain);
-    // Its pyramid: its own beside it, else (none, or one refused) the terrain cache's.
+    using Storage = SceneLoadOptions::TerrainStorage;
+    const auto [cols, rows] = terrain::rasterSize(spec.terrain);
+    const std::uint64_t samples = std::uint64_t(cols) * std::uint64_t(rows);
+    const bool wantPaged = options.terrainStorage == Storage::paged ||
+                           (options.terrainStorage == Storage::automatic && samples > kResidentTerrainSamples);
     std::error_code ec;
     if (std::filesystem::exists(terrain::pyramidPathOf(spec.terrain), ec)) {
       try {
@@ -85,9 +90,21 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
         if (options.note) options.note(scene.terrainPyramidRefused + " (not used)");
       }
     }
-    if (!scene.terrainPyramid) scene.terrainPyramid = cachedTerrainPyramid(spec.terrain, hf, options.note);
-    const Eigen::Vector3d& s = options.mapShift;
-    scene.terrain = std::make_shared<const terrain::Heightfield>(s.isZero() ? std::move(hf) : shifted(hf, s));
+    if (wantPaged && !scene.terrainPyramid && (cols > 2 || rows > 2))
+      scene.terrainPyramid = cachedTerrainPyramid(spec.terrain, nullptr, options.note);
+    if (wantPaged && scene.terrainPyramid && std::max(cols, rows) > 9) {
+      scene.terrain = std::make_shared<const terrain::Heightfield>(terrain::openPagedHeightfield(
+          scene.terrainPyramid, {.budgetBytes = options.terrainTileBudget, .shift = options.mapShift}));
+    } else {
+      if (samples > terrain::kMaxDemSamples)
+        throw InputError(spec.terrain + ": " + std::to_string(cols) + " x " + std::to_string(rows) +
+                         " samples, too many to hold, and no terrain pyramid to page them from (nestwalk "
+                         "import-terrain writes one; the terrain cache could not)");
+      terrain::Heightfield hf = terrain::readDem(spec.terrain);
+      if (!scene.terrainPyramid) scene.terrainPyramid = cachedTerrainPyramid(spec.terrain, &hf, options.note);
+      const Eigen::Vector3d& s = options.mapShift;
+      scene.terrain = std::make_shared<const terrain::Heightfield>(s.isZero() ? std::move(hf) : shifted(hf, s));
+    }
   } catch (const InputError& e) {
     throw InputError(file + ": terrain: " + e.what());
   }

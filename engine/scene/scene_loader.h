@@ -9,9 +9,12 @@
 #pragma once
 
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/terrain/height_tiles.h"
 
 #include <Eigen/Core>
 
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -28,11 +31,24 @@ struct SceneLoadOptions {
   /// of a terrain pyramid set aside (Scene::terrainPyramidRefused); by default printed on stderr as
   /// "nestwalk: note: ...". Empty: silent.
   std::function<void(const std::string&)> note = printSceneNote;
+  /// Where the terrain's samples live (terrain/heightfield.h): automatic pages a terrain of more than
+  /// kResidentTerrainSamples samples (from its own pyramid, else the terrain cache's import) and
+  /// holds a smaller one; resident and paged force either (paged falls back to resident when no
+  /// pyramid can be had and the DEM fits in memory). The answers are the same bit for bit.
+  enum class TerrainStorage { automatic, resident, paged } terrainStorage = TerrainStorage::automatic;
+  /// A paged terrain's tile budget, bytes (terrain/height_tiles.h).
+  std::size_t terrainTileBudget = terrain::kDefaultHeightTileBudgetBytes;
 };
 
-// Loads the terrain (readDem) and its pyramid (Scene::terrainPyramid: the terrain file's own, else
-// the terrain cache's, terrain_cache.h), every model once (osgDB), fits volumes, places instances and forms
-// the units.
+/// Terrains of more samples are paged by default (64 MB of heights, 0.5 s to read at 32 M samples
+/// a second; a 4,096 x 4,096 DEM is held): below it a resident grid opens fast enough and its
+/// ground lookups cost half a paged one's.
+inline constexpr std::uint64_t kResidentTerrainSamples = std::uint64_t(1) << 24;
+
+// Loads the terrain and its pyramid (Scene::terrainPyramid: the terrain file's own, else the
+// terrain cache's, terrain_cache.h), every model once (osgDB), fits volumes, places instances and
+// forms the units. The terrain is read whole (readDem) or paged from its pyramid
+// (SceneLoadOptions::terrainStorage): a paged one opens without reading a fine sample.
 //
 // Standing on the ground: an instance whose position has no z stands with its model-frame z = 0
 // (a typed instance: its base, model_catalog.h) at the lowest ground under its footprint, the

@@ -4,6 +4,7 @@
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/scene/cache_folder.h"
 #include "nestwalk/scene/model_cache.h"
+#include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
@@ -26,12 +27,17 @@ namespace fs = std::filesystem;
 /// What an entry's `source` file says: the DEM's canonical path and identity, and the grid as the
 /// scene read it (size, holes, height range: what changes with files beside the DEM, such as a
 /// VRT's sources or a nodata value in an .aux.xml, which the identity does not see).
-std::string sourceText(const std::string& canonical, const ModelFileIdentity& id, const terrain::Heightfield& hf) {
+std::string sourceText(const std::string& canonical, const ModelFileIdentity& id, const terrain::Heightfield* hf,
+                       std::pair<int, int> size) {
   std::ostringstream s;
   s.precision(17);
-  s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n'
-    << hf.cols() << ' ' << hf.rows() << ' ' << hf.noDataFraction();
-  if (const auto range = hf.heightRange()) s << ' ' << range->first << ' ' << range->second;
+  s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n';
+  if (!hf) {
+    s << size.first << ' ' << size.second << " unread\n";  // paged: the raster's header only
+    return s.str();
+  }
+  s << hf->cols() << ' ' << hf->rows() << ' ' << hf->noDataFraction();
+  if (const auto range = hf->heightRange()) s << ' ' << range->first << ' ' << range->second;
   s << '\n';
   return s.str();
 }
@@ -78,14 +84,20 @@ std::shared_ptr<const terrain::TerrainPyramid> openEntry(const fs::path& entry, 
 std::string terrainCacheFolder() { return cacheFolder("NESTWALK_TERRAIN_CACHE", "terrain"); }
 
 std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::string& demPath,
-                                                                    const terrain::Heightfield& hf,
+                                                                    const terrain::Heightfield* hf,
                                                                     const std::function<void(const std::string&)>& note) {
   const std::string folder = terrainCacheFolder();
   if (folder.empty()) return nullptr;
   // A valid sample at the terrain files' nodata value would become a hole in the import.
-  if (const auto range = hf.heightRange();
+  if (const auto range = hf ? hf->heightRange() : std::nullopt;
       range && range->first <= terrain::kTerrainNoData && terrain::kTerrainNoData <= range->second)
     return nullptr;
+  std::pair<int, int> size;
+  try {
+    size = hf ? std::make_pair(hf->cols(), hf->rows()) : terrain::rasterSize(demPath);
+  } catch (const std::exception&) {
+    return nullptr;
+  }
   std::error_code ec;
   const std::string canonical = fs::weakly_canonical(fs::absolute(demPath, ec), ec).string();
   const std::optional<ModelFileIdentity> before = modelFileIdentity(demPath);
@@ -93,7 +105,7 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
   char name[32];
   std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(std::hash<std::string>{}(canonical)));
   const fs::path entry = fs::path(folder) / name;
-  const std::string source = sourceText(canonical, *before, hf);
+  const std::string source = sourceText(canonical, *before, hf, size);
   std::shared_ptr<const terrain::TerrainPyramid> pyramid = openEntry(entry, source);
   if (!pyramid) {
     try {
@@ -102,7 +114,9 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
       prune(folder);
       if (note) note(demPath + ": importing it once into the terrain cache (" + entry.string() + ")");
       OutputFolder out(entry.string());
-      terrain::importTerrain(demPath, (fs::path(out.tempPath()) / "terrain.tif").string(), {});
+      terrain::ImportOptions importing;
+      importing.progress = !hf;  // a survey-size DEM takes minutes: GDAL's progress line on stderr
+      terrain::importTerrain(demPath, (fs::path(out.tempPath()) / "terrain.tif").string(), importing);
       if (!(modelFileIdentity(demPath) == before)) return nullptr;  // changed while it was imported
       writeFileAtomically((fs::path(out.tempPath()) / "source").string(), source);
       out.commit();
@@ -111,7 +125,7 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
       return nullptr;  // best effort: the scene loads without a pyramid
     }
   }
-  if (!pyramid || pyramid->layout().cols != hf.cols() || pyramid->layout().rows != hf.rows()) return nullptr;
+  if (!pyramid || pyramid->layout().cols != size.first || pyramid->layout().rows != size.second) return nullptr;
   fs::last_write_time(entry, fs::file_time_type::clock::now(), ec);  // used: the last to go
   return pyramid;
 }

@@ -31,6 +31,7 @@ FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report) {
   r.stageTests = report.counters.stageTests;
   r.primitiveTests = report.counters.primitiveTests;
   r.volumesUpdated = report.volumesUpdated;
+  r.groundWaits = report.groundWaits;
   r.micros = report.micros;
   return r;
 }

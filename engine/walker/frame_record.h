@@ -40,6 +40,7 @@ struct FrameRecord {
   StageCounts stageTests;                               // Nv per nested stage
   std::uint64_t primitiveTests = 0;                     // Np (triangle tests; 0 for volume methods)
   std::uint64_t volumesUpdated = 0;                     // Nu (the viewer's volumes rebuilt)
+  std::uint64_t groundWaits = 0;                        // paged terrain: tile reads the step waited for
   StepTimes micros;                                     // wall-clock µs per part (timing columns)
 };
 

@@ -1,5 +1,7 @@
 #include "nestwalk/walker/walker.h"
 
+#include "nestwalk/terrain/height_tiles.h"
+
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/stopwatch.h"
 
@@ -113,6 +115,7 @@ std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double hea
   s.time = state_.time;
   s.pitchDeg = state_.pitchDeg;
   state_ = s;
+  prefetchGround(Eigen::Vector3d::Zero());
   return {};
 }
 
@@ -223,8 +226,18 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   return leg;
 }
 
+void Walker::prefetchGround(const Eigen::Vector3d& velocity) {
+  if (!terrain_.paged()) return;
+  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + kPrefetchSeconds * velocity.head<2>();
+  const double m = kPrefetchMarginMetres + 2.0 * std::max(terrain_.dx(), terrain_.dy());
+  terrain_.prefetch(std::min(a.x(), b.x()) - m, std::min(a.y(), b.y()) - m, std::max(a.x(), b.x()) + m,
+                    std::max(a.y(), b.y()) + m);
+}
+
 StepReport Walker::step(const StepInput& in) {
   StepReport report;
+  const std::uint64_t waitsBefore = terrain::HeightTileCache::threadWaits();
+  if (state_.frame % kPrefetchEverySteps == 0) prefetchGround(in.move / options_.dt);
   Clock::time_point t0;
   if (options_.timeParts) t0 = Clock::now();
 
@@ -277,6 +290,7 @@ StepReport Walker::step(const StepInput& in) {
   state_.ground = g.value_or(0.0);
   ++state_.frame;
   state_.time = double(state_.frame) * options_.dt;
+  report.groundWaits = terrain::HeightTileCache::threadWaits() - waitsBefore;
   if (options_.timeParts) {
     const Clock::time_point t1 = Clock::now();
     report.micros[StepPart::Ground] += microsBetween(tg, t1);

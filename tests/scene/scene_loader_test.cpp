@@ -169,6 +169,49 @@ TEST_P(SceneLoad, ATerrainsPyramidIsItsOwnWhenValidElseTheTerrainCachesImport) {
               1e-9);
 }
 
+TEST_P(SceneLoad, APagedTerrainPlacesEverythingAsTheResidentOneBitForBit) {
+  const std::string terrainFile = (dir() / "terrain.tif").string();
+  terrain::writeTerrainPyramid(terrainFile, terrain::pyramidPathOf(terrainFile));
+  const Json eq = Json::array({{{"model", weatherStation()}, {"position", at(20.3, 30.7)}},
+                               {{"model", weatherStation()}, {"position", at(41.0, 12.5)}, {"heading", 33}},
+                               {{"model", weatherStation()}, {"position", at(3.2, 60.1)}}});
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d::Zero().eval(), Eigen::Vector3d(-1000.5, 2000.25, 3.5)}) {
+    SceneLoadOptions resident, paged, automatic;
+    resident.terrainStorage = SceneLoadOptions::TerrainStorage::resident;
+    paged.terrainStorage = SceneLoadOptions::TerrainStorage::paged;
+    paged.terrainTileBudget = 1;  // one tile at a time
+    resident.mapShift = paged.mapShift = automatic.mapShift = shift;
+    const Scene a = load(eq, resident), b = load(eq, paged);
+    ASSERT_FALSE(a.terrain->paged());
+    ASSERT_TRUE(b.terrain->paged());
+    EXPECT_FALSE(load(eq, automatic).terrain->paged()) << "65 x 65 samples: held";
+    ASSERT_EQ(a.instances.size(), b.instances.size());
+    EXPECT_EQ(a.origin, b.origin);
+    for (std::size_t i = 0; i < a.instances.size(); ++i) {
+      EXPECT_EQ(a.instances[i].toLocal.translation, b.instances[i].toLocal.translation) << i;
+      EXPECT_EQ(a.instances[i].footprintRise, b.instances[i].footprintRise) << i;
+    }
+    for (int k = 0; k < 500; ++k) {
+      const double x = terrain_.sampleX(-1 + 0.137 * k) + shift.x(), y = terrain_.sampleY(0.1291 * k) + shift.y();
+      EXPECT_EQ(a.terrain->groundHeight(x, y), b.terrain->groundHeight(x, y)) << k;
+    }
+  }
+  // A plain DEM paged: from the terrain cache's import.
+  fs::remove(terrain::pyramidPathOf(terrainFile));
+  const ScopedEnvironment cache("NESTWALK_TERRAIN_CACHE", (dir() / "cache").string());
+  SceneLoadOptions paged;
+  paged.terrainStorage = SceneLoadOptions::TerrainStorage::paged;
+  paged.note = nullptr;
+  const Scene c = load(eq, paged);
+  ASSERT_TRUE(c.terrain->paged());
+  ASSERT_NE(c.terrainPyramid, nullptr);
+  EXPECT_NE(c.terrainPyramid->terrainPath().find((dir() / "cache").string()), std::string::npos);
+  for (int k = 0; k < 100; ++k) {
+    const double x = terrain_.sampleX(0.61 * k), y = terrain_.sampleY(0.59 * k);
+    EXPECT_NEAR(*c.terrain->groundHeight(x, y), terrain_.height(x, y), 1e-9) << k;
+  }
+}
+
 TEST(SceneAttitude, ConventionsAndEigenAgree) {
   const Eigen::Vector3d forward = Eigen::Vector3d::UnitY(), right = Eigen::Vector3d::UnitX(), up = Eigen::Vector3d::UnitZ();
   EXPECT_EQ(attitudeRotation(90, 0, 0) * forward, Eigen::Vector3d(1, 0, 0)) << "heading 90: forward turns east";
