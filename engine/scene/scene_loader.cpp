@@ -68,6 +68,8 @@ Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   return loadScene(readSceneFile(path), options);
 }
 
+static_assert(kDefaultTerrainTileBudget == terrain::kDefaultHeightTileBudgetBytes);
+
 Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
   const std::string& file = spec.path;
   Scene scene;

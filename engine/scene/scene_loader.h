@@ -9,7 +9,6 @@
 #pragma once
 
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/terrain/height_tiles.h"
 
 #include <Eigen/Core>
 
@@ -22,6 +21,10 @@ namespace nestwalk {
 
 /// Prints "nestwalk: note: " + text on stderr.
 void printSceneNote(const std::string& text);
+
+/// A paged terrain's tile budget by default, bytes: terrain::kDefaultHeightTileBudgetBytes
+/// (height_tiles.h, not installed; the loader checks they agree).
+inline constexpr std::size_t kDefaultTerrainTileBudget = std::size_t(256) << 20;
 
 struct SceneLoadOptions {
   // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
@@ -36,8 +39,8 @@ struct SceneLoadOptions {
   /// holds a smaller one; resident and paged force either (paged falls back to resident when no
   /// pyramid can be had and the DEM fits in memory). The answers are the same bit for bit.
   enum class TerrainStorage { automatic, resident, paged } terrainStorage = TerrainStorage::automatic;
-  /// A paged terrain's tile budget, bytes (terrain/height_tiles.h).
-  std::size_t terrainTileBudget = terrain::kDefaultHeightTileBudgetBytes;
+  /// A paged terrain's tile budget, bytes (terrain/height_tiles.h: kDefaultHeightTileBudgetBytes).
+  std::size_t terrainTileBudget = kDefaultTerrainTileBudget;
 };
 
 /// Terrains of more samples are paged by default (64 MB of heights, 0.5 s to read at 32 M samples

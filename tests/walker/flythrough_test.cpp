@@ -4,6 +4,7 @@
 #include "tests/common/build_paths.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/height_tiles.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/script_file.h"
 
