@@ -14,20 +14,9 @@ Eigen::Vector3d sunDirection(double azimuthDeg, double altitudeDeg) {
 }
 
 double hornShade(const Heightfield& hf, int col, int row, const Eigen::Vector3d& sun, int step) {
-  const double centre = hf.sample(col, row);
-  auto usable = [&](int c, int r) { return c >= 0 && r >= 0 && c < hf.cols() && r < hf.rows() && hf.valid(c, r); };
-  // Neighbour (col + dc, row + dr); a missing one extrapolated through the centre.
-  auto z = [&](int dc, int dr) -> double {
-    dc *= step;
-    dr *= step;
-    if (usable(col + dc, row + dr)) return hf.sample(col + dc, row + dr);
-    if (usable(col - dc, row - dr)) return 2 * centre - hf.sample(col - dc, row - dr);
-    return centre;
-  };
-  // Rows run south: dr = -1 is the northern neighbour.
-  const double dzdx = ((z(1, -1) + 2 * z(1, 0) + z(1, 1)) - (z(-1, -1) + 2 * z(-1, 0) + z(-1, 1))) / (8 * step * hf.dx());
-  const double dzdy = ((z(-1, -1) + 2 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2 * z(0, 1) + z(1, 1))) / (8 * step * hf.dy());
-  return std::max(0.0, Eigen::Vector3d(-dzdx, -dzdy, 1).normalized().dot(sun));
+  return hornShadeOf(
+      [&](int c, int r) { return hf.valid(c, r) ? hf.sample(c, r) : std::numeric_limits<float>::quiet_NaN(); },
+      hf.cols(), hf.rows(), hf.dx(), hf.dy(), col, row, sun, step);
 }
 
 }  // namespace nestwalk::terrain

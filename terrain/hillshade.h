@@ -21,6 +21,10 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 namespace nestwalk::terrain {
 
 /// The unit vector towards a sun at `azimuthDeg` (clockwise from north) and `altitudeDeg` above
@@ -31,5 +35,29 @@ Eigen::Vector3d sunDirection(double azimuthDeg, double altitudeDeg);
 /// surface from Horn's differences (see above) over the neighbours `step` samples away (step 1:
 /// GDAL's rule on the full grid; step 2^k: the same rule on level k's coarser grid).
 double hornShade(const Heightfield& hf, int col, int row, const Eigen::Vector3d& sun, int step = 1);
+
+/// The same on samples read by `heightOrNaN(c, r)` (NaN for a hole) from a grid of cols x rows
+/// samples dx x dy apart: for a chunk whose samples come from the terrain pyramid's level page.
+template <class HeightOrNaN>
+double hornShadeOf(const HeightOrNaN& heightOrNaN, int cols, int rows, double dx, double dy, int col, int row,
+                   const Eigen::Vector3d& sun, int step = 1) {
+  const double centre = heightOrNaN(col, row);
+  // Neighbour (col + dc, row + dr); a missing one (a hole, beyond the grid) extrapolated through
+  // the centre from the opposite one, or the centre's height.
+  auto at = [&](int c, int r) {
+    return c >= 0 && r >= 0 && c < cols && r < rows ? double(heightOrNaN(c, r)) : std::numeric_limits<double>::quiet_NaN();
+  };
+  auto z = [&](int dc, int dr) -> double {
+    dc *= step;
+    dr *= step;
+    if (const double h = at(col + dc, row + dr); !std::isnan(h)) return h;
+    if (const double h = at(col - dc, row - dr); !std::isnan(h)) return 2 * centre - h;
+    return centre;
+  };
+  // Rows run south: dr = -1 is the northern neighbour.
+  const double dzdx = ((z(1, -1) + 2 * z(1, 0) + z(1, 1)) - (z(-1, -1) + 2 * z(-1, 0) + z(-1, 1))) / (8 * step * dx);
+  const double dzdy = ((z(-1, -1) + 2 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2 * z(0, 1) + z(1, 1))) / (8 * step * dy);
+  return std::max(0.0, Eigen::Vector3d(-dzdx, -dzdy, 1).normalized().dot(sun));
+}
 
 }  // namespace nestwalk::terrain

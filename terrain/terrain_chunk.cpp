@@ -21,6 +21,7 @@
 
 #include "nestwalk/terrain/coarse_cell_error.h"
 #include "nestwalk/terrain/hillshade.h"
+#include "nestwalk/terrain/terrain_pyramid_format.h"
 
 #include <meshoptimizer.h>
 
@@ -138,14 +139,35 @@ void fillHoleTexels(std::vector<std::uint8_t>& texture, std::size_t w, std::size
   }
 }
 
-/// The kept samples of one chunk and which coarse triangles exist.
+/// The kept samples of one chunk and which coarse triangles exist: read from the heightfield, or
+/// from the pyramid's level page (ChunkPyramidData::heights) when given.
 struct ChunkGrid {
   const Heightfield& hf;
   std::vector<int> cols, rows;
+  const ChunkPyramidData* level = nullptr;  // its heights cover the kept samples (checked by buildChunk)
+  int step = 1, levelCol0 = 0, levelRow0 = 0;  // the level's column and row of kept sample (0, 0)
   std::size_t nc() const { return cols.size(); }
   std::size_t nr() const { return rows.size(); }
-  bool valid(std::size_t i, std::size_t j) const { return hf.valid(cols[i], rows[j]); }
-  double height(std::size_t i, std::size_t j) const { return hf.sample(cols[i], rows[j]); }
+  float fromLevel(int li, int lj) const {
+    return level->heights[std::size_t(lj - level->y0) * std::size_t(level->width) + std::size_t(li - level->x0)];
+  }
+  bool valid(std::size_t i, std::size_t j) const {
+    return level ? !std::isnan(fromLevel(levelCol0 + int(i), levelRow0 + int(j))) : hf.valid(cols[i], rows[j]);
+  }
+  double height(std::size_t i, std::size_t j) const {
+    return level ? fromLevel(levelCol0 + int(i), levelRow0 + int(j)) : hf.sample(cols[i], rows[j]);
+  }
+  /// Fine sample (c, r), NaN for a hole: from the level page where it is one of the level's samples
+  /// inside it, else from the heightfield.
+  float sampleOrNaN(int c, int r) const {
+    if (level) {
+      const bool onC = c % step == 0 || c == hf.cols() - 1, onR = r % step == 0 || r == hf.rows() - 1;
+      const int li = c == hf.cols() - 1 ? (c - 1) / step + 1 : c / step, lj = r == hf.rows() - 1 ? (r - 1) / step + 1 : r / step;
+      if (onC && onR && li >= level->x0 && li < level->x0 + level->width && lj >= level->y0 && lj < level->y0 + level->height)
+        return fromLevel(li, lj);
+    }
+    return hf.valid(c, r) ? hf.sample(c, r) : std::numeric_limits<float>::quiet_NaN();
+  }
   bool upper(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j) && valid(i + 1, j + 1); }
   bool lower(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j + 1) && valid(i, j + 1); }
 };
@@ -309,12 +331,23 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
 }  // namespace
 
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading,
-                     double simplifyFraction, const ChunkGridErrors* gridErrors) {
+                     double simplifyFraction, const ChunkPyramidData* gridErrors) {
   if (layout.cols() != hf.cols() || layout.rows() != hf.rows() || !layout.exists(key))
     throw std::invalid_argument("buildChunk: the chunk is not in the heightfield's layout");
   ChunkMesh m;
   m.key = key;
-  const ChunkGrid g{hf, layout.columns(key), layout.rowsOf(key)};
+  ChunkGrid g{hf, layout.columns(key), layout.rowsOf(key)};
+  g.step = 1 << key.level;
+  g.levelCol0 = key.x * layout.chunkCells();
+  g.levelRow0 = key.y * layout.chunkCells();
+  if (gridErrors && key.level > 0 && !gridErrors->heights.empty()) {
+    const ChunkPyramidData& d = *gridErrors;
+    if (d.heights.size() != std::size_t(d.width) * std::size_t(d.height) || d.x0 > g.levelCol0 || d.y0 > g.levelRow0 ||
+        d.x0 + d.width < g.levelCol0 + int(g.nc()) || d.y0 + d.height < g.levelRow0 + int(g.nr()) ||
+        d.blockLow.size() != std::size_t(d.blockWidth) * std::size_t(d.blockHeight))
+      throw std::invalid_argument("buildChunk: the pyramid's samples do not cover the chunk");
+    g.level = &d;
+  }
   const std::size_t blockCells = std::size_t(chunkBlockCells(layout));
   if (gridErrors &&
       (gridErrors->blocksX != int((g.nc() - 1 + blockCells - 1) / blockCells) ||
@@ -384,7 +417,11 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         const Eigen::Vector4d im = imageAt(i, j);
         colour = im.w() * im.head<3>() + (1 - im.w()) * colour;
       }
-      if (shading.shade) colour *= std::min(1.0, kAmbientLight + kSunLight * hornShade(hf, c, r, shading.sun, step));
+      if (shading.shade) {
+        const double shade = hornShadeOf([&](int sc, int sr) { return g.sampleOrNaN(sc, sr); }, hf.cols(), hf.rows(),
+                                         dx, dy, c, r, shading.sun, step);
+        colour *= std::min(1.0, kAmbientLight + kSunLight * shade);
+      }
       for (int k = 0; k < 3; ++k) m.colours.push_back(toByte(colour[k]));
       m.colours.push_back(255);
       std::copy(m.colours.end() - 4, m.colours.end(), m.texture.begin() + std::ptrdiff_t(4 * (j * nc + i)));
@@ -413,9 +450,28 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     const int to = std::min(lineEnd, along[k + 1 < along.size() ? k + 1 : k] + reach);
     const auto [ki, kj] = keptAt(alongRow, line, k);
     double lowest = g.height(ki, kj);
-    for (int p = from; p <= to; ++p) {
-      const int c = alongRow ? p : fineLine, r = alongRow ? fineLine : p;
-      if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
+    if (g.level) {
+      // The pyramid's blocks (kPyramidBlockCells level cells a side) holding the line from `from` to
+      // `to`: their lowest samples are at or below the line's.
+      const ChunkPyramidData& d = *g.level;
+      const int span = kPyramidBlockCells * step;  // fine samples a side of a level block
+      const int blocksAlong = alongRow ? d.blockX0 + d.blockWidth : d.blockY0 + d.blockHeight;
+      const int across = fineLine / span - (fineLine == (alongRow ? hf.rows() : hf.cols()) - 1 && fineLine % span == 0 ? 1 : 0);
+      const int b0 = from / span, b1 = std::min(to / span, blocksAlong - 1);
+      const int a0 = alongRow ? d.blockY0 : d.blockX0, a1 = a0 + (alongRow ? d.blockHeight : d.blockWidth);
+      const int f0 = alongRow ? d.blockX0 : d.blockY0;
+      if (across < a0 || across >= a1 || b0 < f0)
+        throw std::invalid_argument("buildChunk: the pyramid's blocks do not cover a skirt's reach");
+      for (int b = b0; b <= b1; ++b) {
+        const int bx = alongRow ? b : across, by = alongRow ? across : b;
+        const float low = d.blockLow[std::size_t(by - d.blockY0) * std::size_t(d.blockWidth) + std::size_t(bx - d.blockX0)];
+        if (!std::isnan(low)) lowest = std::min(lowest, double(low));
+      }
+    } else {
+      for (int p = from; p <= to; ++p) {
+        const int c = alongRow ? p : fineLine, r = alongRow ? fineLine : p;
+        if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
+      }
     }
     const std::uint32_t top = vertex(ki, kj);
     const Eigen::Vector3d q(m.positions[3 * top] + m.offset.x(), m.positions[3 * top + 1] + m.offset.y(),
@@ -547,7 +603,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
           Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
           for (std::size_t k = 0; k < 3; ++k) {
             tri.v[k] = fineOf[out.indices[t + k]];
-            tri.h[k] = hf.sample(tri.v[k][0], tri.v[k][1]);
+            tri.h[k] = g.sampleOrNaN(tri.v[k][0], tri.v[k][1]);
             centroid += Eigen::Vector2d(tri.v[k][0], tri.v[k][1]) / 3.0;
           }
           // The block of the cell holding the centroid.

@@ -43,8 +43,11 @@
 // the simplified one's error would show; coarser levels have their children for that. On the bundled
 // dump the renderer draws about two thirds of the grids' triangles at the same 1 px (bench render).
 //
-// Errors from the pyramid (when buildChunk is given the chunk's grid errors, read from the terrain
-// pyramid, terrain_pyramid.h): a coarse chunk is then built from its level's samples alone. Its
+// Errors from the pyramid (when buildChunk is given what the terrain pyramid knows of the chunk,
+// ChunkPyramidData, terrain_pyramid.h): a coarse chunk is then built from its level's samples alone
+// (the pyramid's level page: heights, and the hillshade's neighbours; only a hillshade neighbour of
+// the grid's irregular last column or row, off the level's lattice, is read from the heightfield),
+// its skirts reach down to the lowest sample of the pyramid's blocks they lie in. Its
 // grid's block errors are the given ones (the pyramid's exact errors, rounded up to float), and a
 // simplified triangle's error is bounded instead of evaluated at fine samples: over each piece of
 // the triangle cut by the level grid's triangles, |fine - simplified| <= |fine - level grid| +
@@ -180,12 +183,24 @@ using ColourGridReader =
 /// Cells a side of a chunk's blocks: chunkCells / kChunkBlocksPerSide, at least 1.
 inline int chunkBlockCells(const ChunkLayout& layout) { return std::max(1, layout.chunkCells() / kChunkBlocksPerSide); }
 
-/// The level grid's exact errors of a chunk's blocks, known beforehand (the terrain pyramid's, see
-/// "Errors from the pyramid" above): blocksX x blocksY of them, row-major, the chunk's blocks of
-/// chunkBlockCells() cells (fewer at the grid's east and south edges), metres.
-struct ChunkGridErrors {
+/// What the terrain pyramid (terrain_pyramid.h) knows of a chunk beforehand, so that a coarse chunk
+/// is built without reading a fine sample (see "Errors from the pyramid" above):
+/// - the level grid's exact errors of the chunk's blocks: blocksX x blocksY of them, row-major, the
+///   chunk's blocks of chunkBlockCells() cells (fewer at the grid's east and south edges), metres;
+/// - the level's own samples around the chunk (its level page): level columns [x0, x0 + width) and
+///   rows [y0, y0 + height), row-major, holes NaN; the chunk's kept samples and their neighbours
+///   one step out (the hillshade's); empty: the samples are read from the heightfield;
+/// - the lowest valid fine sample of each of the level's blocks (kPyramidBlockCells = 8 cells of the
+///   level a side) in the window [blockX0, blockX0 + blockWidth) x [blockY0, ...) (NaN for none):
+///   the skirts reach down to the lowest of the blocks a skirt's reach lies in, at or below the
+///   lowest fine sample of its grid line there; empty: the fine samples of the line are read.
+struct ChunkPyramidData {
   int blocksX = 0, blocksY = 0;
   std::vector<float> error;
+  int x0 = 0, y0 = 0, width = 0, height = 0;
+  std::vector<float> heights;
+  int blockX0 = 0, blockY0 = 0, blockWidth = 0, blockHeight = 0;
+  std::vector<float> blockLow;
 };
 
 /// A block of a chunk's cells: their largest error (metres) and the mesh-frame box of their surface
@@ -258,12 +273,13 @@ struct ChunkShading {
 
 /// Builds one chunk (see above). The layout must be the heightfield's (same cols and rows).
 /// simplifyFraction > 0 simplifies each quadrant's surface (see "Simplification" above) to about
-/// that fraction of its grid's own error; 0 keeps the level's grid. gridErrors: the chunk's grid
-/// errors (see "Errors from the pyramid"); null: computed from the fine samples, exactly.
-/// std::invalid_argument when gridErrors is not the chunk's blocks.
+/// that fraction of its grid's own error; 0 keeps the level's grid. gridErrors: what the pyramid
+/// knows of the chunk (see "Errors from the pyramid" and ChunkPyramidData); null: everything from
+/// the heightfield, errors exact. std::invalid_argument when its errors are not the chunk's blocks or
+/// its windows do not cover the chunk.
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key,
                      const ChunkShading& shading = {}, double simplifyFraction = 0,
-                     const ChunkGridErrors* gridErrors = nullptr);
+                     const ChunkPyramidData* gridErrors = nullptr);
 
 /// The coarse surface of a chunk at mesh-frame (x, y): the closed union of its existing triangles
 /// (nullopt outside them). For tests and measurements; O(1).

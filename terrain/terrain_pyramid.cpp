@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 namespace nestwalk::terrain {
@@ -186,24 +187,53 @@ std::vector<PyramidBlock> TerrainPyramid::readBlocks(int level, int bx0, int by0
   return out;
 }
 
-ChunkGridErrors TerrainPyramid::chunkGridErrors(const ChunkKey& key) const {
+ChunkPyramidData TerrainPyramid::chunkPyramidData(const ChunkKey& key) const {
   static_assert(kPyramidTopCells / kChunkBlocksPerSide == kPyramidBlockCells, "a 64-cell chunk's blocks are the pyramid's");
   constexpr int kPerChunk = kChunkBlocksPerSide;
-  if (key.level < 0 || key.level >= layout_.levels || key.x < 0 || key.y < 0 ||
-      key.x * kPerChunk >= layout_.blocksX(key.level) || key.y * kPerChunk >= layout_.blocksY(key.level))
-    throw std::out_of_range("TerrainPyramid::chunkGridErrors: no such chunk");
-  ChunkGridErrors out;
-  out.blocksX = std::min(kPerChunk, layout_.blocksX(key.level) - key.x * kPerChunk);
-  out.blocksY = std::min(kPerChunk, layout_.blocksY(key.level) - key.y * kPerChunk);
+  /// Blocks around the chunk whose lows the skirts may need: a skirt reaches kSkirtReachSteps level
+  /// cells (one block) beyond a segment that may end a cell past the chunk.
+  constexpr int kSkirtBlocks = 2;
+  static_assert(1 + kSkirtReachSteps <= kSkirtBlocks * kPyramidBlockCells, "a segment past the chunk and its reach");
+  const int L = key.level;
+  if (L < 0 || L >= layout_.levels || key.x < 0 || key.y < 0 || key.x * kPerChunk >= layout_.blocksX(L) ||
+      key.y * kPerChunk >= layout_.blocksY(L))
+    throw std::out_of_range("TerrainPyramid::chunkPyramidData: no such chunk");
+  ChunkPyramidData out;
+  out.blocksX = std::min(kPerChunk, layout_.blocksX(L) - key.x * kPerChunk);
+  out.blocksY = std::min(kPerChunk, layout_.blocksY(L) - key.y * kPerChunk);
+  // One read of the blocks page: the chunk's blocks and the skirts' margin around them.
+  out.blockX0 = std::max(0, key.x * kPerChunk - kSkirtBlocks);
+  out.blockY0 = std::max(0, key.y * kPerChunk - kSkirtBlocks);
+  out.blockWidth = std::min(layout_.blocksX(L), key.x * kPerChunk + out.blocksX + kSkirtBlocks) - out.blockX0;
+  out.blockHeight = std::min(layout_.blocksY(L), key.y * kPerChunk + out.blocksY + kSkirtBlocks) - out.blockY0;
   const std::vector<float> bands =
-      readPage(layout_.blocksPage(key.level), key.x * kPerChunk, key.y * kPerChunk, out.blocksX, out.blocksY);
-  const std::size_t n = std::size_t(out.blocksX) * std::size_t(out.blocksY);
-  out.error.assign(bands.begin() + std::ptrdiff_t(2 * n), bands.begin() + std::ptrdiff_t(3 * n));
+      readPage(layout_.blocksPage(L), out.blockX0, out.blockY0, out.blockWidth, out.blockHeight);
+  const std::size_t n = std::size_t(out.blockWidth) * std::size_t(out.blockHeight);
+  const int ox = key.x * kPerChunk - out.blockX0, oy = key.y * kPerChunk - out.blockY0;
+  out.error.resize(std::size_t(out.blocksX) * std::size_t(out.blocksY));
+  for (int j = 0; j < out.blocksY; ++j)
+    for (int i = 0; i < out.blocksX; ++i)
+      out.error[std::size_t(j) * std::size_t(out.blocksX) + std::size_t(i)] =
+          bands[2 * n + std::size_t(j + oy) * std::size_t(out.blockWidth) + std::size_t(i + ox)];
   // An error is a finite distance: anything else is a damaged page (a NaN would vanish in a max).
   for (const float e : out.error)
     if (!(e >= 0.0f && std::isfinite(e)))
-      throw InputError(path_ + ": terrain pyramid page " + std::to_string(layout_.blocksPage(key.level)) +
+      throw InputError(path_ + ": terrain pyramid page " + std::to_string(layout_.blocksPage(L)) +
                        " holds an error that is not a distance (corrupt)");
+  if (L == 0) {
+    out.blockWidth = out.blockHeight = 0;
+    return out;
+  }
+  out.blockLow.assign(bands.begin(), bands.begin() + std::ptrdiff_t(n));
+  // The level's samples: the chunk's and one more each side (clamped to the level's grid).
+  const int first = key.x * kPyramidTopCells, firstRow = key.y * kPyramidTopCells;
+  out.x0 = std::max(0, first - 1);
+  out.y0 = std::max(0, firstRow - 1);
+  out.width = std::min(layout_.levelCols(L), first + kPyramidTopCells + 2) - out.x0;
+  out.height = std::min(layout_.levelRows(L), firstRow + kPyramidTopCells + 2) - out.y0;
+  out.heights = readHeights(L, out.x0, out.y0, out.width, out.height);
+  for (float& h : out.heights)
+    if (!std::isfinite(h) || (noData_ && h == *noData_)) h = std::numeric_limits<float>::quiet_NaN();
   return out;
 }
 

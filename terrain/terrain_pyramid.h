@@ -62,9 +62,12 @@ class TerrainPyramid {
   std::vector<float> readHeights(int level, int i0, int j0, int w, int h) const;
   /// Level `level`'s blocks in the window [bx0, bx0 + w) x [by0, by0 + h), row-major.
   std::vector<PyramidBlock> readBlocks(int level, int bx0, int by0, int w, int h) const;
-  /// The grid errors of chunk `key` of the kPyramidTopCells-cell chunk layout (terrain_chunk.h:
-  /// its blocks are the pyramid's). std::out_of_range for a chunk not in that layout.
-  ChunkGridErrors chunkGridErrors(const ChunkKey& key) const;
+  /// What the pyramid knows of chunk `key` of the kPyramidTopCells-cell chunk layout
+  /// (terrain_chunk.h: its blocks are the pyramid's): its blocks' errors, its level's samples with
+  /// a one-sample margin and the lowest samples of the level's blocks within two blocks of it. At
+  /// level 0, the errors only (the fine samples are the terrain file's). std::out_of_range for a
+  /// chunk not in that layout.
+  ChunkPyramidData chunkPyramidData(const ChunkKey& key) const;
   /// Reads every page whole and checks it against its CRC-32: InputError naming the page otherwise.
   void verify() const;
 

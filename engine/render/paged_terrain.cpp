@@ -158,10 +158,10 @@ void PagedTerrain::releaseGLObjects(osg::State* state) const {
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
-  std::optional<terrain::ChunkGridErrors> gridErrors;
+  std::optional<terrain::ChunkPyramidData> gridErrors;
   if (options_.pyramid && key.level >= std::max(1, options_.pyramidErrorsFromLevel) && !pyramidFailed_) {
     try {
-      gridErrors = options_.pyramid->chunkGridErrors(key);
+      gridErrors = options_.pyramid->chunkPyramidData(key);
     } catch (const std::exception&) {
       pyramidFailed_ = true;  // computed from now on (exact errors: still within the rule, only slower)
     }

@@ -232,8 +232,8 @@ std::pair<std::size_t, std::size_t> checkSimplifiedWithinAPixel(
   const terrain::ChunkLayout& l = simple->layout();
   std::size_t exactParts = 0, refinedParts = 0, samples = 0;
   for (const DrawnPart& part : simple->drawnParts()) {
-    std::optional<terrain::ChunkGridErrors> errors;
-    if (pyramid && part.key.level > 0) errors = pyramid->chunkGridErrors(part.key);
+    std::optional<terrain::ChunkPyramidData> errors;
+    if (pyramid && part.key.level > 0) errors = pyramid->chunkPyramidData(part.key);
     const terrain::ChunkMesh m =
         terrain::buildChunk(*hf, l, part.key, {}, o.simplifyFraction, errors ? &*errors : nullptr);
     const terrain::ChunkQuadrant& quad = m.quadrants[std::size_t(part.quadrant)];

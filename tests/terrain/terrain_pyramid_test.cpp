@@ -6,6 +6,8 @@
 // from a future version, truncated, corrupt) are refused with the file's name.
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/height_tiles.h"
+#include "nestwalk/terrain/paged_heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
@@ -260,7 +262,7 @@ TEST(TerrainPyramid, ChunksBuiltFromItsErrorsBoundTheirExactErrorsAndHoldEveryPo
     for (int y = 0; y < l.chunksY(level); ++y)
       for (int x = 0; x < l.chunksX(level); ++x) {
         const terrain::ChunkKey key{level, x, y};
-        const terrain::ChunkGridErrors errors = pyramid.chunkGridErrors(key);
+        const terrain::ChunkPyramidData errors = pyramid.chunkPyramidData(key);
         const terrain::ChunkMesh plainExact = terrain::buildChunk(c.hf, l, key);
         const terrain::ChunkMesh plainPyramid = terrain::buildChunk(c.hf, l, key, {}, 0, &errors);
         for (std::size_t q = 0; q < 4; ++q) {
@@ -330,6 +332,52 @@ std::vector<std::string> headerOf(const std::string& pyramid) {
     if (std::strncmp(*md, "NESTWALK_", 9) == 0) items.emplace_back(*md);
   GDALClose(ds);
   return items;
+}
+
+TEST(TerrainPyramid, ACoarseChunkFromItsPageHasTheHeightfieldsSurfaceAndColoursDeeperSkirtsAndReadsNoFineSample) {
+  // 2,000 x 1,500 (odd sizes: a narrow last column and row at every level), holes.
+  PyramidCase c(2001, 1501, 19, 0.01);
+  const auto pyramid = std::make_shared<const TerrainPyramid>(c.terrain);
+  const terrain::Heightfield paged = terrain::openPagedHeightfield(pyramid, {.budgetBytes = std::size_t(64) << 20});
+  const terrain::ChunkLayout l(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+  terrain::ChunkShading shading;
+  shading.heightLo = 80;
+  shading.heightHi = 160;
+  int interior = 0, skirts = 0;
+  for (int level = 1; level < l.levels(); ++level)
+    for (int y = 0; y < l.chunksY(level); ++y)
+      for (int x = 0; x < l.chunksX(level); ++x) {
+        const terrain::ChunkKey key{level, x, y};
+        const std::string where = "chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y);
+        const terrain::ChunkPyramidData data = pyramid->chunkPyramidData(key);
+        const terrain::ChunkMesh plain = terrain::buildChunk(c.hf, l, key, shading);
+        const std::uint64_t readsBefore = paged.tiles()->stats().reads;
+        const terrain::ChunkMesh fromPage = terrain::buildChunk(paged, l, key, shading, 0, &data);
+        // Only a chunk holding the grid's last column or row reads fine samples: the hillshade's
+        // neighbours of that irregular line are off the level's lattice.
+        const bool edge = l.columns(key).back() == c.hf.cols() - 1 || l.rowsOf(key).back() == c.hf.rows() - 1;
+        if (!edge) {
+          EXPECT_EQ(paged.tiles()->stats().reads, readsBefore) << where;
+          ++interior;
+        }
+        ASSERT_EQ(plain.surfaceVertices, fromPage.surfaceVertices) << where;
+        ASSERT_EQ(plain.positions.size(), fromPage.positions.size()) << where;
+        const std::size_t n = 3 * plain.surfaceVertices;
+        EXPECT_TRUE(std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), fromPage.positions.begin()))
+            << where;
+        EXPECT_EQ(plain.colours, fromPage.colours) << where;
+        EXPECT_EQ(plain.texture, fromPage.texture) << where;
+        EXPECT_EQ(plain.indices, fromPage.indices) << where;
+        // Skirt bottoms: the same place, at or below the lowest fine sample of their line's reach.
+        for (std::size_t k = n; k < plain.positions.size(); k += 3) {
+          EXPECT_EQ(plain.positions[k], fromPage.positions[k]) << where;
+          EXPECT_EQ(plain.positions[k + 1], fromPage.positions[k + 1]) << where;
+          EXPECT_LE(fromPage.positions[k + 2], plain.positions[k + 2]) << where;
+          ++skirts;
+        }
+      }
+  EXPECT_GT(interior, 20);
+  EXPECT_GT(skirts, 1000);
 }
 
 TEST(TerrainPyramid, StripesOfAnyHeightWriteTheSamePyramid) {
