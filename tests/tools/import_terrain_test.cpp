@@ -3,8 +3,10 @@
 // code is 1, OUT stays absent or byte-for-byte unchanged, and IN's bytes and mtime are untouched.
 // The bad files are written by hand (ASCII grids, ENVI raw + header, VRT XML) so no GDAL library
 // is needed here.
+#include "nestwalk/terrain/terrain_pyramid_format.h"
 #include "tests/common/run_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -81,6 +83,33 @@ TEST(ImportTerrain, ImportsWithSummaryAndQueriesBack) {
   const auto q = runNestwalk("query ground " + quoted(out) + " --points " + quoted(dir / "p.csv"));
   ASSERT_EQ(q.exitCode, 0) << q.err;
   EXPECT_EQ(q.out, "x,y,z\n550007,4650069,113\n550008,4650069,113.5\n");
+}
+
+TEST(ImportTerrain, QueryGroundPagesAnImportedSurveyFromItsPyramidWithTheSameAnswers) {
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  const fs::path out = dir / "terrain.tif";
+  ASSERT_EQ(runNestwalk("import-terrain " + quoted(goodAsc(dir)) + " " + quoted(out)).exitCode, 0);
+  std::string points = "x,y\n";
+  for (int k = 0; k < 400; ++k)
+    points += std::to_string(549995.0 + 0.3137 * k) + "," + std::to_string(4650085.0 - 0.2291 * k) + "\n";
+  writeText(dir / "p.csv", points);
+  const std::string query = "query ground " + quoted(out) + " --points " + quoted(dir / "p.csv");
+  const auto paged = runNestwalk(query);  // the pyramid beside it: paged
+  ASSERT_EQ(paged.exitCode, 0) << paged.err;
+  fs::rename(terrain::pyramidPathOf(out.string()), dir / "aside.tif");
+  const auto whole = runNestwalk(query);  // none: read whole
+  ASSERT_EQ(whole.exitCode, 0) << whole.err;
+  EXPECT_EQ(paged.out, whole.out);
+  EXPECT_GT(std::count(whole.out.begin(), whole.out.end(), '.'), 400);
+  // A pyramid of another terrain is set aside with a warning naming it; the answers stay right.
+  fs::copy_file(dir / "aside.tif", terrain::pyramidPathOf(out.string()));
+  const auto again = runNestwalk("import-terrain " + quoted(goodAsc(dir)) + " " + quoted(dir / "other.tif") + " --resolution 3");
+  ASSERT_EQ(again.exitCode, 0) << again.err;
+  fs::copy_file(dir / "aside.tif", terrain::pyramidPathOf((dir / "other.tif").string()), fs::copy_options::overwrite_existing);
+  const auto stale = runNestwalk("query ground " + quoted(dir / "other.tif") + " --points " + quoted(dir / "p.csv"));
+  ASSERT_EQ(stale.exitCode, 0) << stale.err;
+  EXPECT_NE(stale.err.find("changed since its pyramid was written"), std::string::npos) << stale.err;
 }
 
 TEST(ImportTerrain, BandOption) {

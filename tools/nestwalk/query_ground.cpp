@@ -1,15 +1,21 @@
 // nestwalk query ground TERRAIN --points POINTS.csv: the ground height under each point.
 // Input: a CSV with columns x, y (map coordinates in TERRAIN's CRS; longitude, latitude in degrees
 // for a geographic CRS, see terrain/dem_reader.h). Output on stdout: x,y,z with z empty where there
-// is no ground (a hole, or outside the sample hull). TERRAIN is any raster GDAL reads.
+// is no ground (a hole, or outside the sample hull). TERRAIN is any raster GDAL reads; one with its
+// terrain pyramid beside it (import-terrain's, band 1) is paged from it instead of read whole, so a
+// survey of any size answers in time bounded by the points (the answers are the same, bit for bit).
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/map_points_csv.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/paged_heightfield.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 namespace nestwalk::tools {
 namespace {
@@ -21,7 +27,18 @@ struct QueryGroundArgs {
 
 void runQueryGround(const QueryGroundArgs& args) {
   std::vector<std::string> warnings;
-  const terrain::Heightfield hf = terrain::readDem(args.terrain, {args.band}, &warnings);
+  std::optional<terrain::Heightfield> paged;
+  std::error_code ec;
+  if (args.band == 1 && std::filesystem::exists(terrain::pyramidPathOf(args.terrain), ec)) {
+    try {
+      paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(args.terrain));
+    } catch (const InputError& e) {
+      warnings.push_back(std::string(e.what()) + " (read whole instead)");
+    } catch (const std::invalid_argument&) {
+      // A grid too small to page: read whole.
+    }
+  }
+  const terrain::Heightfield hf = paged ? std::move(*paged) : terrain::readDem(args.terrain, {args.band}, &warnings);
   for (const auto& w : warnings) std::fprintf(stderr, "nestwalk: warning: %s\n", w.c_str());
 
   std::ifstream file(args.points);
