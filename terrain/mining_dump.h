@@ -20,7 +20,8 @@
 // the ground (2 m either side of its axis, 8 m outside the toe); Ramp on the haul ramp's running
 // surface (within its half width and between its ends), RampSide where its cut or fill slopes
 // change the height; Pit inside a pit's rim. The centimetre roughness changes no surface.
-// Thread safety: a pure function (its generator is local to the call).
+// Thread safety: generateMiningDump is a pure function; a MiningDumpGenerator is immutable once
+// constructed (generateRows may run on several threads at once).
 #pragma once
 
 #include <cstdint>
@@ -39,7 +40,19 @@ struct MiningDumpParams {
   double faceSlopeDeg = 35.0;
   double bermWidth = 8.0;
   int benches = 4;
+  /// Relief down to the cell (the drone case: stones, ruts): value-noise octaves from 2 m wavelength
+  /// (kFineReliefAmplitudeM) down to two cells, each half the last's amplitude. Off: the smooth
+  /// centimetre roughness alone.
+  bool fineRelief = false;
 };
+
+/// Fine relief (MiningDumpParams::fineRelief): the longest octave's wavelength and amplitude, metres.
+inline constexpr double kFineReliefLongestM = 2.0;
+inline constexpr double kFineReliefAmplitudeM = 0.04;
+/// generateMiningDump holds at most this many samples (1.6 GB of heights); MiningDumpGenerator
+/// streams any size up to kMaxMiningDumpCellsPerSide a side.
+inline constexpr double kMaxHeldMiningDumpSamples = 4.0e8;
+inline constexpr int kMaxMiningDumpCellsPerSide = 65536;
 
 /// Where the dump lies (for the summary and for tests that measure it).
 struct MiningDumpLayout {
@@ -69,7 +82,42 @@ struct MiningDump {
 
 inline constexpr const char* kMiningDumpCrs = "EPSG:32651";
 
-/// Generates the grid (std::invalid_argument for a non-positive size or cell, or too few cells).
+/// The dump's heights row by row, for grids too large to hold (make-terrain streams them into the
+/// terrain file). The same heights as generateMiningDump, bit for bit.
+class MiningDumpGenerator {
+ public:
+  /// std::invalid_argument for a non-positive size or cell, fewer than 16 or more than
+  /// kMaxMiningDumpCellsPerSide cells a side.
+  explicit MiningDumpGenerator(const MiningDumpParams& params);
+  int cols() const { return n_; }
+  int rows() const { return n_; }
+  double originX() const { return originX_; }  // centre of sample (0, 0), row 0 north
+  double originY() const { return originY_; }
+  const MiningDumpLayout& layout() const { return layout_; }
+  /// Rows [r0, r0 + count): count * cols() heights, and as many surfaces when `surfaces` is not null.
+  void generateRows(int r0, int count, float* heights, DumpSurface* surfaces = nullptr) const;
+
+ private:
+  struct Pit {
+    double e, n, radius, depth;
+  };
+  double ground(double e, double n) const;
+  MiningDumpParams p_;
+  int n_ = 0;
+  double side_ = 0, originX_ = 0, originY_ = 0;
+  MiningDumpLayout layout_;
+  double baseLevel_ = 0, planeAz_ = 0, planeGrade_ = 0;
+  std::uint64_t groundSeed_ = 0, roughSeed_ = 0;
+  double faceRun_ = 0, period_ = 0, radius_ = 0;
+  int benches_ = 1;
+  double ae_ = 0, an_ = 0, be_ = 0, bn_ = 0;
+  double rampV_ = 0, rampStart_ = 0, rampEnd_ = 0, rampGrade_ = 0, sideTan_ = 0;
+  std::vector<Pit> pits_;
+  int fineOctaves_ = 0;
+};
+
+/// Generates the grid (std::invalid_argument for a non-positive size or cell, too few cells or more
+/// than kMaxHeldMiningDumpSamples).
 MiningDump generateMiningDump(const MiningDumpParams& params);
 
 }  // namespace nestwalk::terrain

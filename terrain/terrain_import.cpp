@@ -369,9 +369,21 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
 
 void writeTerrainCog(const std::string& out, int cols, int rows, const std::vector<float>& heights, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite) {
-  initGdal();
   if (cols < 1 || rows < 1 || heights.size() != std::size_t(cols) * std::size_t(rows))
     throw std::invalid_argument("writeTerrainCog: heights do not match cols x rows");
+  writeTerrainCog(
+      out, cols, rows,
+      [&](int r0, int count, float* h) {
+        std::copy_n(heights.begin() + std::ptrdiff_t(std::size_t(r0) * std::size_t(cols)),
+                    std::size_t(count) * std::size_t(cols), h);
+      },
+      originX, originY, dx, dy, crs, overwrite);
+}
+
+void writeTerrainCog(const std::string& out, int cols, int rows, const TerrainRowSource& source, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite) {
+  initGdal();
+  if (cols < 1 || rows < 1) throw std::invalid_argument("writeTerrainCog: no samples");
   checkOutput({}, out, overwrite);
   const OutputFile stagingFile(out, ".tif", "staging");  // scratch, never committed
   GdalDataset staging(createStaging(stagingFile.tempPath(), cols, rows));
@@ -390,14 +402,16 @@ void writeTerrainCog(const std::string& out, int cols, int rows, const std::vect
     CPLFree(wkt);
     OSRDestroySpatialReference(srs);
   }
-  std::vector<float> row(std::size_t(cols), 0.0f);
+  // Stripes of kWriteStripeRows rows (the staging file's tiles' height): bounded memory.
+  constexpr int kWriteStripeRows = 512;
+  std::vector<float> stripe(std::size_t(cols) * std::size_t(std::min(rows, kWriteStripeRows)));
   GDALRasterBandH band = GDALGetRasterBand(st, 1);
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
-      const float h = heights[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
-      row[std::size_t(c)] = std::isfinite(h) ? h : kTerrainNoData;
-    }
-    if (GDALRasterIO(band, GF_Write, 0, r, cols, 1, row.data(), cols, 1, GDT_Float32, 0, 0) != CE_None)
+  for (int r0 = 0; r0 < rows; r0 += kWriteStripeRows) {
+    const int n = std::min(kWriteStripeRows, rows - r0);
+    source(r0, n, stripe.data());
+    for (std::size_t k = 0; k < std::size_t(n) * std::size_t(cols); ++k)
+      if (!std::isfinite(stripe[k])) stripe[k] = kTerrainNoData;
+    if (GDALRasterIO(band, GF_Write, 0, r0, cols, n, stripe.data(), cols, n, GDT_Float32, 0, 0) != CE_None)
       throw InputError(out + ": cannot write the staging file: " + lastGdalError());
   }
   GDALFlushCache(st);

@@ -26,6 +26,7 @@
 
 #include <array>
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,12 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
 /// Writes a north-up Float32 grid (row 0 north, heights row-major, NaN = hole) as the terrain COG
 /// and its pyramid, through the same temporary-file-and-rename path. originX/Y: centre of sample (0, 0).
 void writeTerrainCog(const std::string& out, int cols, int rows, const std::vector<float>& heights, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite);
+
+/// Rows [r0, r0 + count) of a grid, row-major, NaN = hole.
+using TerrainRowSource = std::function<void(int r0, int count, float* heights)>;
+/// The same, the rows asked for stripe by stripe (a grid too large to hold: make-terrain's).
+void writeTerrainCog(const std::string& out, int cols, int rows, const TerrainRowSource& source, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite);
 
 }  // namespace nestwalk::terrain

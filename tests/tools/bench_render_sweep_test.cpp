@@ -106,7 +106,7 @@ TEST(BenchRenderSweep, BadSizesAndCacheAreInputErrors) {
     GTEST_SKIP() << "the bundled scene is absent: build the bundled_scene target";
   const TempFolder folder;
   const std::string cache = " --terrain-cache " + quoted(folder.path() / "cache");
-  for (const char* sizes : {"8", "250,250", "250 abc", "30000"}) {
+  for (const char* sizes : {"8", "250,250", "250 abc", "70000"}) {
     SCOPED_TRACE(sizes);
     const CommandResult r = runNestwalk(std::string("bench render --terrain-sizes ") + sizes + cache);
     EXPECT_EQ(r.exitCode, 1) << r.out << r.err;

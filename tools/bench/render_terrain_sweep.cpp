@@ -43,9 +43,9 @@ namespace fs = std::filesystem;
 /// 1 at 1 m), so the sizes' sample counts are the (size / 1 m)^2.
 constexpr std::uint64_t kSweepSeed = 1;
 constexpr double kCellM = 1.0;
-/// The generator's limits (mining_dump.h): at least 16 cells a side, at most 4e8 samples.
+/// The generator's limits (mining_dump.h): at least 16 cells a side, at most 65,536 (it streams).
 constexpr long kMinCellsPerSide = 16;
-constexpr double kMaxSamples = 4.0e8;
+constexpr double kMaxSamples = double(terrain::kMaxMiningDumpCellsPerSide) * terrain::kMaxMiningDumpCellsPerSide;
 
 /// The targets, for the largest size against the smallest.
 constexpr double kTargetP50Ratio = 1.25;          // ms per frame p50, largest / smallest
@@ -75,7 +75,7 @@ std::vector<double> checkedSizes(const RenderBenchOptions& o) {
       throw InputError("--terrain-sizes: " + limitText(s) + " m is below the generator's " +
                        std::to_string(kMinCellsPerSide) + " cells of " + limitText(kCellM) + " m a side");
     if (double(cellsPerSide(s)) * double(cellsPerSide(s)) > kMaxSamples)
-      throw InputError("--terrain-sizes: " + limitText(s) + " m is above the generator's 4e8 samples (" +
+      throw InputError("--terrain-sizes: " + limitText(s) + " m is above the generator's 65,536 cells a side (" +
                        limitText(maxSizeM) + " m at " + limitText(kCellM) + " m cells)");
   }
   std::sort(sizes.begin(), sizes.end());
@@ -141,9 +141,11 @@ std::pair<bool, double> ensureDem(const std::string& path, double sizeM) {
   params.seed = kSweepSeed;
   params.size = sizeM;
   params.cell = kCellM;
-  const terrain::MiningDump dump = terrain::generateMiningDump(params);
-  terrain::writeTerrainCog(path, dump.cols, dump.rows, dump.heights, dump.originX, dump.originY, dump.cell, dump.cell,
-                           terrain::kMiningDumpCrs, false);
+  const terrain::MiningDumpGenerator generator(params);  // stripe by stripe: any size in bounded memory
+  terrain::writeTerrainCog(
+      path, generator.cols(), generator.rows(),
+      [&](int r0, int count, float* heights) { generator.generateRows(r0, count, heights); }, generator.originX(),
+      generator.originY(), kCellM, kCellM, terrain::kMiningDumpCrs, false);
   return {true, secondsSince(start)};
 }
 

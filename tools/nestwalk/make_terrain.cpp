@@ -1,8 +1,9 @@
-// nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--ortho FILE] [--overwrite]:
-// generates the bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the engine's
-// terrain format (the same Cloud-Optimized GeoTIFF as import-terrain), in UTM zone 51N
-// (EPSG:32651); with --ortho, also its synthetic orthophoto on the DEM's grid
-// (terrain/mining_dump_ortho.h).
+// nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--fine-relief] [--ortho FILE]
+// [--overwrite]: generates the bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the
+// engine's terrain format (the same Cloud-Optimized GeoTIFF as import-terrain, with its pyramid), in
+// UTM zone 51N (EPSG:32651); with --ortho, also its synthetic orthophoto on the DEM's grid
+// (terrain/mining_dump_ortho.h). The DEM is generated and written stripe by stripe (any size up to
+// 65,536 cells a side, in bounded memory); the orthophoto needs the whole grid (4e8 samples at most).
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/mining_dump.h"
@@ -29,11 +30,13 @@ struct MakeTerrainArgs {
 void runMakeTerrain(const MakeTerrainArgs& args) {
   if (!(args.params.size >= 16 * args.params.cell && args.params.cell > 0))
     throw InputError("--size must be at least 16 cells and --cell positive");
-  if (const double n = std::round(args.params.size / args.params.cell); n * n > 4.0e8) {
-    char text[160];
-    std::snprintf(text, sizeof text, "--size %g at --cell %g is %.0f cells a side: more than the generator's 4e8 samples",
-                  args.params.size, args.params.cell, n);
-    throw InputError(std::string(text) + " (it holds them in memory)");
+  const double cells = std::round(args.params.size / args.params.cell);
+  if (cells > terrain::kMaxMiningDumpCellsPerSide || (!args.ortho.empty() && cells * cells > terrain::kMaxHeldMiningDumpSamples)) {
+    char text[200];
+    std::snprintf(text, sizeof text, "--size %g at --cell %g is %.0f cells a side: more than the generator's %s",
+                  args.params.size, args.params.cell, cells,
+                  cells > terrain::kMaxMiningDumpCellsPerSide ? "65536 a side" : "4e8 samples with --ortho (it holds them in memory)");
+    throw InputError(text);
   }
   if (!args.ortho.empty()) {
     // Refused before anything is written, so that a refusal leaves OUT as it was too.
@@ -45,17 +48,24 @@ void runMakeTerrain(const MakeTerrainArgs& args) {
     if (std::filesystem::exists(args.ortho, ec) && !args.overwrite)
       throw InputError(args.ortho + ": already exists (use --overwrite to replace it)");
   }
-  const terrain::MiningDump dump = terrain::generateMiningDump(args.params);
-  terrain::writeTerrainCog(args.out, dump.cols, dump.rows, dump.heights, dump.originX, dump.originY, dump.cell,
-                           dump.cell, terrain::kMiningDumpCrs, args.overwrite);
+  const terrain::MiningDumpGenerator generator(args.params);
+  float lo = INFINITY, hi = -INFINITY;
+  terrain::writeTerrainCog(
+      args.out, generator.cols(), generator.rows(),
+      [&](int r0, int count, float* heights) {
+        generator.generateRows(r0, count, heights);
+        for (std::size_t k = 0; k < std::size_t(count) * std::size_t(generator.cols()); ++k)
+          lo = std::min(lo, heights[k]), hi = std::max(hi, heights[k]);
+      },
+      generator.originX(), generator.originY(), args.params.cell, args.params.cell, terrain::kMiningDumpCrs,
+      args.overwrite);
   if (!args.ortho.empty())
-    terrain::writeMiningDumpOrtho(args.ortho, dump, args.params.seed, terrain::kMiningDumpCrs, args.overwrite);
-  float lo = dump.heights[0], hi = dump.heights[0];
-  for (float h : dump.heights) lo = std::min(lo, h), hi = std::max(hi, h);
-  const auto& L = dump.layout;
+    terrain::writeMiningDumpOrtho(args.ortho, terrain::generateMiningDump(args.params), args.params.seed,
+                                  terrain::kMiningDumpCrs, args.overwrite);
+  const auto& L = generator.layout();
   std::printf("generated %s (seed %llu)\n", args.out.c_str(), static_cast<unsigned long long>(args.params.seed));
-  std::printf("  size:         %d x %d samples\n", dump.cols, dump.rows);
-  std::printf("  cell size:    %.10g x %.10g (CRS units)\n", dump.cell, dump.cell);
+  std::printf("  size:         %d x %d samples\n", generator.cols(), generator.rows());
+  std::printf("  cell size:    %.10g x %.10g (CRS units)\n", args.params.cell, args.params.cell);
   std::printf("  CRS:          WGS 84 / UTM zone 51N (EPSG:32651)\n");
   std::printf("  height range: %.3f .. %.3f m\n", double(lo), double(hi));
   std::printf("  nodata:       0.0000 %%\n");
@@ -80,6 +90,8 @@ void registerMakeTerrain(CLI::App& app) {
   cmd->add_option("--seed", args->params.seed, "Random seed (same seed, same heights)")->default_val(1);
   cmd->add_option("--size", args->params.size, "Side of the square area, metres")->default_val(1000.0);
   cmd->add_option("--cell", args->params.cell, "Cell size, metres")->default_val(1.0);
+  cmd->add_flag("--fine-relief", args->params.fineRelief,
+                "Relief down to the cell (stones, ruts: noise octaves from 2 m down to two cells), as a drone survey has");
   cmd->add_option("--ortho", args->ortho,
                   "Also write a synthetic orthophoto of the dump (RGB GeoTIFF on the DEM's grid) to this file");
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT (and --ortho FILE)");
