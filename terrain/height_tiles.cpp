@@ -37,7 +37,6 @@ HeightTileCache::HeightTileCache(int cols, int rows, std::optional<float> noData
   if (!loader_) throw std::invalid_argument("HeightTileCache: no loader");
   if (!tileRanges_.empty() && tileRanges_.size() != 2 * std::size_t(tilesX_) * std::size_t(tilesY_))
     throw std::invalid_argument("HeightTileCache: tileRanges must hold {min, max} per tile");
-  prefetcher_ = std::thread([this] { prefetchLoop(); });
 }
 
 HeightTileCache::~HeightTileCache() {
@@ -46,7 +45,7 @@ HeightTileCache::~HeightTileCache() {
     stopping_ = true;
   }
   changed_.notify_all();
-  prefetcher_.join();
+  if (prefetcher_.joinable()) prefetcher_.join();
 }
 
 std::pair<float, float> HeightTileCache::tileRange(int tx, int ty) const {
@@ -178,11 +177,14 @@ void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const
       queue_.push_back(k);
       queued = true;
     }
+    // Started on the first prefetch, not with the cache: a scene loader forks to read models
+    // (core/guarded_process.h) while no other thread runs.
+    if (queued && !prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
   }
   if (queued) changed_.notify_all();
 }
 
-void HeightTileCache::prefetchLoop() {
+void HeightTileCache::prefetchLoop() const {
   std::unique_lock lock(mutex_);
   for (;;) {
     changed_.wait(lock, [&] { return stopping_ || !queue_.empty(); });

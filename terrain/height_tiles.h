@@ -17,8 +17,8 @@
 // thread keeps the last tile it used (so its hits take no lock and no atomic operation), so the
 // bytes alive can exceed the budget by a few tiles per thread. A tile's use is stamped when a thread
 // takes it into its slot and when prefetch() names it (a walker names its own tiles every step), not
-// on every hit. prefetch() queues tiles for a background thread, so that a
-// walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
+// on every hit. prefetch() queues tiles for a background thread (started by the first one), so that
+// a walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
 // wait (stats().waits), whether read there or in flight on the background thread.
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
@@ -120,7 +120,7 @@ class HeightTileCache {
  private:
   std::shared_ptr<const HeightTile> read(int tx, int ty) const;
   void insert(std::uint64_t key, std::shared_ptr<const HeightTile> tile) const;  // mutex_ held
-  void prefetchLoop();
+  void prefetchLoop() const;
   std::uint64_t key(int tx, int ty) const { return std::uint64_t(ty) * std::uint64_t(tilesX_) + std::uint64_t(tx); }
 
   int cols_, rows_, tilesX_, tilesY_;
@@ -139,7 +139,7 @@ class HeightTileCache {
   mutable HeightTileStats stats_;
   mutable std::mutex readMutex_;  // the loader, one call at a time
   bool stopping_ = false;
-  std::thread prefetcher_;
+  mutable std::thread prefetcher_;  // started by the first prefetch()
 };
 
 }  // namespace nestwalk::terrain

@@ -81,14 +81,17 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
     EXPECT_DOUBLE_EQ(s["ratio"]["p95"].get<double>(), s["ms_p95"].get<double>() / base["ms_p95"].get<double>());
   }
   EXPECT_DOUBLE_EQ(base["ratio"]["p50"].get<double>(), 1.0);
-  // The targets: the largest size's p50 and p95 ratios, peak RSS, first frame and settled view ratio.
+  // The targets: the largest size's p50 and p95 ratios, peak RSS, the scene's opening, first frame,
+  // settling and settled view ratio.
   const nlohmann::json& big = j["sizes"].back();
-  ASSERT_EQ(j["targets"].size(), 5u);
+  ASSERT_EQ(j["targets"].size(), 7u);
   EXPECT_DOUBLE_EQ(j["targets"][0]["value"].get<double>(), big["ratio"]["p50"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][1]["value"].get<double>(), big["ratio"]["p95"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][2]["value"].get<double>(), big["peak_rss_mib"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][3]["value"].get<double>(), big["first_frame_ms"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(),
+  EXPECT_DOUBLE_EQ(j["targets"][3]["value"].get<double>(), big["dem_load_s"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(), big["first_frame_ms"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][5]["value"].get<double>(), big["settle_s"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][6]["value"].get<double>(),
                    big["settled_ms_p50"].get<double>() / j["sizes"][0]["settled_ms_p50"].get<double>());
 
   // Again with one of the sizes given: its DEM comes from the cache.
@@ -99,6 +102,33 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
   ASSERT_EQ(k["sizes"].size(), 1u);
   EXPECT_FALSE(k["sizes"][0]["dem_generated"].get<bool>());
   EXPECT_EQ(k["sizes"][0]["dem_file"], j["sizes"][0]["dem_file"]);
+}
+
+TEST(BenchRenderSweep, TheFinerShapeMeasuresTheBundledDumpAtEachCellWithFineRelief) {
+  if (!std::filesystem::exists(test::bundledSceneFile()))
+    GTEST_SKIP() << "the bundled scene is absent: build the bundled_scene target";
+  const TempFolder cache;
+  const CommandResult r =
+      runNestwalk("bench render --terrain-cells 8,16 --quick --json --terrain-cache " + quoted(cache.path()));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["sizes"].size(), 2u);
+  const double cells[] = {16, 8};  // coarse to fine
+  for (std::size_t i = 0; i < 2; ++i) {
+    const nlohmann::json& s = j["sizes"][i];
+    EXPECT_EQ(s["size_m"].get<double>(), 1000.0);
+    EXPECT_EQ(s["cell_m"].get<double>(), cells[i]);
+    EXPECT_TRUE(s["fine_relief"].get<bool>());
+    const double n = double(std::lround(1000.0 / cells[i]));
+    EXPECT_EQ(s["samples"].get<double>(), n * n);
+    EXPECT_TRUE(std::filesystem::exists(s["dem_file"].get<std::string>())) << s["dem_file"];
+  }
+  const CommandResult both = runNestwalk("bench render --terrain-cells 8 --terrain-sizes 250 --quick");
+  EXPECT_EQ(both.exitCode, 1);
+  EXPECT_NE(both.err.find("--terrain-cells"), std::string::npos) << both.err;
+  const CommandResult tiny = runNestwalk("bench render --terrain-cells 100 --quick");
+  EXPECT_EQ(tiny.exitCode, 1);
+  EXPECT_NE(tiny.err.find("--terrain-cells"), std::string::npos) << tiny.err;
 }
 
 TEST(BenchRenderSweep, BadSizesAndCacheAreInputErrors) {

@@ -102,6 +102,24 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
       ->expected(0, CLI::detail::expected_max_vector_size)
       ->delimiter(',')
       ->type_name("METRES");
+  cmd.add_option_function<std::vector<std::string>>(
+         "--terrain-cells",
+         [&o](const std::vector<std::string>& values) {
+           o.terrainSweep = true;
+           o.terrainCells.clear();
+           for (const std::string& v : values) {
+             double cell = 0;
+             if (!CLI::detail::lexical_cast(v, cell))
+               throw InputError("--terrain-cells: '" + v + "' is not a cell size in metres");
+             o.terrainCells.push_back(cell);
+           }
+         },
+         "Instead of the configurations, the finer terrain sweep (the drone case): the 1000 m mining dump with relief "
+         "down to the cell (make-terrain --fine-relief) at these cell sizes in metres, e.g. 1 0.1 0.032 (1 M, 100 M "
+         "and 1 G samples)")
+      ->expected(1, CLI::detail::expected_max_vector_size)
+      ->delimiter(',')
+      ->type_name("METRES");
   cmd.add_option("--terrain-cache", o.terrainCache,
                  "Folder of the sweep's generated DEMs, reused while they exist (default: "
                  "nestwalk-terrain-cache in the system's temporary folder)");

@@ -32,9 +32,10 @@ struct RenderBenchOptions : BenchOptions {
   std::string scene;                 // scene file
   std::vector<std::string> scripts;  // its flythroughs
   // The terrain-size sweep (render_terrain_sweep.h) instead of the configurations: on when
-  // --terrain-sizes is given.
+  // --terrain-sizes or --terrain-cells is given.
   bool terrainSweep = false;
   std::vector<double> terrainSizes;  // metres; empty: the sweep's defaults
+  std::vector<double> terrainCells;  // metres: the finer sweep (the 1000 m dump at these cells); empty: the wider one
   std::string terrainCache;          // folder of the generated DEMs; empty: the default
   std::string sweepChild;            // hidden: a sweep child's request file (it measures one size)
 

@@ -1,8 +1,10 @@
-// The terrain-size sweep of the rendering benchmark (`nestwalk bench render --terrain-sizes
-// [METRES ...]`): the bundled flythroughs' poses rendered over generated
-// mining-dump terrains of several sizes (default 1000, 4000 and 10000 m at 1 m cells: 1 M, 16 M and
-// 100 M samples; --quick: 250 and 500 m at 320 x 180), to show that what the view-bounded terrain
-// (engine/render/paged_terrain.h) costs grows with the view, not with the DEM.
+// The terrain-size sweep of the rendering benchmark, in two shapes: wider (`nestwalk bench render
+// --terrain-sizes [METRES ...]`: generated mining-dump terrains of several sides at 1 m cells,
+// default 1000, 4000 and 10000 m: 1 M, 16 M and 100 M samples, 32768 m for 1 G; --quick: 250 and
+// 500 m at 320 x 180) and finer (`--terrain-cells METRES ...`: the 1000 m dump with relief down to
+// the cell, make-terrain --fine-relief, at each cell size: 1 0.1 0.032 for 1 M, 100 M and 1 G, the
+// drone case). The bundled flythroughs' poses are rendered over each, to show that what the
+// view-bounded terrain (engine/render/paged_terrain.h) costs grows with the view, not with the DEM.
 //
 // Poses: sampled from the bundled scene's flythroughs as the rest of `bench render` samples them
 // (render_bench.h: the walker on the bundled scene, no GL). Each pose keeps its x, y, heading,
@@ -12,9 +14,9 @@
 // poses lie on every terrain at least as large as the bundled one (1000 m); on a smaller one
 // (--quick) a pose outside it takes the ground at the nearest point of the terrain's extent.
 //
-// DEMs: terrain::generateMiningDump (seed 1, 1 m cells, the default centre) written as the engine's
-// terrain COG (terrain_import.h: tiled, DEFLATE, overviews) into the cache folder (--terrain-cache,
-// default <system temp>/nestwalk-terrain-cache), as mining_dump_seed1_cell1_size<METRES>.tif, and
+// DEMs: terrain::MiningDumpGenerator (seed 1, the default centre), streamed stripe by stripe into the
+// engine's terrain COG and its pyramid (terrain_import.h) in the cache folder (--terrain-cache,
+// default <system temp>/nestwalk-terrain-cache), as mining_dump_seed1_cell<CELL>_size<METRES>[_fine].tif, and
 // reused while that file exists (it is written under a temporary name and renamed, so an existing
 // one is complete; remove the folder after changing the generator).
 //
@@ -34,11 +36,13 @@
 // peak RSS (also as it stood once the scene was loaded: the DEM's share). A size whose timed frames
 // were mostly still loading gets a note under the table (its frames drew a coarser terrain than the
 // settled view). Then the ratios of p50 and p95 to the smallest size's, and the targets for
-// the largest size: p50 within 1.25x and p95 within 1.5x of the smallest, peak RSS at most 2.5 GB,
-// the first frame at most 3 s after the scene is loaded.
+// the largest size: p50 within 1.25x and p95 within 1.5x of the smallest, the settled view within
+// 1.25x (finer) or 1.5x (wider) of the smallest's, peak RSS at most 1.5 GB, the scene opened in at
+// most 1 s, the first frame at most 1.5 s after it and the settle poses settled within 3 s.
 //
-// Errors: a size below 16 cells or above the generator's 4e8 samples, or given twice, is an
-// InputError naming --terrain-sizes; a cache folder that cannot be made, one naming --terrain-cache.
+// Errors: a size (or cell) giving fewer than 16 or more than 65,536 cells a side, or given twice,
+// is an InputError naming --terrain-sizes (--terrain-cells; both at once too); a cache folder that
+// cannot be made, one naming --terrain-cache.
 // A child that fails is reported as the benchmark's error for that size (its own message went to
 // stderr), and the program then ends with status 1.
 //
