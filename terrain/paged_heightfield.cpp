@@ -1,6 +1,10 @@
 #include "nestwalk/terrain/paged_heightfield.h"
 
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -70,6 +74,20 @@ Heightfield openPagedHeightfield(std::shared_ptr<const TerrainPyramid> pyramid, 
   const RasterFrame& f = pyramid->frame();
   return Heightfield(cols, rows, std::move(tiles), range, f.originX + options.shift.x(), f.originY + options.shift.y(),
                      f.dx, f.dy, noData, f.georeferenced ? pyramid->crsWkt() : std::string());
+}
+
+Heightfield openTerrainHeightfield(const std::string& path, std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (std::filesystem::exists(pyramidPathOf(path), ec)) {
+    try {
+      return openPagedHeightfield(std::make_shared<const TerrainPyramid>(path));
+    } catch (const InputError& e) {
+      if (warnings) warnings->push_back(std::string(e.what()) + " (read whole instead)");
+    } catch (const std::invalid_argument&) {
+      // A grid too small to page: read whole.
+    }
+  }
+  return readDem(path, {}, warnings);
 }
 
 }  // namespace nestwalk::terrain

@@ -22,6 +22,8 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace nestwalk::terrain {
 
@@ -32,5 +34,12 @@ struct PagedHeightfieldOptions {
 
 Heightfield openPagedHeightfield(std::shared_ptr<const TerrainPyramid> pyramid,
                                  const PagedHeightfieldOptions& options = {});
+
+/// The heightfield of the terrain file at `path` for a tool that reads a few places of it: paged
+/// from its pyramid when one is beside it and opens (so a survey of any size opens at once), else
+/// read whole (readDem, band 1). A pyramid that is refused (stale, damaged) is set aside with its
+/// reason appended to `warnings` (when given); readDem's warnings are appended too. InputError as
+/// readDem's.
+Heightfield openTerrainHeightfield(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace nestwalk::terrain

@@ -10,6 +10,7 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/paged_heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
 
 #include <nlohmann/json.hpp>
@@ -189,7 +190,7 @@ BuildSceneSummary buildScene(const BuildSceneOptions& o) {
     terrainInScene = "terrain.tif";
     summary.terrainImported = true;
   }
-  const terrain::Heightfield hf = terrain::readDem(terrainPath);
+  const terrain::Heightfield hf = terrain::openTerrainHeightfield(terrainPath);  // paged when it has a pyramid
   if (hf.crsWkt().empty())
     throw InputError(o.terrain + ": has no CRS, so the layers cannot be placed on it (import it with --crs first)");
   summary.terrainCrs = terrain::crsName(hf.crsWkt());

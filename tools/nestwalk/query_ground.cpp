@@ -8,14 +8,11 @@
 #include "nestwalk/core/map_points_csv.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/paged_heightfield.h"
-#include "nestwalk/terrain/terrain_pyramid.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <memory>
-#include <optional>
 
 namespace nestwalk::tools {
 namespace {
@@ -27,18 +24,8 @@ struct QueryGroundArgs {
 
 void runQueryGround(const QueryGroundArgs& args) {
   std::vector<std::string> warnings;
-  std::optional<terrain::Heightfield> paged;
-  std::error_code ec;
-  if (args.band == 1 && std::filesystem::exists(terrain::pyramidPathOf(args.terrain), ec)) {
-    try {
-      paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(args.terrain));
-    } catch (const InputError& e) {
-      warnings.push_back(std::string(e.what()) + " (read whole instead)");
-    } catch (const std::invalid_argument&) {
-      // A grid too small to page: read whole.
-    }
-  }
-  const terrain::Heightfield hf = paged ? std::move(*paged) : terrain::readDem(args.terrain, {args.band}, &warnings);
+  const terrain::Heightfield hf = args.band == 1 ? terrain::openTerrainHeightfield(args.terrain, &warnings)
+                                                 : terrain::readDem(args.terrain, {args.band}, &warnings);
   for (const auto& w : warnings) std::fprintf(stderr, "nestwalk: warning: %s\n", w.c_str());
 
   std::ifstream file(args.points);
