@@ -82,16 +82,19 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
   }
   EXPECT_DOUBLE_EQ(base["ratio"]["p50"].get<double>(), 1.0);
   // The targets: the largest size's p50 and p95 ratios, peak RSS, the scene's opening, first frame,
-  // settling and settled view ratio.
+  // settling, the walker's step p99 and waits, and the settled view ratio.
   const nlohmann::json& big = j["sizes"].back();
-  ASSERT_EQ(j["targets"].size(), 7u);
+  ASSERT_EQ(j["targets"].size(), 9u);
   EXPECT_DOUBLE_EQ(j["targets"][0]["value"].get<double>(), big["ratio"]["p50"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][1]["value"].get<double>(), big["ratio"]["p95"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][2]["value"].get<double>(), big["peak_rss_mib"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][3]["value"].get<double>(), big["dem_load_s"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(), big["first_frame_ms"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][5]["value"].get<double>(), big["settle_s"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][6]["value"].get<double>(),
+  EXPECT_DOUBLE_EQ(j["targets"][6]["value"].get<double>(), big["walker_step_us_p99"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][7]["value"].get<double>(), big["ground_waits"].get<double>());
+  EXPECT_GT(big["walker_steps"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(j["targets"][8]["value"].get<double>(),
                    big["settled_ms_p50"].get<double>() / j["sizes"][0]["settled_ms_p50"].get<double>());
 
   // Again with one of the sizes given: its DEM comes from the cache.

@@ -14,6 +14,9 @@
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/mining_dump.h"
 #include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/walker/collision_world.h"
+#include "nestwalk/walker/flythrough.h"
+#include "nestwalk/walker/script_file.h"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -31,6 +34,7 @@
 #include <limits>
 #include <ostream>
 #include <sstream>
+#include <thread>
 
 extern char** environ;
 
@@ -66,6 +70,12 @@ struct SweepTerrain {
 };
 
 constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+
+/// The sweep's walker plays each flythrough this many times faster than its real pace (the
+/// prefetch thread has that much less time to read the tiles ahead: 10 times the bar);
+/// --quick plays them as fast as they go.
+constexpr double kWalkPace = 10.0;
+constexpr double kTargetStepP99Us = 2.0;  // the walker step p99 bound
 
 /// A size whose timed frames were mostly (more than this fraction) still loading gets a note under
 /// the table: most of its frames drew stand-ins, so its frame times are not the settled view's.
@@ -270,6 +280,29 @@ int runTerrainSweepChild(const std::string& requestFile) {
   }
   const double settleS = secondsSince(settleStart);
 
+  // The walker on this terrain (no equipment): each flythrough played at kWalkPace times its real
+  // pace, every step timed; the ground reads a step waited for after its first (paged terrains).
+  std::vector<double> stepUs;
+  std::uint64_t groundWaits = 0;
+  {
+    WalkerOptions wo;
+    wo.viewer = scene.spec.viewer;
+    const CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
+    const double pace = req["walk_pace"].get<double>();  // 0: as fast as it goes (--quick)
+    for (const Json& path : req["scripts"]) {
+      const auto paceStart = std::chrono::steady_clock::now();
+      try {
+        runFlythrough(scene, world, readScript(path.get<std::string>()), wo, [&](const FrameRecord& r) {
+          stepUs.push_back(r.micros[StepPart::Total]);
+          if (r.frame > 1) groundWaits += r.groundWaits;
+          if (pace > 0) std::this_thread::sleep_until(paceStart + std::chrono::duration<double>(r.time / pace));
+        });
+      } catch (const InputError&) {
+        // A start that is not on this terrain (a smaller one than the bundled): that flythrough is skipped.
+      }
+    }
+  }
+
   Json result = {{"samples", std::uint64_t(hf.cols()) * std::uint64_t(hf.rows())},
                  {"dem_load_s", demLoadS},
                  {"first_frame_ms", firstFrameMs},
@@ -292,6 +325,9 @@ int runTerrainSweepChild(const std::string& requestFile) {
                  {"settled_exact_level0_triangles_p50", percentile(settledExact, 50)},
                  {"settled_quadrants_p50", percentile(settledQuadrants, 50)},
                  {"settle_s", settleS},
+                 {"walker_steps", stepUs.size()},
+                 {"walker_step_us_p99", stepUs.empty() ? Json(nullptr) : Json(percentile(stepUs, 99))},
+                 {"ground_waits", groundWaits},
                  {"budget_mib", double(paged.budgetBytes()) / kBytesPerMiB},
                  {"load_error", paged.loadError()},
                  {"load_rss_mib", loadPeakMiB},
@@ -344,6 +380,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     const std::string request = (fs::path(run.tempPath()) / ("request_" + std::to_string(i) + ".json")).string();
     const std::string result = (fs::path(run.tempPath()) / ("result_" + std::to_string(i) + ".json")).string();
     writeFileAtomically(request, Json{{"terrain", dem},
+                                      {"scripts", o.scripts},
+                                      {"walk_pace", o.quick ? 0.0 : kWalkPace},
                                       {"width", width},
                                       {"height", height},
                                       {"poses", poses},
@@ -398,6 +436,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
       .column({"settle s", "/settle_s", 9, 1})
       .column({"settled ms", "/settled_ms_p50", 11, 1})
       .column({"settled tris", "/settled_triangles_p50", 13, 0})
+      .column({"step us p99", "/walker_step_us_p99", 12, 2})
+      .column({"waits", "/ground_waits", 6, 0})
       .column({"load RSS", "/load_rss_mib", 9, 0})
       .column({"RSS MiB", "/peak_rss_mib", 8, 0})
       .column({"p50 x", "/ratio/p50", 6, 2})
@@ -418,7 +458,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
               "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
               "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
               "of each flythrough,\n rendered until nothing is wanted: settle s in all, settled ms the median last "
-              "frame, settled tris its\n median terrain triangles); load RSS, RSS MiB: the measuring process's peak resident memory once "
+              "frame, settled tris its\n median terrain triangles); step us p99: the walker's steps over every "
+              "flythrough (no equipment),\n played at " + limitText(kWalkPace) + "x their pace, waits: ground reads a step waited for after the first; load RSS, RSS MiB: the measuring process's peak resident memory once "
               "the scene\n was loaded, and in all; p50 x, p95 x: against the smallest size)\n";
   for (const Json& row : table.rows()) {
     const std::string at = "note: at " + limitText(row["samples"].get<double>()) + " samples, ";
@@ -455,6 +496,10 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     doc.target("scene opened s" + at, "", big["dem_load_s"].get<double>(), "<=", kTargetOpenS, "");
     doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
     doc.target("settle s" + at, "", big["settle_s"].get<double>(), "<=", kTargetSettleS, "");
+    if (big["walker_step_us_p99"].is_number())
+      doc.target("walker step us p99" + at, "", big["walker_step_us_p99"].get<double>(), "<=", kTargetStepP99Us, "");
+    doc.target("ground reads waited for after the first step" + at, "", big["ground_waits"].get<double>(), "<=", 0.0,
+               " (at " + limitText(kWalkPace) + "x the flythroughs' pace)");
     const double settled = big["settled_ms_p50"].get<double>() / measured.front()["settled_ms_p50"].get<double>();
     doc.target(std::string("settled view ms, ") + vs + (finer ? " (finer)" : " (wider)"), "", settled, "<=",
                finer ? kTargetSettledFinerRatio : kTargetSettledWiderRatio, "x");
