@@ -135,6 +135,21 @@ std::string crsName(const std::string& wkt) {
   return name;
 }
 
+std::string rasterHeaderText(const std::string& path) {
+  initGdal();
+  const GdalDataset ds = openRaster(path);
+  auto* d = static_cast<GDALDatasetH>(ds.get());
+  GDALRasterBandH band = GDALGetRasterBand(d, 1);
+  const BandNoData nd = bandNoData(band);
+  char text[256];
+  double gt[6] = {0, 1, 0, 0, 0, 1};
+  GDALGetGeoTransform(d, gt);
+  std::snprintf(text, sizeof text, "%d %d %s nodata %s%.17g gt %.17g %.17g %.17g %.17g %.17g %.17g",
+                GDALGetRasterXSize(d), GDALGetRasterYSize(d), GDALGetDataTypeName(GDALGetRasterDataType(band)),
+                nd.has ? "" : "none ", nd.value, gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]);
+  return text;
+}
+
 std::pair<int, int> rasterSize(const std::string& path) {
   initGdal();
   const GdalDataset ds = openRaster(path);

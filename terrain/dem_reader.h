@@ -90,6 +90,9 @@ struct DemReadOptions {
 
 /// The raster's size in samples (columns, rows), from its header alone (openRaster's errors).
 std::pair<int, int> rasterSize(const std::string& path);
+/// What band 1's header says beyond the size, as text: its data type, nodata value and the
+/// geotransform (what a cache keys on when the samples are not read).
+std::string rasterHeaderText(const std::string& path);
 
 /// Reads band `options.band` of the raster at `path` into a Heightfield (see above). Warnings (no
 /// georeferencing) are appended to `warnings` when given. InputError on any bad input, naming the

@@ -45,12 +45,12 @@
 
 namespace nestwalk::terrain {
 
-/// Cells a side of a tile: 32 ray blocks, the size of the terrain file's own tiles (256 x 256, so a
-/// tile's read decodes at most four of them), 264 KB of heights.
+/// Cells a side of a tile: 32 ray blocks, 264 KB of heights; a tile's read decodes at most four of
+/// the terrain file's own 512 x 512 tiles (GDAL's block cache, 256 MiB by default, keeps them too).
 inline constexpr int kHeightTileCells = 256;
 /// Cells a side of a ray block (the base level of heightfield.cpp's ray pyramid, 2^3).
 inline constexpr int kHeightTileBlockCells = 8;
-/// The default budget: 1,000 tiles, 256 Mi samples' worth of area at 1 m cells, 65 km^2.
+/// The default budget: some 970 tiles, 64 M samples (64 km^2 at 1 m cells, 6.5 ha at 3.2 cm).
 inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(256) << 20;
 
 struct HeightTile {

@@ -249,17 +249,23 @@ float Heightfield::pagedSample(int col, int row) const {
               .at(col, row);
 }
 
-void Heightfield::prefetch(double x0, double y0, double x1, double y1) const {
-  if (!tiles_) return;
+std::optional<std::array<int, 4>> Heightfield::tilesUnder(double x0, double y0, double x1, double y1) const {
+  if (!tiles_) return std::nullopt;
   const double u0 = (std::min(x0, x1) - originX_) * invDx_, u1 = (std::max(x0, x1) - originX_) * invDx_;
   const double v0 = (originY_ - std::max(y0, y1)) * invDy_, v1 = (originY_ - std::min(y0, y1)) * invDy_;
-  if (!(u1 >= 0.0 && v1 >= 0.0 && u0 <= cols_ - 1 && v0 <= rows_ - 1)) return;  // NaN or outside
+  if (!(u1 >= 0.0 && v1 >= 0.0 && u0 <= cols_ - 1 && v0 <= rows_ - 1)) return std::nullopt;  // NaN or outside
   const int tx0 = int(std::max(u0, 0.0)) / kHeightTileCells, ty0 = int(std::max(v0, 0.0)) / kHeightTileCells;
   const int tx1 = std::min(int(std::min(u1, double(cols_ - 2))) / kHeightTileCells, tiles_->tilesX() - 1);
   const int ty1 = std::min(int(std::min(v1, double(rows_ - 2))) / kHeightTileCells, tiles_->tilesY() - 1);
+  return std::array<int, 4>{tx0, ty0, tx1, ty1};
+}
+
+void Heightfield::prefetch(double x0, double y0, double x1, double y1) const {
+  const auto r = tilesUnder(x0, y0, x1, y1);
+  if (!r) return;
   std::vector<std::pair<int, int>> wanted;
-  for (int ty = ty0; ty <= ty1; ++ty)
-    for (int tx = tx0; tx <= tx1; ++tx) wanted.emplace_back(tx, ty);
+  for (int ty = (*r)[1]; ty <= (*r)[3]; ++ty)
+    for (int tx = (*r)[0]; tx <= (*r)[2]; ++tx) wanted.emplace_back(tx, ty);
   tiles_->prefetch(wanted);
 }
 

@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -77,7 +78,9 @@ class Heightfield {
   std::optional<float> noData() const { return noData_; }
 
   /// The stored sample (may be the nodata value or NaN; a paged heightfield gives NaN for every hole,
-  /// as readDem's resident one does).
+  /// as readDem's resident one does, except where readDem keeps a sample that differs from the band's
+  /// nodata value only by its rounding to float, which a paged one makes a hole: valid() and every
+  /// query agree there).
   float sample(int col, int row) const {
     if (!heights_.empty()) [[likely]]
       return heights_[std::size_t(row) * std::size_t(cols_) + std::size_t(col)];
@@ -89,6 +92,10 @@ class Heightfield {
   /// Paged: queues the tiles under the map rectangle [x0, x1] x [y0, y1] (either order) that are not
   /// held for reading in the background. Resident: nothing to do.
   void prefetch(double x0, double y0, double x1, double y1) const;
+  /// Paged: the tiles under that rectangle, {tx0, ty0, tx1, ty1} inclusive; nullopt when resident
+  /// or when the rectangle misses the grid. What prefetch() would ask for, at the cost of a few
+  /// multiplications (a walker asks again only when it changes).
+  std::optional<std::array<int, 4>> tilesUnder(double x0, double y0, double x1, double y1) const;
   bool valid(int col, int row) const;
   /// Map coordinates of sample (col, row).
   Eigen::Vector2d samplePosition(int col, int row) const { return {originX_ + col * dx_, originY_ - row * dy_}; }

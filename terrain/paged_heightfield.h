@@ -1,11 +1,10 @@
 // Opening a terrain too large to hold as a paged Heightfield (heightfield.h): its samples read in
 // tiles from the terrain file on demand (height_tiles.h), its bounds from the terrain pyramid
 // (terrain_pyramid.h), so that opening reads no fine sample and the memory held is the tile
-// budget, whatever the DEM's size.
+// budget (and GDAL's block cache of the terrain file's tiles), whatever the DEM's size.
 //
-// What the pyramid gives: the lowest and highest valid sample (the top level's blocks) and each
-// tile's bounds (the blocks of level min(5, levels - 1), a tile's being those of the blocks that
-// touch it). Every answer is bit-identical to readDem's resident heightfield of the same file (the
+// What the pyramid gives: the lowest and highest valid sample and each tile's bounds (both from the
+// blocks of level min(5, levels - 1), a tile's being those of the blocks that touch it). Every answer is bit-identical to readDem's resident heightfield of the same file (the
 // tests compare ground heights, rays and samples); `shift` moves the map frame as the scene
 // loader's mapShift does (heights by shift.z, rounded to float; holes stay holes).
 //
@@ -36,8 +35,9 @@ Heightfield openPagedHeightfield(std::shared_ptr<const TerrainPyramid> pyramid,
                                  const PagedHeightfieldOptions& options = {});
 
 /// The heightfield of the terrain file at `path` for a tool that reads a few places of it: paged
-/// from its pyramid when one is beside it and opens (so a survey of any size opens at once), else
-/// read whole (readDem, band 1). A pyramid that is refused (stale, damaged) is set aside with its
+/// from its pyramid when one is beside it and opens (so a survey of any size opens at once; the
+/// pyramid's checks stand for readDem's: no warning for a raster without georeferencing, NaN
+/// samples and an all-nodata file not refused but holes), else read whole (readDem, band 1). A pyramid that is refused (stale, damaged) is set aside with its
 /// reason appended to `warnings` (when given); readDem's warnings are appended too. InputError as
 /// readDem's.
 Heightfield openTerrainHeightfield(const std::string& path, std::vector<std::string>* warnings = nullptr);

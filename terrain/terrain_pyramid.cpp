@@ -187,7 +187,7 @@ std::vector<PyramidBlock> TerrainPyramid::readBlocks(int level, int bx0, int by0
   return out;
 }
 
-ChunkPyramidData TerrainPyramid::chunkPyramidData(const ChunkKey& key) const {
+ChunkPyramidData TerrainPyramid::chunkPyramidData(const ChunkKey& key, double heightShift) const {
   static_assert(kPyramidTopCells / kChunkBlocksPerSide == kPyramidBlockCells, "a 64-cell chunk's blocks are the pyramid's");
   constexpr int kPerChunk = kChunkBlocksPerSide;
   /// Blocks around the chunk whose lows the skirts may need: a skirt reaches kSkirtReachSteps level
@@ -225,6 +225,8 @@ ChunkPyramidData TerrainPyramid::chunkPyramidData(const ChunkKey& key) const {
     return out;
   }
   out.blockLow.assign(bands.begin(), bands.begin() + std::ptrdiff_t(n));
+  auto shifted = [heightShift](float h) { return heightShift == 0.0 ? h : float(double(h) + heightShift); };
+  for (float& low : out.blockLow) low = shifted(low);
   // The level's samples: the chunk's and one more each side (clamped to the level's grid).
   const int first = key.x * kPyramidTopCells, firstRow = key.y * kPyramidTopCells;
   out.x0 = std::max(0, first - 1);
@@ -233,7 +235,7 @@ ChunkPyramidData TerrainPyramid::chunkPyramidData(const ChunkKey& key) const {
   out.height = std::min(layout_.levelRows(L), firstRow + kPyramidTopCells + 2) - out.y0;
   out.heights = readHeights(L, out.x0, out.y0, out.width, out.height);
   for (float& h : out.heights)
-    if (!std::isfinite(h) || (noData_ && h == *noData_)) h = std::numeric_limits<float>::quiet_NaN();
+    h = !std::isfinite(h) || (noData_ && h == *noData_) ? std::numeric_limits<float>::quiet_NaN() : shifted(h);
   return out;
 }
 

@@ -65,9 +65,10 @@ class TerrainPyramid {
   /// What the pyramid knows of chunk `key` of the kPyramidTopCells-cell chunk layout
   /// (terrain_chunk.h: its blocks are the pyramid's): its blocks' errors, its level's samples with
   /// a one-sample margin and the lowest samples of the level's blocks within two blocks of it. At
-  /// level 0, the errors only (the fine samples are the terrain file's). std::out_of_range for a
-  /// chunk not in that layout.
-  ChunkPyramidData chunkPyramidData(const ChunkKey& key) const;
+  /// level 0, the errors only (the fine samples are the terrain file's). Heights and lows moved by
+  /// heightShift metres (rounded to float, as the scene loader moves a heightfield's samples).
+  /// std::out_of_range for a chunk not in that layout.
+  ChunkPyramidData chunkPyramidData(const ChunkKey& key, double heightShift = 0) const;
   /// Reads every page whole and checks it against its CRC-32: InputError naming the page otherwise.
   void verify() const;
 

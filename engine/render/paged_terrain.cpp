@@ -161,7 +161,7 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   std::optional<terrain::ChunkPyramidData> gridErrors;
   if (options_.pyramid && key.level >= std::max(1, options_.pyramidErrorsFromLevel) && !pyramidFailed_) {
     try {
-      gridErrors = options_.pyramid->chunkPyramidData(key);
+      gridErrors = options_.pyramid->chunkPyramidData(key, options_.pyramidHeightShift);
     } catch (const std::exception&) {
       pyramidFailed_ = true;  // computed from now on (exact errors: still within the rule, only slower)
     }

@@ -102,6 +102,8 @@ struct PagedTerrainOptions {
   /// corrupted on disk) falls back to computing, for good.
   std::shared_ptr<const terrain::TerrainPyramid> pyramid;
   int pyramidErrorsFromLevel = kPyramidErrorsFromLevel;  // tests lower it to reach every level
+  /// Metres the heightfield's heights lie above the pyramid's (Scene::terrainHeightShift).
+  double pyramidHeightShift = 0;
 };
 
 

@@ -128,7 +128,10 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
   terrainOptions.loading = options_.terrainLoading;
   terrainOptions.shade = options_.terrainShading;
   terrainOptions.mapOrigin = hf.origin();
-  if (options_.terrainChunkCells == terrain::kPyramidTopCells) terrainOptions.pyramid = scene_.terrainPyramid;
+  if (options_.terrainChunkCells == terrain::kPyramidTopCells) {
+    terrainOptions.pyramid = scene_.terrainPyramid;
+    terrainOptions.pyramidHeightShift = scene_.terrainHeightShift;
+  }
   if (scene_.spec.imagery && !options_.idPass) {
     // Opened here, so a bad file is refused before the first frame; read only by the thread that
     // builds the chunks (paged_terrain.h).

@@ -93,6 +93,9 @@ struct Scene {
   /// that is refused (stale, corrupt, from a newer nestwalk) is not used, and says why here.
   std::shared_ptr<const terrain::TerrainPyramid> terrainPyramid;
   std::string terrainPyramidRefused;
+  /// Metres the terrain's heights were moved by on loading (SceneLoadOptions::mapShift.z): the
+  /// pyramid's pages hold the file's own heights, this much apart from the scene's.
+  double terrainHeightShift = 0;
   std::map<std::string, Similarity<double>> typeTransforms;  // per type: model file frame -> the
                                                              // engine's model frame (model_catalog.h)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // map point of the local origin

@@ -79,6 +79,7 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
   // cache's), then the samples paged from the pyramid's terrain file or read whole.
   try {
     using Storage = SceneLoadOptions::TerrainStorage;
+    scene.terrainHeightShift = options.mapShift.z();
     const auto [cols, rows] = terrain::rasterSize(spec.terrain);
     const std::uint64_t samples = std::uint64_t(cols) * std::uint64_t(rows);
     const bool wantPaged = options.terrainStorage == Storage::paged ||

@@ -28,12 +28,12 @@ namespace fs = std::filesystem;
 /// scene read it (size, holes, height range: what changes with files beside the DEM, such as a
 /// VRT's sources or a nodata value in an .aux.xml, which the identity does not see).
 std::string sourceText(const std::string& canonical, const ModelFileIdentity& id, const terrain::Heightfield* hf,
-                       std::pair<int, int> size) {
+                       std::pair<int, int> size, const std::string& header) {
   std::ostringstream s;
   s.precision(17);
   s << id.size << ' ' << id.mtimeNs << ' ' << id.inode << ' ' << id.device << '\n' << canonical << '\n';
   if (!hf) {
-    s << size.first << ' ' << size.second << " unread\n";  // paged: the raster's header only
+    s << size.first << ' ' << size.second << " unread " << header << '\n';  // paged: the raster's header only
     return s.str();
   }
   s << hf->cols() << ' ' << hf->rows() << ' ' << hf->noDataFraction();
@@ -93,8 +93,10 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
       range && range->first <= terrain::kTerrainNoData && terrain::kTerrainNoData <= range->second)
     return nullptr;
   std::pair<int, int> size;
+  std::string header;
   try {
     size = hf ? std::make_pair(hf->cols(), hf->rows()) : terrain::rasterSize(demPath);
+    if (!hf) header = terrain::rasterHeaderText(demPath);
   } catch (const std::exception&) {
     return nullptr;
   }
@@ -105,7 +107,7 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
   char name[32];
   std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(std::hash<std::string>{}(canonical)));
   const fs::path entry = fs::path(folder) / name;
-  const std::string source = sourceText(canonical, *before, hf, size);
+  const std::string source = sourceText(canonical, *before, hf, size, header);
   std::shared_ptr<const terrain::TerrainPyramid> pyramid = openEntry(entry, source);
   if (!pyramid) {
     try {

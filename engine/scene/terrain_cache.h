@@ -48,9 +48,12 @@ std::string terrainCacheFolder();
 /// The pyramid of the DEM at `demPath` from the cache, importing it first when no entry matches
 /// (`note` is told, once, before the import starts). `hf` is the DEM as the scene read it: the
 /// entry's grid must be its (same size, same holes). Null (a DEM too large to read whole, to be
-/// paged from the entry): the entry is keyed by the DEM's identity and raster size alone, and a
-/// valid sample at the terrain files' nodata value is not looked for. Null when the cache is off,
-/// cannot be written, the import fails or the grids differ.
+/// paged from the entry): the entry is keyed by the DEM's identity and its band's header (size,
+/// data type, nodata value, geotransform: an .aux.xml's nodata changes it, a VRT's sources do
+/// not), and a valid sample at the terrain files' nodata value (-32768, which the import makes a
+/// hole) is not looked for: such a DEM pages with holes there. The two keys differ, so a DEM read
+/// both ways has two entries. Null when the cache is off, cannot be written, the import fails or
+/// the grids differ.
 std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::string& demPath,
                                                                     const terrain::Heightfield* hf,
                                                                     const std::function<void(const std::string&)>& note);

@@ -115,7 +115,7 @@ std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double hea
   s.time = state_.time;
   s.pitchDeg = state_.pitchDeg;
   state_ = s;
-  prefetchGround(Eigen::Vector3d::Zero());
+  prefetchGround(Eigen::Vector3d::Zero(), true);
   return {};
 }
 
@@ -226,18 +226,25 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   return leg;
 }
 
-void Walker::prefetchGround(const Eigen::Vector3d& velocity) {
+void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
   if (!terrain_.paged()) return;
-  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + kPrefetchSeconds * velocity.head<2>();
+  Eigen::Vector2d ahead = kPrefetchSeconds * velocity.head<2>();
+  const double reach = kPrefetchMaxAheadTiles * terrain::kHeightTileCells * std::min(terrain_.dx(), terrain_.dy());
+  if (ahead.norm() > reach) ahead *= reach / ahead.norm();
+  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + ahead;
   const double m = kPrefetchMarginMetres + 2.0 * std::max(terrain_.dx(), terrain_.dy());
-  terrain_.prefetch(std::min(a.x(), b.x()) - m, std::min(a.y(), b.y()) - m, std::max(a.x(), b.x()) + m,
-                    std::max(a.y(), b.y()) + m);
+  const double x0 = std::min(a.x(), b.x()) - m, y0 = std::min(a.y(), b.y()) - m;
+  const double x1 = std::max(a.x(), b.x()) + m, y1 = std::max(a.y(), b.y()) + m;
+  const auto tiles = terrain_.tilesUnder(x0, y0, x1, y1);
+  if (!tiles || (*tiles == prefetchedTiles_ && !force)) return;
+  prefetchedTiles_ = *tiles;
+  terrain_.prefetch(x0, y0, x1, y1);
 }
 
 StepReport Walker::step(const StepInput& in) {
   StepReport report;
   const std::uint64_t waitsBefore = terrain::HeightTileCache::threadWaits();
-  if (state_.frame % kPrefetchEverySteps == 0) prefetchGround(in.move / options_.dt);
+  prefetchGround(in.move / options_.dt, state_.frame % kPrefetchRefreshSteps == 0);
   Clock::time_point t0;
   if (options_.timeParts) t0 = Clock::now();
 

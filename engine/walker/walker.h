@@ -16,8 +16,8 @@
 // Units: metres (map frame for positions and moves), seconds (dt, time), degrees (heading, pitch,
 // body yaw, max_slope_deg). `origin` is the map point of the scene's local frame (Scene::origin).
 // Ownership: the walker keeps references to `terrain` and `world`; both must outlive it.
-// Paged terrain (terrain/heightfield.h): every kPrefetchEverySteps steps the walker asks for the
-// tiles under a box around its feet and kPrefetchSeconds of its current motion ahead, so that a walk
+// Paged terrain (terrain/heightfield.h): the walker asks for the tiles under a box around its feet
+// and kPrefetchSeconds of its current motion ahead (when they change), so that a walk
 // (at 8 m/s: 16 m ahead, two tiles of a 3.2 cm DEM) finds its ground read before it arrives; a step
 // that had to wait for a tile counts it (StepReport::groundWaits).
 // Thread safety: a walker is used by one thread (place(), setView() and step() change its state;
@@ -47,13 +47,18 @@ inline constexpr double kStopDistance = 0.5e-3;
 /// Ground samples along a step, in cells of the terrain: half a cell, so that no ridge or ditch of
 /// the triangulated surface is stepped over between two samples.
 inline constexpr double kGroundSampleSpacing = 0.5;
-/// Seconds of motion ahead whose ground a paged terrain reads in the background, and how often the
-/// walker asks (steps): a tile takes a few milliseconds to read, 2 s leave a wide margin.
+/// Seconds of motion ahead whose ground a paged terrain reads in the background: a tile takes a few
+/// milliseconds to read, 2 s leave a wide margin. The walker asks when the tiles under its box
+/// change, and every kPrefetchRefreshSteps steps anyway (so that the cache counts its tiles as
+/// used): asking costs microseconds (a lock, a look-up per tile), the check every step nanoseconds.
 inline constexpr double kPrefetchSeconds = 2.0;
-inline constexpr int kPrefetchEverySteps = 15;
+inline constexpr int kPrefetchRefreshSteps = 600;
 /// Metres around the feet whose ground is always asked for: more than the body's half-width and a
 /// turn's reach within one prefetch interval.
 inline constexpr double kPrefetchMarginMetres = 4.0;
+/// The box ahead reaches at most this many tiles (terrain/height_tiles.h) of the terrain: a fast
+/// flight over a fine DEM would otherwise ask for a box of hundreds of tiles, most of the budget.
+inline constexpr double kPrefetchMaxAheadTiles = 3.0;
 
 /// Slides per step at most (a corner between two obstacles ends the step after two).
 inline constexpr int kMaxSlides = 2;
@@ -140,8 +145,10 @@ class Walker {
   WalkerOptions options_;
   WalkerState state_;
   double sampleSpacing_;  // metres
-  /// Paged terrain: asks for the tiles around the feet and ahead along `velocity` (m/s, map axes).
-  void prefetchGround(const Eigen::Vector3d& velocity);
+  /// Paged terrain: asks for the tiles around the feet and ahead along `velocity` (m/s, map axes)
+  /// when they changed since the last time, or `force`.
+  void prefetchGround(const Eigen::Vector3d& velocity, bool force);
+  std::array<int, 4> prefetchedTiles_{-1, -1, -1, -1};
 };
 
 }  // namespace nestwalk

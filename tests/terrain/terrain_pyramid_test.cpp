@@ -335,49 +335,60 @@ std::vector<std::string> headerOf(const std::string& pyramid) {
 }
 
 TEST(TerrainPyramid, ACoarseChunkFromItsPageHasTheHeightfieldsSurfaceAndColoursDeeperSkirtsAndReadsNoFineSample) {
-  // 2,000 x 1,500 (odd sizes: a narrow last column and row at every level), holes.
+  // 2,000 x 1,500 (odd sizes: a narrow last column and row at every level), holes; also with the
+  // heights moved as the scene loader's map shift moves them (the pages hold the file's own).
   PyramidCase c(2001, 1501, 19, 0.01);
   const auto pyramid = std::make_shared<const TerrainPyramid>(c.terrain);
-  const terrain::Heightfield paged = terrain::openPagedHeightfield(pyramid, {.budgetBytes = std::size_t(64) << 20});
-  const terrain::ChunkLayout l(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
-  terrain::ChunkShading shading;
-  shading.heightLo = 80;
-  shading.heightHi = 160;
-  int interior = 0, skirts = 0;
-  for (int level = 1; level < l.levels(); ++level)
-    for (int y = 0; y < l.chunksY(level); ++y)
-      for (int x = 0; x < l.chunksX(level); ++x) {
-        const terrain::ChunkKey key{level, x, y};
-        const std::string where = "chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y);
-        const terrain::ChunkPyramidData data = pyramid->chunkPyramidData(key);
-        const terrain::ChunkMesh plain = terrain::buildChunk(c.hf, l, key, shading);
-        const std::uint64_t readsBefore = paged.tiles()->stats().reads;
-        const terrain::ChunkMesh fromPage = terrain::buildChunk(paged, l, key, shading, 0, &data);
-        // Only a chunk holding the grid's last column or row reads fine samples: the hillshade's
-        // neighbours of that irregular line are off the level's lattice.
-        const bool edge = l.columns(key).back() == c.hf.cols() - 1 || l.rowsOf(key).back() == c.hf.rows() - 1;
-        if (!edge) {
-          EXPECT_EQ(paged.tiles()->stats().reads, readsBefore) << where;
-          ++interior;
+  for (const double dz : {0.0, 3.5}) {
+    SCOPED_TRACE("height shift " + std::to_string(dz));
+    std::vector<float> moved;
+    for (int r = 0; r < c.hf.rows(); ++r)
+      for (int col = 0; col < c.hf.cols(); ++col) moved.push_back(float(c.hf.sample(col, r) + dz));
+    const terrain::Heightfield resident(c.hf.cols(), c.hf.rows(), std::move(moved), c.hf.origin().x(),
+                                        c.hf.origin().y(), c.hf.dx(), c.hf.dy(), c.hf.noData(), c.hf.crsWkt());
+    const terrain::Heightfield paged = terrain::openPagedHeightfield(
+        pyramid, {.budgetBytes = std::size_t(64) << 20, .shift = Eigen::Vector3d(0, 0, dz)});
+    const terrain::ChunkLayout l(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+    terrain::ChunkShading shading;
+    shading.heightLo = 80;
+    shading.heightHi = 160;
+    int interior = 0, skirts = 0;
+    for (int level = 1; level < l.levels(); ++level)
+      for (int y = 0; y < l.chunksY(level); ++y)
+        for (int x = 0; x < l.chunksX(level); ++x) {
+          const terrain::ChunkKey key{level, x, y};
+          const std::string where = "chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y);
+          const terrain::ChunkPyramidData data = pyramid->chunkPyramidData(key, dz);
+          const terrain::ChunkMesh plain = terrain::buildChunk(resident, l, key, shading);
+          const std::uint64_t readsBefore = paged.tiles()->stats().reads;
+          const terrain::ChunkMesh fromPage = terrain::buildChunk(paged, l, key, shading, 0, &data);
+          // Only a chunk holding the grid's last column or row reads fine samples: the hillshade's
+          // neighbours of that irregular line are off the level's lattice.
+          const bool edge = l.columns(key).back() == c.hf.cols() - 1 || l.rowsOf(key).back() == c.hf.rows() - 1;
+          if (!edge) {
+            EXPECT_EQ(paged.tiles()->stats().reads, readsBefore) << where;
+            ++interior;
+          }
+          ASSERT_EQ(plain.surfaceVertices, fromPage.surfaceVertices) << where;
+          ASSERT_EQ(plain.positions.size(), fromPage.positions.size()) << where;
+          const std::size_t n = 3 * plain.surfaceVertices;
+          EXPECT_TRUE(
+              std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), fromPage.positions.begin()))
+              << where;
+          EXPECT_EQ(plain.colours, fromPage.colours) << where;
+          EXPECT_EQ(plain.texture, fromPage.texture) << where;
+          EXPECT_EQ(plain.indices, fromPage.indices) << where;
+          // Skirt bottoms: the same place, at or below the lowest fine sample of their line's reach.
+          for (std::size_t k = n; k < plain.positions.size(); k += 3) {
+            EXPECT_EQ(plain.positions[k], fromPage.positions[k]) << where;
+            EXPECT_EQ(plain.positions[k + 1], fromPage.positions[k + 1]) << where;
+            EXPECT_LE(fromPage.positions[k + 2], plain.positions[k + 2]) << where;
+            ++skirts;
+          }
         }
-        ASSERT_EQ(plain.surfaceVertices, fromPage.surfaceVertices) << where;
-        ASSERT_EQ(plain.positions.size(), fromPage.positions.size()) << where;
-        const std::size_t n = 3 * plain.surfaceVertices;
-        EXPECT_TRUE(std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), fromPage.positions.begin()))
-            << where;
-        EXPECT_EQ(plain.colours, fromPage.colours) << where;
-        EXPECT_EQ(plain.texture, fromPage.texture) << where;
-        EXPECT_EQ(plain.indices, fromPage.indices) << where;
-        // Skirt bottoms: the same place, at or below the lowest fine sample of their line's reach.
-        for (std::size_t k = n; k < plain.positions.size(); k += 3) {
-          EXPECT_EQ(plain.positions[k], fromPage.positions[k]) << where;
-          EXPECT_EQ(plain.positions[k + 1], fromPage.positions[k + 1]) << where;
-          EXPECT_LE(fromPage.positions[k + 2], plain.positions[k + 2]) << where;
-          ++skirts;
-        }
-      }
-  EXPECT_GT(interior, 20);
-  EXPECT_GT(skirts, 1000);
+    EXPECT_GT(interior, 20);
+    EXPECT_GT(skirts, 1000);
+  }
 }
 
 TEST(TerrainPyramid, StripesOfAnyHeightWriteTheSamePyramid) {
