@@ -83,37 +83,29 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
   cmd.add_option("--frames", o.framesPerScript, "Frames per flythrough (default 120)")->check(CLI::Range(1, 100000));
   declareScene(cmd, o.scene, o.scripts, "the flythroughs");
   // Given bare, CLI11 hands the callback one empty value: the sweep with its default sizes.
-  cmd.add_option_function<std::vector<std::string>>(
-         "--terrain-sizes",
-         [&o](const std::vector<std::string>& values) {
-           o.terrainSweep = true;
-           o.terrainSizes.clear();
-           for (const std::string& v : values) {
-             if (v.empty()) continue;
-             double size = 0;
-             if (!CLI::detail::lexical_cast(v, size))
-               throw InputError("--terrain-sizes: '" + v + "' is not a size in metres");
-             o.terrainSizes.push_back(size);
-           }
-         },
+  // A list of metres (given bare, CLI11 hands the callback one empty value): the sweep's terrains.
+  auto metres = [&o](std::vector<double>& into, const char* name, const char* what) {
+    return [&o, &into, name, what](const std::vector<std::string>& values) {
+      o.terrainSweep = true;
+      into.clear();
+      for (const std::string& v : values) {
+        if (v.empty()) continue;
+        double x = 0;
+        if (!CLI::detail::lexical_cast(v, x)) throw InputError(std::string(name) + ": '" + v + "' is not " + what);
+        into.push_back(x);
+      }
+    };
+  };
+  cmd.add_option_function<std::vector<std::string>>("--terrain-sizes",
+                                                    metres(o.terrainSizes, "--terrain-sizes", "a size in metres"),
          "Instead of the configurations, the terrain-size sweep: generated mining dumps of these sides in "
          "metres at 1 m cells, each measured in a child process (given bare: 1000 4000 10000, 1 M, 16 M and "
          "100 M samples)")
       ->expected(0, CLI::detail::expected_max_vector_size)
       ->delimiter(',')
       ->type_name("METRES");
-  cmd.add_option_function<std::vector<std::string>>(
-         "--terrain-cells",
-         [&o](const std::vector<std::string>& values) {
-           o.terrainSweep = true;
-           o.terrainCells.clear();
-           for (const std::string& v : values) {
-             double cell = 0;
-             if (!CLI::detail::lexical_cast(v, cell))
-               throw InputError("--terrain-cells: '" + v + "' is not a cell size in metres");
-             o.terrainCells.push_back(cell);
-           }
-         },
+  cmd.add_option_function<std::vector<std::string>>("--terrain-cells",
+                                                    metres(o.terrainCells, "--terrain-cells", "a cell size in metres"),
          "Instead of the configurations, the finer terrain sweep (the drone case): the 1000 m mining dump with relief "
          "down to the cell (make-terrain --fine-relief) at these cell sizes in metres, e.g. 1 0.1 0.032 (1 M, 100 M "
          "and 1 G samples)")

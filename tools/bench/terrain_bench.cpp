@@ -252,47 +252,33 @@ template <RayPeer (*make)(const HeightGrid&)>
 Pass<double> peerPass(Terrain& t, const RaySet& s, std::size_t n, const char* key) {
   return [&peer = t.peer(key, make), &rays = s.rays, n](double* z) { return peer(rays, n, z); };
 }
+/// A heightfield's ground heights (groundPass) or first hits (rayPass) for the set's first n rays.
+Pass<double> groundPass(const terrain::Heightfield& hf, const RaySet& s, std::size_t n) {
+  return [&hf, &s, n](double* z) {
+    const terrain::Heightfield& field = hf;  // locals: the loop then keeps them in registers
+    const std::vector<Eigen::Vector3d>& at = s.mapOrigin;
+    return answerAll(n, z, [&](std::size_t k) { return field.groundHeight(at[k].x(), at[k].y()).value_or(kNaN); });
+  };
+}
+Pass<double> rayPass(const terrain::Heightfield& hf, const RaySet& s, std::size_t n) {
+  return [&hf, &s, n](double* z) {
+    const terrain::Heightfield& field = hf;
+    const RaySet& set = s;
+    return answerAll(n, z, [&](std::size_t k) {
+      const std::optional<terrain::RayHit> h = field.intersectRay(set.mapOrigin[k], set.rays.dir[k], 0.0, set.rays.tMax[k]);
+      return h ? h->point.z() : kNaN;
+    });
+  };
+}
 const MethodDef kMethods[] = {
     {"nestwalk_ground_height", "ground_height", "groundHeight", true, false, false,
-     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
-       return [&hf = *t.hf, &s, n](double* z) {
-         const terrain::Heightfield& field = hf;  // locals: the loop then keeps them in registers
-         const std::vector<Eigen::Vector3d>& at = s.mapOrigin;
-         return answerAll(n, z, [&](std::size_t k) { return field.groundHeight(at[k].x(), at[k].y()).value_or(kNaN); });
-       };
-     }},
+     [](Terrain& t, const RaySet& s, std::size_t n) { return groundPass(*t.hf, s, n); }},
     {"nestwalk_intersect_ray", "intersect_ray", "intersectRay", false, false, false,
-     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
-       return [&hf = *t.hf, &s, n](double* z) {
-         const terrain::Heightfield& field = hf;
-         const RaySet& set = s;
-         return answerAll(n, z, [&](std::size_t k) {
-           const std::optional<terrain::RayHit> h =
-               field.intersectRay(set.mapOrigin[k], set.rays.dir[k], 0.0, set.rays.tMax[k]);
-           return h ? h->point.z() : kNaN;
-         });
-       };
-     }},
+     [](Terrain& t, const RaySet& s, std::size_t n) { return rayPass(*t.hf, s, n); }},
     {"nestwalk_paged_ground_height", "paged_ground_height", "paged ground", true, false, false,
-     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
-       return [&hf = t.pagedField(), &s, n](double* z) {
-         const terrain::Heightfield& field = hf;
-         const std::vector<Eigen::Vector3d>& at = s.mapOrigin;
-         return answerAll(n, z, [&](std::size_t k) { return field.groundHeight(at[k].x(), at[k].y()).value_or(kNaN); });
-       };
-     }},
+     [](Terrain& t, const RaySet& s, std::size_t n) { return groundPass(t.pagedField(), s, n); }},
     {"nestwalk_paged_intersect_ray", "paged_intersect_ray", "paged ray", false, false, false,
-     [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
-       return [&hf = t.pagedField(), &s, n](double* z) {
-         const terrain::Heightfield& field = hf;
-         const RaySet& set = s;
-         return answerAll(n, z, [&](std::size_t k) {
-           const std::optional<terrain::RayHit> h =
-               field.intersectRay(set.mapOrigin[k], set.rays.dir[k], 0.0, set.rays.tMax[k]);
-           return h ? h->point.z() : kNaN;
-         });
-       };
-     }},
+     [](Terrain& t, const RaySet& s, std::size_t n) { return rayPass(t.pagedField(), s, n); }},
     {"direct_lookup", nullptr, nullptr, true, false, false,
      [](Terrain& t, const RaySet& s, std::size_t n) -> Pass<double> {
        return [&g = t.grid, &s, n](double* z) {
