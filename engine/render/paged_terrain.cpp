@@ -26,6 +26,12 @@ const char* terrainLoadingName(TerrainLoading l) {
   return l == TerrainLoading::Complete ? "complete" : "background";
 }
 
+std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::TerrainPyramid* pyramid,
+                                                             const ChunkKey& key, int fromLevel, double heightShift) {
+  if (!pyramid || key.level < std::max(1, fromLevel)) return std::nullopt;
+  return pyramid->chunkPyramidData(key, heightShift);
+}
+
 std::size_t defaultTerrainBudgetBytes() {
   constexpr std::size_t kMiB = std::size_t(1) << 20;
   const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
@@ -159,9 +165,10 @@ void PagedTerrain::releaseGLObjects(osg::State* state) const {
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   std::optional<terrain::ChunkPyramidData> gridErrors;
-  if (options_.pyramid && key.level >= std::max(1, options_.pyramidErrorsFromLevel) && !pyramidFailed_) {
+  if (!pyramidFailed_) {
     try {
-      gridErrors = options_.pyramid->chunkPyramidData(key, options_.pyramidHeightShift);
+      gridErrors = chunkPyramidDataFor(options_.pyramid.get(), key, options_.pyramidErrorsFromLevel,
+                                       options_.pyramidHeightShift);
     } catch (const std::exception&) {
       pyramidFailed_ = true;  // computed from now on (exact errors: still within the rule, only slower)
     }

@@ -50,6 +50,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -80,6 +81,13 @@ inline constexpr double kTerrainSimplifyFraction = 1.5;
 /// bench render, 100 M terrain, settled triangles: exact everywhere 370k; from the pyramid from
 /// level 1 435k, from level 3 415k, from level 4 379k; settled in 0.2 s in all three.
 inline constexpr int kPyramidErrorsFromLevel = 4;
+
+/// What chunk `key` takes from the terrain pyramid: its data (TerrainPyramid::chunkPyramidData) when
+/// there is a pyramid and the chunk is of level max(1, fromLevel) or coarser; nullopt otherwise (its
+/// errors are then computed from the fine samples). Throws what the pyramid's read throws.
+std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::TerrainPyramid* pyramid,
+                                                             const terrain::ChunkKey& key, int fromLevel,
+                                                             double heightShift);
 
 /// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
 std::size_t defaultTerrainBudgetBytes();

@@ -85,7 +85,12 @@ osg::ref_ptr<osg::Group> buildSceneGraph(const Scene& scene, const SceneGraphOpt
     osg::ref_ptr<osg::MatrixTransform> tiles = new osg::MatrixTransform(
         osg::Matrixd::translate(sample0.x() - scene.origin.x(), sample0.y() - scene.origin.y(), -scene.origin.z()));
     tiles->setName("terrain");
-    tiles->addChild(buildTerrainCut(hf, options.terrainCut, &out.terrainCut));
+    TerrainCutOptions cut = options.terrainCut;
+    if (!cut.pyramid) {
+      cut.pyramid = scene.terrainPyramid;
+      cut.pyramidHeightShift = scene.terrainHeightShift;
+    }
+    tiles->addChild(buildTerrainCut(hf, cut, &out.terrainCut));
     localToMap->addChild(tiles);
     out.terrain = tiles;
   }

@@ -26,7 +26,9 @@ struct SceneGraphOptions {
   bool terrain = true;
   bool equipment = true;
   bool volumes = false;   // outer AABBs (and inner OBBs) as wireframes
-  TerrainCutOptions terrainCut;  // the terrain's error and chunk size (its colours: by height, shaded)
+  /// The terrain's error and chunk size (its colours: by height, shaded); without a pyramid of its own
+  /// the cut takes the scene's (Scene::terrainPyramid and terrainHeightShift).
+  TerrainCutOptions terrainCut;
 };
 
 // What the renderer needs to find again in a built graph (buildSceneGraph's optional output).

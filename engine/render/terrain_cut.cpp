@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -37,6 +38,12 @@ struct QuadrantErrors {
   std::array<bool, 4> drawn{};
 };
 
+/// The pyramid's data for a chunk of the cut (TerrainCutOptions::pyramid), nullopt where it is not used.
+std::optional<terrain::ChunkPyramidData> pyramidDataFor(const TerrainCutOptions& o, const ChunkKey& key) {
+  if (o.chunkCells != terrain::kPyramidTopCells) return std::nullopt;
+  return chunkPyramidDataFor(o.pyramid.get(), key, o.pyramidErrorsFromLevel, o.pyramidHeightShift);
+}
+
 class Selection {
  public:
   Selection(const terrain::Heightfield& hf, const ChunkLayout& layout, const TerrainCutOptions& o)
@@ -65,7 +72,9 @@ class Selection {
   const QuadrantErrors& errors(const ChunkKey& key) {
     auto [it, added] = cache_.try_emplace(key);
     if (added) {
-      const ChunkMesh m = terrain::buildChunk(hf_, layout_, key, geometryOnly_, options_.simplifyFraction);
+      const auto pyramid = pyramidDataFor(options_, key);
+      const ChunkMesh m = terrain::buildChunk(hf_, layout_, key, geometryOnly_, options_.simplifyFraction,
+                                              pyramid ? &*pyramid : nullptr);
       for (int q = 0; q < 4; ++q) {
         it->second.error[std::size_t(q)] = m.quadrants[std::size_t(q)].maxError;
         it->second.drawn[std::size_t(q)] = m.quadrants[std::size_t(q)].surfaceTriangles > 0;
@@ -143,7 +152,9 @@ osg::ref_ptr<osg::Group> buildTerrainCut(const terrain::Heightfield& hf, const T
   osg::ref_ptr<osg::Group> group = new osg::Group;
   group->setName("terrain cut");
   for (const auto& [key, quadrants] : quadrantsOf) {
-    const ChunkMesh mesh = terrain::buildChunk(hf, layout, key, shading, options.simplifyFraction);
+    const auto pyramid = pyramidDataFor(options, key);
+    const ChunkMesh mesh = terrain::buildChunk(hf, layout, key, shading, options.simplifyFraction,
+                                               pyramid ? &*pyramid : nullptr);
     std::vector<IndexRange> ranges;
     for (const int q : quadrants) {
       const terrain::ChunkQuadrant& quad = mesh.quadrants[std::size_t(q)];

@@ -9,7 +9,7 @@
 // Frames: the nodes are in the mesh frame (terrain_chunk.h's: metres from the heightfield's sample
 // (0, 0)); the caller places them (scene_graph.cpp).
 // Ownership: the returned group owns its nodes (every chunk is built, drawn and dropped in turn).
-// Thread safety: reads the heightfield only; build and use the nodes on one thread.
+// Thread safety: reads the heightfield (and the pyramid) only; build and use the nodes on one thread.
 #pragma once
 
 #include "nestwalk/render/paged_terrain.h"
@@ -20,6 +20,7 @@
 #include <osg/ref_ptr>
 
 #include <cstddef>
+#include <memory>
 
 namespace nestwalk {
 
@@ -29,6 +30,13 @@ struct TerrainCutOptions {
   double simplifyFraction = kTerrainSimplifyFraction;  // as the renderer's chunks (terrain_chunk.h)
   bool shade = true;                                   // Horn's hillshade baked in, as the renderer's
   terrain::ColourGridReader imagery;                   // draped imagery (empty: colours by height)
+  /// The terrain's pyramid (Scene::terrainPyramid), used when chunkCells is its kPyramidTopCells:
+  /// chunks of pyramidErrorsFromLevel and coarser take their level samples and errors from it, as
+  /// the renderer's do, so a cut of a survey-size terrain reads fine samples only where it draws
+  /// level 0 to 3. Null: every error computed from the fine samples (all of them, for the root).
+  std::shared_ptr<const terrain::TerrainPyramid> pyramid;
+  int pyramidErrorsFromLevel = kPyramidErrorsFromLevel;
+  double pyramidHeightShift = 0;  // Scene::terrainHeightShift
 };
 
 struct TerrainCutStats {

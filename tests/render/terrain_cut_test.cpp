@@ -3,9 +3,14 @@
 // at every fine sample under a surface triangle the surface is within the cut's error of the
 // sample's height (a brute force over the samples, independent of the chunks' error pass); the
 // error reported is the largest drawn; and neighbouring cells are drawn at most three levels apart
-// (what the skirts close), also where a flat plain meets rough ground. At UTM magnitudes.
+// (what the skirts close), also where a flat plain meets rough ground; the same when the chunks take
+// their samples and errors from the terrain's pyramid (as a survey-size export does). At UTM
+// magnitudes.
 #include "nestwalk/render/terrain_cut.h"
 
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
+#include "tests/common/temp_folder.h"
 #include "tests/terrain/rough_heights.h"
 
 #include <gtest/gtest.h>
@@ -131,10 +136,9 @@ struct CheckedCut {
   std::size_t surfaceTriangles = 0;  // drawn surface triangles
   CutCheck check;
 };
-CheckedCut cutAndCheck(const terrain::Heightfield& hf, double maxError) {
-  TerrainCutOptions o;
+CheckedCut cutAndCheck(const terrain::Heightfield& hf, double maxError, TerrainCutOptions o = {}) {
   o.maxErrorM = maxError;
-  o.chunkCells = 16;
+  if (!o.pyramid) o.chunkCells = 16;
   CheckedCut out;
   const osg::ref_ptr<osg::Group> cut = buildTerrainCut(hf, o, &out.stats);
   TriangleReader reader(hf);
@@ -191,6 +195,37 @@ TEST(TerrainCut, AFlatPlainBesideRoughGroundIsBalancedForTheSkirts) {
   // regions of 64 cells beside the rough ground's 8.
   EXPECT_EQ(stats.finestLevel, 0);
   EXPECT_EQ(stats.coarsestLevel, 4);
+}
+
+TEST(TerrainCut, ChunksFromThePyramidStayWithinTheErrorAndTheShift) {
+  // 577 x 449 samples written as a terrain file with its pyramid; the cut's chunks from level 1 up
+  // take their samples and errors from it. The heightfield is the file's heights moved 3.5 m up,
+  // as a scene loader's height shift moves them: the pyramid's pages are moved by as much.
+  const int cols = 577, rows = 449;
+  const std::vector<float> heights = test::roughHeights(cols, rows, 11);
+  test::TempFolder dir;
+  const std::string file = (dir / "rough.tif").string();
+  terrain::writeTerrainCog(file, cols, rows, heights, kOriginX, kOriginY, 1.0, 1.0, "EPSG:32633", false);
+  constexpr double kShift = 3.5;
+  std::vector<float> shifted = heights;
+  for (float& h : shifted) h = float(double(h) + kShift);
+  const terrain::Heightfield hf(cols, rows, std::move(shifted), kOriginX, kOriginY, 1.0, 1.0);
+  TerrainCutOptions o;
+  o.pyramid = std::make_shared<const terrain::TerrainPyramid>(file);
+  o.pyramidErrorsFromLevel = 1;
+  o.pyramidHeightShift = kShift;
+  for (const double maxError : {8.0, 3.0, 0.5}) {
+    const CheckedCut cut = cutAndCheck(hf, maxError, o);
+    if (maxError == 8.0) {
+      EXPECT_GE(cut.stats.coarsestLevel, 1) << "chunks from the pyramid drawn";
+    }
+    EXPECT_NEAR(cut.check.area, double(cols - 1) * (rows - 1), 1e-6) << maxError;
+    EXPECT_EQ(cut.check.uncovered, 0u) << maxError;
+    EXPECT_LE(cut.stats.maxErrorM, maxError) << maxError;
+    EXPECT_LE(cut.check.worstError, maxError + kVertexSlack) << maxError;
+    EXPECT_LE(cut.check.worstLevelGap, 3) << maxError;
+    EXPECT_EQ(cut.stats.surfaceTriangles + cut.stats.skirtTriangles, cut.triangles) << maxError;
+  }
 }
 
 TEST(TerrainCut, RefusesANegativeErrorAndABadChunkSize) {
