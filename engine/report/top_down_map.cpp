@@ -10,6 +10,7 @@
 #include "nestwalk/plot/axis.h"
 #include "nestwalk/plot/drawing_surface.h"
 #include "nestwalk/terrain/hillshade.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,7 +150,47 @@ Rgb terrainColour(double heightFraction, double shade) {
   return {channel(kLowTint.r, kHighTint.r), channel(kLowTint.g, kHighTint.g), channel(kLowTint.b, kHighTint.b)};
 }
 
-void drawTerrain(DrawingSurface& surface, const TopDownFrame& frame, const terrain::Heightfield& hf) {
+/// The samples a map of the frame's pixel size is drawn from, when the terrain has a pyramid and a
+/// pixel spans two or more of its cells: the window of the coarsest level whose samples are at most
+/// a pixel apart, over the frame with two samples to spare, as a heightfield of its own (the level's
+/// stored samples moved by the scene's height shift, holes where the DEM has them). Only the level's
+/// regular columns and rows (fine index a multiple of the level's step; the level's last one may
+/// sit closer) are taken. nullopt: draw from the fine samples.
+std::optional<terrain::Heightfield> levelWindow(const Scene& scene, const TopDownFrame& frame) {
+  if (!scene.terrainPyramid) return std::nullopt;
+  const terrain::TerrainPyramid& pyramid = *scene.terrainPyramid;
+  const terrain::Heightfield& fine = *scene.terrain;
+  const terrain::PyramidLayout& layout = pyramid.layout();
+  if (layout.cols != fine.cols() || layout.rows != fine.rows()) return std::nullopt;
+  const double cell = std::max(fine.dx(), fine.dy());
+  int level = 0;
+  while (level + 1 < layout.levels && terrain::PyramidLayout::step(level + 1) * cell <= frame.metresPerPixel) ++level;
+  if (level == 0) return std::nullopt;
+  const int step = terrain::PyramidLayout::step(level);
+  const Eigen::Vector2d origin = fine.origin();
+  const double east = frame.west + frame.width * frame.metresPerPixel;
+  const double north = frame.south + frame.height * frame.metresPerPixel;
+  const double sx = step * fine.dx(), sy = step * fine.dy();
+  auto clampIndex = [](double i, int last) { return int(std::clamp(std::floor(i), 0.0, double(last))); };
+  const int lastI = (fine.cols() - 1) / step, lastJ = (fine.rows() - 1) / step;  // the regular ones
+  const int i0 = clampIndex((frame.west - origin.x()) / sx - 2, lastI), i1 = clampIndex((east - origin.x()) / sx + 3, lastI);
+  const int j0 = clampIndex((origin.y() - north) / sy - 2, lastJ), j1 = clampIndex((origin.y() - frame.south) / sy + 3, lastJ);
+  if (i1 - i0 < 1 || j1 - j0 < 1) return std::nullopt;
+  std::vector<float> heights = pyramid.readHeights(level, i0, j0, i1 - i0 + 1, j1 - j0 + 1);
+  const std::optional<float> noData = pyramid.noData();
+  for (float& h : heights)
+    if (!std::isfinite(h) || (noData && h == *noData))
+      h = std::numeric_limits<float>::quiet_NaN();
+    else if (scene.terrainHeightShift != 0.0)
+      h = float(double(h) + scene.terrainHeightShift);
+  return terrain::Heightfield(i1 - i0 + 1, j1 - j0 + 1, std::move(heights), origin.x() + i0 * sx,
+                              origin.y() - j0 * sy, sx, sy);
+}
+
+void drawTerrain(DrawingSurface& surface, const TopDownFrame& frame, const Scene& scene) {
+  const terrain::Heightfield& fine = *scene.terrain;
+  const std::optional<terrain::Heightfield> level = levelWindow(scene, frame);
+  const terrain::Heightfield& hf = level ? *level : fine;
   const Eigen::Vector2d origin = hf.origin();
   const double lastU = hf.cols() - 1, lastV = hf.rows() - 1;
   auto gridU = [&](double x) { return (x - origin.x()) / hf.dx(); };
@@ -161,15 +202,23 @@ void drawTerrain(DrawingSurface& surface, const TopDownFrame& frame, const terra
   const ShadeWindow shades(hf, clampIndex(gridU(frame.west) - 1, lastU), clampIndex(gridU(east) + 2, lastU),
                            clampIndex(gridV(north) - 1, lastV), clampIndex(gridV(frame.south) + 2, lastV));
 
-  const auto range = hf.heightRange();
+  // The tint spans the whole terrain's heights, whichever samples the pixels read.
+  const auto range = fine.heightRange();
   const double lowest = range ? range->first : 0, highest = range ? range->second : 0;
+  const Eigen::Vector2d fineOrigin = fine.origin();
+  const double fineLastX = fineOrigin.x() + (fine.cols() - 1) * fine.dx();
+  const double fineLastY = fineOrigin.y() - (fine.rows() - 1) * fine.dy();
+  const double lastX = origin.x() + lastU * hf.dx(), lastY = origin.y() - lastV * hf.dy();
   std::vector<Rgb> pixels(std::size_t(frame.width) * std::size_t(frame.height), kOutsideTerrain);
   for (int j = 0; j < frame.height; ++j)
     for (int i = 0; i < frame.width; ++i) {
       Rgb& out = pixels[std::size_t(j) * std::size_t(frame.width) + std::size_t(i)];
-      const Eigen::Vector2d p = frame.pixelCentre(i, j);
-      const double u = gridU(p.x()), v = gridV(p.y());
-      if (!(u >= 0 && v >= 0 && u <= lastU && v <= lastV)) continue;
+      Eigen::Vector2d p = frame.pixelCentre(i, j);
+      if (!(p.x() >= fineOrigin.x() && p.x() <= fineLastX && p.y() <= fineOrigin.y() && p.y() >= fineLastY)) continue;
+      // Drawn from a level: a centre past its last regular sample (less than a pixel from the
+      // terrain's east or south edge) takes the nearest point of the level's window.
+      p = {std::clamp(p.x(), origin.x(), lastX), std::clamp(p.y(), lastY, origin.y())};
+      const double u = std::clamp(gridU(p.x()), 0.0, lastU), v = std::clamp(gridV(p.y()), 0.0, lastV);
       const std::optional<double> ground = hf.groundHeight(p.x(), p.y());
       const std::optional<double> shade = ground ? shadeAt(shades, hf, u, v) : std::nullopt;
       if (!shade) {
@@ -498,7 +547,7 @@ void writeTopDownMap(const std::string& path, const Scene& scene, const std::vec
   checkInputs(scene, options, path);
   const TopDownFrame frame = topDownFrame(scene, records, expectations, options);
   DrawingSurface surface(frame.width + frame.legendWidth, frame.height, kOutsideTerrain);
-  drawTerrain(surface, frame, *scene.terrain);
+  drawTerrain(surface, frame, scene);
   for (const SceneInstance& instance : scene.instances)
     drawFootprint(surface, footprint(instance.volume.inner, scene, frame),
                   kindColour(scene.spec.equipment[instance.spec].kind));

@@ -26,6 +26,12 @@
 //    bilinearly to the pixel's centre from the valid samples of its cell (hillshade.h; the rule of
 //    GDAL's `gdaldem hillshade`, tested against it). A pixel whose centre has no ground (a hole) is
 //    flat grey (128, 128, 128); beyond the outermost samples white.
+//    Samples: the terrain's own, or, when the scene has the terrain's pyramid (Scene::terrainPyramid)
+//    and a pixel spans two cells or more, the coarsest pyramid level whose samples are at most a pixel
+//    apart (every 2^L-th sample, as the DEM stores it), read over the map's window only: a map of a
+//    survey-size terrain reads about as many samples as it has pixels. A pixel centre within less
+//    than a pixel of the terrain's east or south edge (past the level's last regular sample) takes
+//    the nearest point inside.
 //  - equipment: each instance's footprint, the x-y outline of its inner OBB (the convex hull of
 //    the 8 corners' x, y), filled in its kind's colour and outlined (1 pixel) in half that colour;
 //    a footprint under 4 pixels across is drawn as a disc of radius 2 with a circle of radius 3 in

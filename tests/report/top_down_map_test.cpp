@@ -3,10 +3,13 @@
 // a rotated container and a pole) and a run over it; the image's size and north-up frame, the
 // hillshade against the plane's own Lambert shade, the hole, the path, blocked frames, the blocking
 // unit's outline, expectations and footprints are checked at pixels computed from the construction;
-// the legend column's swatches and text, and its scale bar (segments of a 1-2-5 length of metres).
+// the legend column's swatches and text, and its scale bar (segments of a 1-2-5 length of metres);
+// a map coarser than the terrain's cells drawn from its pyramid's level (a sloped plane at 70 N).
 #include "nestwalk/report/top_down_map.h"
 
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/terrain_import.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 #include "tests/report/report_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -372,6 +375,81 @@ TEST(TopDownMap, WholeTerrainFrameCoversTheSamples) {
   // The run does not move the frame with wholeTerrain.
   const TopDownFrame withRun = topDownFrame(scene, testRecords(), testExpectations(), options);
   EXPECT_NEAR(withRun.west + 0.5 * withRun.width * withRun.metresPerPixel, kOriginX + 120, 1e-6);
+}
+
+/// The expected colour of a map pixel: the tint at height fraction f, lit by the Lambert shade of
+/// the plane with slopes dz/dx, dz/dy under the documented sun.
+Rgb planeColour(double f, double dzdx, double dzdy) {
+  const Eigen::Vector3d normal = Eigen::Vector3d(-dzdx, -dzdy, 1).normalized();
+  const double alt = std::numbers::pi / 4, az = 7 * std::numbers::pi / 4;
+  const Eigen::Vector3d sun(std::cos(alt) * std::sin(az), std::cos(alt) * std::cos(az), std::sin(alt));
+  const double light = 0.35 + 0.65 * std::max(0.0, normal.dot(sun));
+  return {int(std::lround((kLowTint.r + f * (kHighTint.r - kLowTint.r)) * light)),
+          int(std::lround((kLowTint.g + f * (kHighTint.g - kLowTint.g)) * light)),
+          int(std::lround((kLowTint.b + f * (kHighTint.b - kLowTint.b)) * light))};
+}
+
+TEST(TopDownMap, AMapCoarserThanTheCellsIsDrawnFromThePyramidsLevel) {
+  // A plane z = 300 - 0.05 c - 0.1 r on 1025 x 769 samples of 1 m at 70 N (UTM 33), written as a
+  // terrain file with its pyramid; the scene's heightfield is the file's heights moved 3.5 m up
+  // (the loader's height shift). The whole-terrain map at 320 pixels has about 4 m pixels: drawn
+  // from level 2, it is still the plane's colour at every terrain pixel.
+  constexpr int cols = 1025, rows = 769;
+  constexpr double x0 = 612000.5, y0 = 7769000.5, shift = 3.5;
+  auto plane = [](int c, int r) { return 300 - 0.05 * c - 0.1 * r; };
+  std::vector<float> heights, moved, flat;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      heights.push_back(float(plane(c, r)));
+      moved.push_back(float(double(heights.back()) + shift));
+      flat.push_back(250.0f);
+    }
+  TempDir dir;
+  const std::string file = dir / "plane.tif";
+  terrain::writeTerrainCog(file, cols, rows, heights, x0, y0, 1.0, 1.0, "EPSG:32633", false);
+  Scene scene;
+  scene.terrain = std::make_shared<const terrain::Heightfield>(cols, rows, std::move(moved), x0, y0, 1.0, 1.0);
+  scene.terrainPyramid = std::make_shared<const terrain::TerrainPyramid>(file);
+  scene.terrainHeightShift = shift;
+  scene.origin = Eigen::Vector3d(x0 + 512, y0 - 384, 0);
+  TopDownMapOptions options;
+  options.maxSize = 320;
+  options.wholeTerrain = true;
+  const TopDownFrame frame = topDownFrame(scene, {}, {}, options);
+  ASSERT_GE(frame.metresPerPixel, 4.0) << "the map must be coarse enough for level 2";
+  writeTopDownMap(dir / "plane.png", scene, {}, {}, options);
+  const osg::ref_ptr<osg::Image> img = readBack(dir / "plane.png");
+  ASSERT_TRUE(img);
+  const double lowest = plane(cols - 1, rows - 1) + shift, highest = plane(0, 0) + shift;
+  std::size_t terrainPixels = 0;
+  for (int j = 0; j < frame.height; ++j)
+    for (int i = 0; i < frame.width; ++i) {
+      const Eigen::Vector2d p = frame.pixelCentre(i, j);
+      const double c = (p.x() - x0), r = (y0 - p.y());
+      if (c < 0 || r < 0 || c > cols - 1 || r > rows - 1) continue;
+      ++terrainPixels;
+      const Rgb expected = planeColour((300 - 0.05 * c - 0.1 * r + shift - lowest) / (highest - lowest), -0.05, 0.1);
+      const Rgb got = pixel(*img, {i, j});
+      ASSERT_NEAR(got.r, expected.r, 1) << i << ", " << j;
+      ASSERT_NEAR(got.g, expected.g, 1) << i << ", " << j;
+      ASSERT_NEAR(got.b, expected.b, 1) << i << ", " << j;
+    }
+  EXPECT_GT(terrainPixels, 0.9 * frame.width * frame.height * 0.75);
+
+  // What is drawn is the level's samples: with the scene's fine heights flattened (the pyramid
+  // still the plane's), the coarse map keeps the plane's shade; a map fine enough to need the
+  // fine samples (1,200 pixels: under 2 m each) shows the flat ground's.
+  scene.terrain = std::make_shared<const terrain::Heightfield>(cols, rows, std::move(flat), x0, y0, 1.0, 1.0);
+  auto centrePixel = [&](const std::string& name, int maxSize) {
+    TopDownMapOptions o = options;
+    o.maxSize = maxSize;
+    writeTopDownMap(dir / name, scene, {}, {}, o);
+    const TopDownFrame f = topDownFrame(scene, {}, {}, o);
+    return pixel(*readBack(dir / name), f.pixelOf({x0 + 512, y0 - 384}));
+  };
+  // A flat terrain's tint is the middle of the ramp (its lowest and highest are equal).
+  EXPECT_EQ(centrePixel("coarse.png", 320), planeColour(0.5, -0.05, 0.1));
+  EXPECT_EQ(centrePixel("fine.png", 1200), planeColour(0.5, 0, 0));
 }
 
 TEST(TopDownMap, BadInputsNameTheFile) {
