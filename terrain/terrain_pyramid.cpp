@@ -7,6 +7,7 @@
 #include <cpl_string.h>
 #include <gdal.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -259,6 +260,38 @@ void TerrainPyramid::verify() const {
     if (crc != pg.crc)
       throw InputError(path_ + ": terrain pyramid page " + std::to_string(p) + " is corrupt (CRC-32 mismatch)");
   }
+}
+
+std::vector<ChunkLevelStats> chunkLevelTable(const TerrainPyramid& pyramid) {
+  constexpr int kPerChunk = kChunkBlocksPerSide;
+  const PyramidLayout& layout = pyramid.layout();
+  std::vector<ChunkLevelStats> table(std::size_t(layout.levels));
+  for (int level = 0; level < layout.levels; ++level) {
+    ChunkLevelStats& row = table[std::size_t(level)];
+    row.level = level;
+    row.step = PyramidLayout::step(level);
+    const int blocksX = layout.blocksX(level), blocksY = layout.blocksY(level);
+    const int cellsX = layout.levelCols(level) - 1, cellsY = layout.levelRows(level) - 1;
+    std::vector<char> chunkUsed(std::size_t((blocksX + kPerChunk - 1) / kPerChunk));
+    for (int by0 = 0; by0 < blocksY; by0 += kPerChunk) {
+      const int h = std::min(kPerChunk, blocksY - by0);
+      const std::vector<PyramidBlock> blocks = pyramid.readBlocks(level, 0, by0, blocksX, h);
+      std::fill(chunkUsed.begin(), chunkUsed.end(), 0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < blocksX; ++x) {
+          const PyramidBlock& b = blocks[std::size_t(y) * std::size_t(blocksX) + std::size_t(x)];
+          if (b.empty()) continue;
+          chunkUsed[std::size_t(x / kPerChunk)] = 1;
+          const int by = by0 + y;
+          const std::size_t cells = std::size_t(std::min(kPyramidBlockCells, cellsX - x * kPyramidBlockCells)) *
+                                    std::size_t(std::min(kPyramidBlockCells, cellsY - by * kPyramidBlockCells));
+          row.triangles += 2 * cells;
+          row.maxError = std::max(row.maxError, double(b.error));
+        }
+      row.chunks += std::size_t(std::count(chunkUsed.begin(), chunkUsed.end(), 1));
+    }
+  }
+  return table;
 }
 
 }  // namespace nestwalk::terrain

@@ -393,7 +393,7 @@ int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
 
   t0 = std::chrono::steady_clock::now();
   d.terrainPoints = settings.terrainPoints;
-  d.lod = measureTerrainLod(*scene.terrain, settings.terrainPoints, settings.terrainRepetitions);
+  d.lod = measureTerrainLod(*scene.terrain, scene.terrainPyramid.get(), settings.terrainPoints, settings.terrainRepetitions);
   d.seconds.terrain = secondsSince(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -5,6 +5,7 @@
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
+#include "nestwalk/terrain/terrain_pyramid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,18 +34,29 @@ double nsPerQuery(const std::vector<LodPoint>& points, int repetitions, const Qu
 
 }  // namespace
 
-std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std::size_t count, int repetitions) {
+std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, const terrain::TerrainPyramid* pyramid,
+                                             std::size_t count, int repetitions) {
+  static_assert(kReportChunkCells == terrain::kPyramidTopCells, "the pyramid's blocks are the report's chunks'");
   const terrain::ChunkLayout layout(hf.cols(), hf.rows(), kReportChunkCells);
   const Eigen::Vector2d origin = hf.origin();
-  const double width = (hf.cols() - 1) * hf.dx(), height = (hf.rows() - 1) * hf.dy();
+  // The points' window, in cells from sample (0, 0).
+  int c0 = 0, r0 = 0, cells = hf.cols() - 1, rowCells = hf.rows() - 1;
+  if (hf.paged()) {
+    const int w = std::min(cells, kPagedLodWindowCells), h = std::min(rowCells, kPagedLodWindowCells);
+    c0 = (cells - w) / 2;
+    r0 = (rowCells - h) / 2;
+    cells = w;
+    rowCells = h;
+  }
 
-  // Points over the sample extent, with their full-resolution height (those without ground dropped).
+  // Points over the window, with their full-resolution height (those without ground dropped).
   SplitMix64 rng(kSeed);
   std::vector<LodPoint> points;
   std::vector<double> reference;
   points.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const double x = rng.uniform(0, width), y = -rng.uniform(0, height);  // mesh frame: rows go south
+    // Mesh frame: rows go south.
+    const double x = (c0 + rng.uniform(0, cells)) * hf.dx(), y = -(r0 + rng.uniform(0, rowCells)) * hf.dy();
     const std::optional<double> h = hf.groundHeight(origin.x() + x, origin.y() + y);
     if (!h) continue;
     points.push_back({x, y});
@@ -60,7 +72,10 @@ std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std
   });
   rows.push_back(full);
 
-  for (const terrain::ChunkLevelStats& stats : terrain::chunkLevelTable(hf, layout)) {
+  const bool fromPyramid =
+      pyramid && pyramid->layout().cols == hf.cols() && pyramid->layout().rows == hf.rows();
+  for (const terrain::ChunkLevelStats& stats :
+       fromPyramid ? terrain::chunkLevelTable(*pyramid) : terrain::chunkLevelTable(hf, layout)) {
     TerrainLodRow row;
     row.name = "L" + std::to_string(stats.level);
     row.level = stats.level;

@@ -2,8 +2,8 @@
 // the terrain's chunk quadtree (terrain/terrain_chunk.h, chunks of kReportChunkCells cells as the
 // renderer cuts them; each level's grid surface, before the renderer's simplification) against the
 // full-resolution surface (Heightfield::groundHeight) at random map points, and ns per query.
-// Thread safety: keeps no state; the heightfield is only read (the chunks measured are built by the
-// call).
+// Thread safety: keeps no state; the heightfield and the pyramid are only read (the chunks measured
+// are built by the call).
 #pragma once
 
 #include <cstddef>
@@ -13,6 +13,7 @@
 namespace nestwalk {
 namespace terrain {
 class Heightfield;
+class TerrainPyramid;
 }
 
 /// The renderer's default chunk size (RenderOptions::terrainChunkCells), which the report measures.
@@ -30,8 +31,17 @@ struct TerrainLodRow {
   double nsPerQuery = 0;      // the least over the timing repetitions
 };
 
+/// A paged terrain's points lie in a window of at most this many cells a side at its centre: 64 of
+/// its 256-cell tiles, 64 MiB, within the tile cache's default budget, so the timed loops measure
+/// ground following and not reading tiles from disk.
+inline constexpr int kPagedLodWindowCells = 2048;
+
 /// Ground following per level of detail: `points` uniform random map points over the terrain's
-/// sample extent (fixed seed), each query loop timed `repetitions` times.
-std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, std::size_t points, int repetitions);
+/// sample extent (a paged terrain's: its central window of kPagedLodWindowCells; fixed seed), each
+/// query loop timed `repetitions` times. With the terrain's pyramid (of its grid), the levels'
+/// chunk counts and errors come from its blocks (terrain_pyramid.h's chunkLevelTable) instead of
+/// building every chunk of every level.
+std::vector<TerrainLodRow> measureTerrainLod(const terrain::Heightfield& hf, const terrain::TerrainPyramid* pyramid,
+                                             std::size_t points, int repetitions);
 
 }  // namespace nestwalk

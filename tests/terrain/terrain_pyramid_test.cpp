@@ -198,6 +198,33 @@ TEST(TerrainPyramid, AChunksErrorIsTheLargestOfItsBlocks) {
       }
 }
 
+TEST(TerrainPyramid, ItsLevelTableIsTheChunksOwnWithoutHolesAndBoundsItWithThem) {
+  // Every chunk of every level built (chunkLevelTable over the samples) against the table read from
+  // the blocks pages alone.
+  for (const double holes : {0.0, 0.03}) {
+    PyramidCase c(1201, 777, 29, holes);
+    const TerrainPyramid pyramid(c.terrain);
+    const auto exact = terrain::chunkLevelTable(c.hf, terrain::ChunkLayout(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells));
+    const auto read = terrain::chunkLevelTable(pyramid);
+    ASSERT_EQ(read.size(), exact.size());
+    for (std::size_t l = 0; l < exact.size(); ++l) {
+      SCOPED_TRACE("level " + std::to_string(l) + (holes > 0 ? " with holes" : ""));
+      EXPECT_EQ(read[l].level, exact[l].level);
+      EXPECT_EQ(read[l].step, exact[l].step);
+      float rounded = float(exact[l].maxError);
+      if (double(rounded) < exact[l].maxError) rounded = std::nextafter(rounded, INFINITY);
+      EXPECT_EQ(read[l].maxError, double(rounded));
+      if (holes == 0) {
+        EXPECT_EQ(read[l].chunks, exact[l].chunks);
+        EXPECT_EQ(read[l].triangles, exact[l].triangles);
+      } else {
+        EXPECT_GE(read[l].chunks, exact[l].chunks);
+        EXPECT_GT(read[l].triangles, exact[l].triangles);
+      }
+    }
+  }
+}
+
 /// A mesh's surface triangles [first, first + count) as mesh-frame corners, with their boxes.
 struct MeshTriangle {
   std::array<Eigen::Vector3d, 3> p;
