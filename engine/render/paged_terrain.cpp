@@ -226,11 +226,25 @@ void PagedTerrain::mergeLoaded() {
     std::lock_guard lock(mutex_);
     done.swap(done_);
   }
-  for (Built& b : done) {
+  // Coarser first (a parent before its children), up to the frame's bytes; the rest go back.
+  std::stable_sort(done.begin(), done.end(), [](const Built& a, const Built& b) { return a.key.level > b.key.level; });
+  std::size_t merged = 0, bytes = 0;
+  for (; merged < done.size(); ++merged) {
+    Built& b = done[merged];
+    const std::size_t entryBytes = b.entry.bytes;
+    if (merged > 0 && bytes + entryBytes > options_.mergeBytesPerFrame) break;
     // A chunk whose parent went while it was loading cannot be reached: drop it.
     const ChunkKey parent = terrain::parentOf(b.key);
-    if (b.key.level + 1 < layout_.levels() && !cache_.count(parent)) continue;
+    if ((b.key.level + 1 < layout_.levels() && !cache_.count(parent)) || cache_.count(b.key)) continue;
     insert(std::move(b));
+    bytes += entryBytes;
+    ++stats_.chunksMerged;
+    stats_.bytesMerged += entryBytes;
+  }
+  if (merged < done.size()) {
+    std::lock_guard lock(mutex_);
+    done_.insert(done_.begin(), std::make_move_iterator(done.begin() + std::ptrdiff_t(merged)),
+                 std::make_move_iterator(done.end()));
   }
 }
 
@@ -242,7 +256,9 @@ std::size_t PagedTerrain::estimatedBytes(const ChunkKey& key) const {
 }
 
 void PagedTerrain::sortByPriority(std::vector<Want>& wants) {
-  std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) { return a.priority > b.priority; });
+  std::stable_sort(wants.begin(), wants.end(), [](const Want& a, const Want& b) {
+    return a.key.level != b.key.level ? a.key.level > b.key.level : a.priority > b.priority;
+  });
 }
 
 void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants) {
@@ -319,8 +335,13 @@ void PagedTerrain::publish(std::vector<Want> wants) {
   sortByPriority(wants);
   {
     std::lock_guard lock(mutex_);
-    // Only what fits, in-flight chunks included.
+    // Only what fits, built chunks waiting to be merged included (they are not asked for again).
     std::size_t planned = residentBytes_;
+    for (const Built& b : done_) planned += b.entry.bytes;
+    const auto built = [&](const ChunkKey& key) {
+      return std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; });
+    };
+    wants.erase(std::remove_if(wants.begin(), wants.end(), [&](const Want& w) { return built(w.key); }), wants.end());
     std::vector<Want> fitting;
     for (const Want& w : wants) {
       const std::size_t estimate = estimatedBytes(w.key);
@@ -340,7 +361,9 @@ void PagedTerrain::loaderLoop() {
     if (stop_) return;
     const ChunkKey key = wanted_.front().key;
     wanted_.erase(wanted_.begin());
-    if (std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end()) continue;
+    if (std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
+        std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; }))
+      continue;  // being built, or built and waiting to be merged
     inFlight_.push_back(key);
     lock.unlock();
     std::optional<Built> b;
@@ -374,14 +397,18 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
   osgUtil::CullVisitor* cv = nv.asCullVisitor();
   if (!cv) return;
   ++frame_;
+  stats_.chunksMerged = stats_.bytesMerged = 0;
   mergeLoaded();
   std::vector<Want> wants;
   for (;;) {
     const std::uint64_t loaded = stats_.chunksLoaded, evicted = stats_.chunksEvicted;
+    const std::size_t merged = stats_.chunksMerged, bytesMerged = stats_.bytesMerged;
     const double loadSeconds = stats_.loadSeconds;
     stats_ = PagedTerrainStats{};
     stats_.chunksLoaded = loaded;
     stats_.chunksEvicted = evicted;
+    stats_.chunksMerged = merged;
+    stats_.bytesMerged = bytesMerged;
     stats_.loadSeconds = loadSeconds;
     drawList_.clear();
     wants.clear();

@@ -14,10 +14,14 @@
 // quadrant whose simplified surface would show more than maxPixels draws its exact grid instead.
 //
 // Loading: Background (the interactive window and timed runs): one loader thread builds the chunks
-// the last cull asked for, most visible error first; a cull never waits for it, it draws what is
-// resident (the root is built by the constructor, so there is always something). Complete (tests,
-// exact renders): a cull builds what it asks for on its own thread before drawing, so each frame is
-// the error rule's full answer whatever the timing.
+// the last cull asked for, coarser levels first (then most visible error first), so the whole view
+// refines a level at a time; a cull never waits for it, it draws what is resident (the root is built
+// by the constructor, so there is always something). A cull makes at most mergeBytesPerFrame of
+// built chunks drawable (coarser first; always at least one), the rest waiting for the next frames:
+// the GL objects a frame creates and uploads stay bounded however many chunks the loader finished
+// (after a jump of the eye, or a stall). Complete (tests, exact renders): a cull builds what it asks
+// for on its own thread before drawing, so each frame is the error rule's full answer whatever the
+// timing.
 //
 // Memory: each resident chunk costs twice its arrays (ChunkMesh::bytes(): OSG keeps its copy and
 // the GL driver another; with llvmpipe both live in the process). The cache holds at most
@@ -89,6 +93,11 @@ std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::Terr
                                                              const terrain::ChunkKey& key, int fromLevel,
                                                              double heightShift);
 
+/// The chunk bytes a cull makes drawable at most (paged_terrain.h's "Loading"): 16 MiB, about
+/// 100 chunks of 64 cells, copied into GL buffers in a few milliseconds at memory speed (a fifth of
+/// a 60 Hz frame), where a frame of llvmpipe at 1280 x 720 takes 15-60 ms.
+inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(16) << 20;
+
 /// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
 std::size_t defaultTerrainBudgetBytes();
 
@@ -97,6 +106,7 @@ struct PagedTerrainOptions {
   double pixelsPerRadian = 623.5;   // the screen's (LodRule::pixelsPerRadian; 1280 x 720 at 60 degrees)
   double maxPixels = 1.0;           // the largest vertical error drawn, pixels (0: full resolution)
   std::size_t budgetBytes = 0;      // 0: defaultTerrainBudgetBytes()
+  std::size_t mergeBytesPerFrame = kChunkMergeBytesPerFrame;  // Background: built chunk bytes made drawable a cull
   TerrainLoading loading = TerrainLoading::Background;
   bool shade = true;                // bake Horn's hillshade into the colours
   /// Each chunk quadrant simplified to about this multiple of its level grid's error (exact error
@@ -170,6 +180,7 @@ class PagedTerrain : public osg::Node {
   void mergeLoaded();
   void select(const terrain::ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants);
   std::size_t estimatedBytes(const terrain::ChunkKey& key) const;
+  /// Coarser levels first, then the larger projected error.
   static void sortByPriority(std::vector<Want>& wants);
   void evictUnused(std::size_t target);
   void publish(std::vector<Want> wants);

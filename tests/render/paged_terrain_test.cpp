@@ -184,6 +184,36 @@ TEST(PagedTerrain, BackgroundLoadingSettlesToTheCompleteFrame) {
   EXPECT_EQ(background->lastStats().standIns, 0u);
 }
 
+TEST(PagedTerrain, ACullMakesAtMostItsMergeBoundDrawableAndStillSettlesToTheCompleteFrame) {
+  // A bound of one byte: one built chunk a cull, however many the loader finished meanwhile.
+  const auto hf = hills();
+  osg::ref_ptr<PagedTerrain> complete = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  cullOnce(complete.get(), kLowView);
+  PagedTerrainOptions o = options(TerrainLoading::Background);
+  o.mergeBytesPerFrame = 1;
+  osg::ref_ptr<PagedTerrain> background = new PagedTerrain(hf, o);
+  cullOnce(background.get(), kLowView);
+  int frames = 1;
+  std::size_t merged = 0;
+  while (background->lastStats().chunksWanted > 0 && frames < 2000) {
+    const std::uint64_t loadedBefore = background->lastStats().chunksLoaded;
+    background->waitUntilIdle();
+    cullOnce(background.get(), kLowView);
+    ++frames;
+    const PagedTerrainStats& s = background->lastStats();
+    ASSERT_LE(s.chunksMerged, 1u) << "frame " << frames;
+    EXPECT_EQ(s.chunksLoaded - loadedBefore, s.chunksMerged);
+    merged += s.chunksMerged;
+  }
+  EXPECT_EQ(sorted(background->drawnParts()), sorted(complete->drawnParts()));
+  EXPECT_EQ(background->lastStats().standIns, 0u);
+  EXPECT_EQ(merged + 1, background->lastStats().chunksResident);  // the root was built by the constructor
+  // Without the bound it settles in a frame a level (the test above); one chunk a frame takes a
+  // frame for each chunk.
+  EXPECT_GT(frames, background->layout().levels() + 1);
+  EXPECT_EQ(std::size_t(frames - 1), merged);
+}
+
 TEST(PagedTerrain, ATinyBudgetIsKeptAndTheViewStaysCoveredCoarser) {
   const auto hf = hills();
   osg::ref_ptr<PagedTerrain> full = new PagedTerrain(hf, options(TerrainLoading::Complete));
