@@ -20,6 +20,7 @@
 #include "nestwalk/terrain/terrain_chunk.h"
 
 #include "nestwalk/terrain/coarse_cell_error.h"
+#include "nestwalk/terrain/height_tiles.h"
 #include "nestwalk/terrain/hillshade.h"
 #include "nestwalk/terrain/terrain_pyramid_format.h"
 
@@ -139,12 +140,68 @@ void fillHoleTexels(std::vector<std::uint8_t>& texture, std::size_t w, std::size
   }
 }
 
+/// A paged chunk's fine window is copied when it holds at most this many samples: level 3 of 64-cell
+/// chunks (513 x 513, 1 MB of floats), the finest levels that read every fine sample under them
+/// (coarser ones take their errors from the pyramid: kPyramidErrorsFromLevel).
+constexpr std::size_t kFineWindowSamples = std::size_t(1) << 20;
+
+/// The fine samples a chunk's error passes read, each several times: the heightfield's own when it
+/// is resident; when it is paged, the chunk's closed fine window [c0, c1] x [r0, r1] copied once,
+/// tile by tile (holes NaN, as valid() sees them), so the reads do not each look up a tile. Samples
+/// outside the window come from the heightfield. The `Fine` grid of coarse_cell_error.h.
+class FineSamples {
+ public:
+  FineSamples(const Heightfield& hf, int c0, int r0, int c1, int r1) : hf_(hf) {
+    const std::size_t w = std::size_t(c1 - c0 + 1), h = std::size_t(r1 - r0 + 1);
+    if (!hf.paged() || w * h > kFineWindowSamples) return;
+    c0_ = c0;
+    r0_ = r0;
+    w_ = int(w);
+    h_ = int(h);
+    window_.resize(w * h);
+    const HeightTileCache& tiles = *hf.tiles();
+    const std::optional<float> noData = hf.noData();
+    for (int r = r0; r <= r1; ++r) {
+      const int ty = std::min(r / kHeightTileCells, tiles.tilesY() - 1);
+      for (int c = c0; c <= c1;) {
+        const int tx = std::min(c / kHeightTileCells, tiles.tilesX() - 1);
+        const int last = tx == tiles.tilesX() - 1 ? c1 : std::min(c1, (tx + 1) * kHeightTileCells - 1);
+        const float* from = tiles.threadTile(tx, ty).at(c, r);
+        float* to = &window_[std::size_t(r - r0) * w + std::size_t(c - c0)];
+        for (int k = 0; k <= last - c; ++k)
+          to[k] = std::isfinite(from[k]) && !(noData && from[k] == *noData) ? from[k] : std::numeric_limits<float>::quiet_NaN();
+        c = last + 1;
+      }
+    }
+  }
+  bool valid(int c, int r) const {
+    if (const float* p = find(c, r)) return !std::isnan(*p);
+    return hf_.valid(c, r);
+  }
+  double height(int c, int r) const {
+    if (const float* p = find(c, r)) return *p;
+    return hf_.sample(c, r);
+  }
+
+ private:
+  const float* find(int c, int r) const {
+    const unsigned dc = unsigned(c - c0_), dr = unsigned(r - r0_);
+    return dc < unsigned(w_) && dr < unsigned(h_) ? &window_[std::size_t(dr) * std::size_t(w_) + dc] : nullptr;
+  }
+  const Heightfield& hf_;
+  int c0_ = 0, r0_ = 0, w_ = 0, h_ = 0;  // no window: w_ = 0
+  std::vector<float> window_;
+};
+
 /// The kept samples of one chunk and which coarse triangles exist: read from the heightfield, or
 /// from the pyramid's level page (ChunkPyramidData::heights) when given.
 struct ChunkGrid {
   const Heightfield& hf;
   std::vector<int> cols, rows;
   const ChunkPyramidData* level = nullptr;  // its heights cover the kept samples (checked by buildChunk)
+  const FineSamples* fine = nullptr;         // the fine reads (null: the heightfield's)
+  bool fineValid(int c, int r) const { return fine ? fine->valid(c, r) : hf.valid(c, r); }
+  double fineHeight(int c, int r) const { return fine ? fine->height(c, r) : hf.sample(c, r); }
   int step = 1, levelCol0 = 0, levelRow0 = 0;  // the level's column and row of kept sample (0, 0)
   std::size_t nc() const { return cols.size(); }
   std::size_t nr() const { return rows.size(); }
@@ -152,10 +209,10 @@ struct ChunkGrid {
     return level->heights[std::size_t(lj - level->y0) * std::size_t(level->width) + std::size_t(li - level->x0)];
   }
   bool valid(std::size_t i, std::size_t j) const {
-    return level ? !std::isnan(fromLevel(levelCol0 + int(i), levelRow0 + int(j))) : hf.valid(cols[i], rows[j]);
+    return level ? !std::isnan(fromLevel(levelCol0 + int(i), levelRow0 + int(j))) : fineValid(cols[i], rows[j]);
   }
   double height(std::size_t i, std::size_t j) const {
-    return level ? fromLevel(levelCol0 + int(i), levelRow0 + int(j)) : hf.sample(cols[i], rows[j]);
+    return level ? fromLevel(levelCol0 + int(i), levelRow0 + int(j)) : fineHeight(cols[i], rows[j]);
   }
   /// Fine sample (c, r), NaN for a hole: from the level page where it is one of the level's samples
   /// inside it, else from the heightfield.
@@ -166,7 +223,7 @@ struct ChunkGrid {
       if (onC && onR && li >= level->x0 && li < level->x0 + level->width && lj >= level->y0 && lj < level->y0 + level->height)
         return fromLevel(li, lj);
     }
-    return hf.valid(c, r) ? hf.sample(c, r) : std::numeric_limits<float>::quiet_NaN();
+    return fineValid(c, r) ? float(fineHeight(c, r)) : std::numeric_limits<float>::quiet_NaN();
   }
   bool upper(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j) && valid(i + 1, j + 1); }
   bool lower(std::size_t i, std::size_t j) const { return valid(i, j) && valid(i + 1, j + 1) && valid(i, j + 1); }
@@ -174,6 +231,7 @@ struct ChunkGrid {
 
 /// Max |fine - coarse| over one coarse cell (i, j) of the chunk (coarse_cell_error.h).
 double cellError(const ChunkGrid& g, std::size_t i, std::size_t j) {
+  if (g.fine) return coarseCellError(*g.fine, g.cols[i], g.rows[j], g.cols[i + 1], g.rows[j + 1]);
   return coarseCellError(HeightfieldGrid{g.hf}, g.cols[i], g.rows[j], g.cols[i + 1], g.rows[j + 1]);
 }
 
@@ -209,7 +267,8 @@ std::optional<GridPlane> planeThrough(const std::array<Eigen::Vector2d, 3>& v, c
 /// every piece of the triangle cut by the fine triangulation, so its largest value lies at a fine
 /// sample inside the triangle (found with exact integer edge tests) or where one of its edges crosses
 /// a fine column, row or diagonal (terrain_chunk.h, "Simplification").
-double triangleError(const Heightfield& hf, const FineTriangle& t) {
+double triangleError(const ChunkGrid& g, const FineTriangle& t) {
+  const Heightfield& hf = g.hf;
   // Named corners, not a structured binding: clang 14 (the sanitizer builds) cannot capture those.
   const std::array<int, 2>& a = t.v[0];
   const std::array<int, 2>& b = t.v[1];
@@ -231,7 +290,7 @@ double triangleError(const Heightfield& hf, const FineTriangle& t) {
     for (int col = cMin; col <= cMax; ++col) {
       if (orient * edge(a, b, col, row) < 0 || orient * edge(b, c, col, row) < 0 || orient * edge(c, a, col, row) < 0)
         continue;
-      if (hf.valid(col, row)) err = std::max(err, std::abs(double(hf.sample(col, row)) - plane(col, row)));
+      if (g.fineValid(col, row)) err = std::max(err, std::abs(g.fineHeight(col, row) - plane(col, row)));
     }
   // Edge crossings with fine columns (col = k), rows (row = k) and diagonals (col - row = k).
   const Eigen::Vector2d o = hf.origin();
@@ -348,6 +407,9 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
       throw std::invalid_argument("buildChunk: the pyramid's samples do not cover the chunk");
     g.level = &d;
   }
+  // Without the pyramid's page the error passes read every fine sample under the chunk.
+  std::optional<FineSamples> fine;
+  if (!g.level && hf.paged()) g.fine = &fine.emplace(hf, g.cols.front(), g.rows.front(), g.cols.back(), g.rows.back());
   const std::size_t blockCells = std::size_t(chunkBlockCells(layout));
   if (gridErrors &&
       (gridErrors->blocksX != int((g.nc() - 1 + blockCells - 1) / blockCells) ||
@@ -470,7 +532,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     } else {
       for (int p = from; p <= to; ++p) {
         const int c = alongRow ? p : fineLine, r = alongRow ? fineLine : p;
-        if (hf.valid(c, r)) lowest = std::min(lowest, double(hf.sample(c, r)));
+        if (g.fineValid(c, r)) lowest = std::min(lowest, g.fineHeight(c, r));
       }
     }
     const std::uint32_t top = vertex(ki, kj);
@@ -611,7 +673,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
           const std::size_t cj = std::clamp<std::size_t>(std::size_t(std::max(0.0, (centroid.y() - r0) / step)), j0, j1 - 1);
           ChunkBlock& blk = out.blocks[blockOf(ci, cj)];
           blk.error = std::max(blk.error, gridErrors && key.level > 0 ? triangleErrorBound(g, tri, gridErrorOf)
-                                                                       : triangleError(hf, tri));
+                                                                       : triangleError(g, tri));
           for (std::size_t k = 0; k < 3; ++k) {
             const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
             blk.min = blk.min.cwiseMin(p);

@@ -2,11 +2,13 @@
 // answers exactly as the resident one read from the same file (readDem): ground heights at random
 // points, at samples and on grid lines (holes around), rays of every kind, samples, the height
 // range, also with the scene loader's map shift; the tile cache keeps to its budget (least recently
-// used out first), counts the reads a query waited for, and prefetched tiles cost no wait. Real
+// used out first), counts the reads a query waited for, and prefetched tiles cost no wait; terrain
+// chunks built from it (the finest levels copy their fine window) are the resident ones. Real
 // DEMs of ../shared/data are imported and compared the same way.
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/height_tiles.h"
 #include "nestwalk/terrain/paged_heightfield.h"
+#include "nestwalk/terrain/terrain_chunk.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
 #include "tests/common/temp_folder.h"
@@ -127,6 +129,46 @@ TEST(PagedHeightfield, AnswersBitForBitAsTheResidentHeightfieldThroughABudgetOfF
   EXPECT_GT(s.evicted, 100u);
   EXPECT_LE(s.reads - s.evicted, 4u) << "tiles held: those read less those evicted, four at most";
   EXPECT_GE(s.waits, s.reads - s.prefetched) << "every tile a query read itself was a wait";
+}
+
+TEST(PagedHeightfield, ChunksBuiltFromItAreTheResidentOnesBitForBit) {
+  // Levels 0 to 3 of 64-cell chunks read every fine sample under them (a paged chunk copies its
+  // window, tile by tile, through a budget of four tiles); simplified, shaded, with holes.
+  PagedCase c(1301, 1093, 9, 0.02);
+  const Heightfield resident = terrain::readDem(c.path);
+  const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path),
+                                                          {.budgetBytes = kFourTiles});
+  const terrain::ChunkLayout layout(resident.cols(), resident.rows(), 64);
+  terrain::ChunkShading shading;
+  const auto range = *resident.heightRange();
+  shading.heightLo = range.first;
+  shading.heightHi = range.second;
+  int chunks = 0;
+  for (int level = 0; level <= 3; ++level)
+    for (int y = 0; y < layout.chunksY(level); ++y)
+      for (int x = 0; x < layout.chunksX(level); ++x) {
+        const terrain::ChunkKey key{level, x, y};
+        if (!layout.exists(key)) continue;
+        const terrain::ChunkMesh a = terrain::buildChunk(resident, layout, key, shading, 1.5);
+        const terrain::ChunkMesh b = terrain::buildChunk(paged, layout, key, shading, 1.5);
+        SCOPED_TRACE("chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y));
+        ASSERT_EQ(a.positions, b.positions);
+        ASSERT_EQ(a.indices, b.indices);
+        ASSERT_EQ(a.colours, b.colours);
+        ASSERT_TRUE(sameDouble(a.maxError, b.maxError));
+        for (std::size_t q = 0; q < 4; ++q) {
+          ASSERT_TRUE(sameDouble(a.quadrants[q].maxError, b.quadrants[q].maxError));
+          ASSERT_EQ(a.quadrants[q].blocks.size(), b.quadrants[q].blocks.size());
+          for (std::size_t k = 0; k < a.quadrants[q].blocks.size(); ++k)
+            ASSERT_TRUE(sameDouble(a.quadrants[q].blocks[k].error, b.quadrants[q].blocks[k].error));
+          ASSERT_EQ(a.quadrants[q].refinements.size(), b.quadrants[q].refinements.size());
+          for (std::size_t k = 0; k < a.quadrants[q].refinements.size(); ++k)
+            ASSERT_TRUE(sameDouble(a.quadrants[q].refinements[k].maxError, b.quadrants[q].refinements[k].maxError));
+        }
+        ++chunks;
+      }
+  EXPECT_GT(chunks, 400);
+  EXPECT_LE(paged.tiles()->stats().peakBytesHeld, kFourTiles);
 }
 
 TEST(PagedHeightfield, TheMapShiftMovesThePagedGroundAsTheLoaderMovesTheResidentOne) {
