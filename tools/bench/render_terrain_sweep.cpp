@@ -236,6 +236,13 @@ int runTerrainSweepChild(const std::string& requestFile) {
   renderer.render(poses.front());
   const double firstFrameMs = secondsSince(firstStart) * 1000.0;
   PagedTerrain& paged = renderer.graph().pagedTerrain();
+  // The first view, rendered until its 1 px cut is complete: seconds from the scene loaded.
+  bool firstViewSettled = renderer.lastStats().terrain.chunksWanted == 0;
+  for (int k = 0; !firstViewSettled && k < kMaxSettleFrames; ++k) {
+    paged.waitUntilIdle();
+    firstViewSettled = renderer.render(poses.front()).terrain.chunksWanted == 0;
+  }
+  const double firstViewSettledS = secondsSince(firstStart);
   const std::uint64_t loadedBefore = renderer.lastStats().terrain.chunksLoaded;
 
   std::vector<double> frameMs;
@@ -325,6 +332,8 @@ int runTerrainSweepChild(const std::string& requestFile) {
                  {"settled_exact_level0_triangles_p50", percentile(settledExact, 50)},
                  {"settled_quadrants_p50", percentile(settledQuadrants, 50)},
                  {"settle_s", settleS},
+                 {"first_view_settled_s", firstViewSettledS},
+                 {"first_view_settled", firstViewSettled},
                  {"walker_steps", stepUs.size()},
                  {"walker_step_us_p99", stepUs.empty() ? Json(nullptr) : Json(percentile(stepUs, 99))},
                  {"ground_waits", groundWaits},
@@ -433,6 +442,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
       .column({"MiB", "/resident_mib_max", 7, 0})
       .column({"loads/s", "/chunks_loaded_per_s", 8, 1})
       .column({"err px", "/settled_error_px", 7, 2})
+      .column({"view s", "/first_view_settled_s", 7, 1})
       .column({"settle s", "/settle_s", 9, 1})
       .column({"settled ms", "/settled_ms_p50", 11, 1})
       .column({"settled tris", "/settled_triangles_p50", 13, 0})
@@ -454,7 +464,7 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
              << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);
   doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
-              "set up,\n root chunk built, first render); ms p50 / p95: over all poses; loading: frames with chunks "
+              "set up,\n root chunk built, first render); view s: from there to the first pose's 1 px cut complete; ms p50 / p95: over all poses; loading: frames with chunks "
               "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
               "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
               "of each flythrough,\n rendered until nothing is wanted: settle s in all, settled ms the median last "
@@ -495,7 +505,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
                            rss, rss * kBytesPerMiB <= kTargetPeakRssBytes});
     doc.target("scene opened s" + at, "", big["dem_load_s"].get<double>(), "<=", kTargetOpenS, "");
     doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
-    doc.target("settle s" + at, "", big["settle_s"].get<double>(), "<=", kTargetSettleS, "");
+    doc.target("first view settled s" + at, "", big["first_view_settled_s"].get<double>(), "<=", kTargetSettleS,
+               " after the scene is loaded");
     if (big["walker_step_us_p99"].is_number())
       doc.target("walker step us p99" + at, "", big["walker_step_us_p99"].get<double>(), "<=", kTargetStepP99Us, "");
     doc.target("ground reads waited for after the first step" + at, "", big["ground_waits"].get<double>(), "<=", 0.0,
