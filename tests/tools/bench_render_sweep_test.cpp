@@ -87,17 +87,24 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
   // The targets: the largest size's p50 and p95 ratios, peak RSS, the scene's opening, first frame,
   // settling, the walker's step p99 and waits, and the settled view ratio.
   const nlohmann::json& big = j["sizes"].back();
-  ASSERT_EQ(j["targets"].size(), 9u);
+  ASSERT_EQ(j["targets"].size(), 11u);
   EXPECT_DOUBLE_EQ(j["targets"][0]["value"].get<double>(), big["ratio"]["p50"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][1]["value"].get<double>(), big["ratio"]["p95"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][2]["value"].get<double>(), big["peak_rss_mib"].get<double>());
   EXPECT_DOUBLE_EQ(j["targets"][3]["value"].get<double>(), big["dem_load_s"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(), big["first_frame_ms"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][5]["value"].get<double>(), big["first_view_settled_s"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][6]["value"].get<double>(), big["walker_step_us_p99"].get<double>());
-  EXPECT_DOUBLE_EQ(j["targets"][7]["value"].get<double>(), big["ground_waits"].get<double>());
+  // The import: a process of its own reading the DEM and writing a terrain and its pyramid.
+  EXPECT_GT(big["import_s"].get<double>(), 0.0);
+  EXPECT_GT(big["import_peak_mib"].get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(big["import_msamples_per_s"].get<double>(),
+                   big["samples"].get<double>() / 1e6 / big["import_s"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][4]["value"].get<double>(), big["import_msamples_per_s"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][5]["value"].get<double>(), big["import_peak_mib"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][6]["value"].get<double>(), big["first_frame_ms"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][7]["value"].get<double>(), big["first_view_settled_s"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][8]["value"].get<double>(), big["walker_step_us_p99"].get<double>());
+  EXPECT_DOUBLE_EQ(j["targets"][9]["value"].get<double>(), big["ground_waits"].get<double>());
   EXPECT_GT(big["walker_steps"].get<double>(), 100.0);
-  EXPECT_DOUBLE_EQ(j["targets"][8]["value"].get<double>(),
+  EXPECT_DOUBLE_EQ(j["targets"][10]["value"].get<double>(),
                    big["settled_ms_p50"].get<double>() / j["sizes"][0]["settled_ms_p50"].get<double>());
 
   // Again with one of the sizes given: its DEM comes from the cache.
@@ -108,6 +115,8 @@ TEST(BenchRenderSweep, QuickJsonRunMeasuresEverySize) {
   ASSERT_EQ(k["sizes"].size(), 1u);
   EXPECT_FALSE(k["sizes"][0]["dem_generated"].get<bool>());
   EXPECT_EQ(k["sizes"][0]["dem_file"], j["sizes"][0]["dem_file"]);
+  // And its import's figures, measured once, from beside it.
+  EXPECT_DOUBLE_EQ(k["sizes"][0]["import_s"].get<double>(), j["sizes"][0]["import_s"].get<double>());
 }
 
 TEST(BenchRenderSweep, TheFinerShapeMeasuresTheBundledDumpAtEachCellWithFineRelief) {

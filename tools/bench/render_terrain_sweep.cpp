@@ -19,6 +19,7 @@
 #include "nestwalk/walker/script_file.h"
 
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -59,7 +60,9 @@ constexpr double kTargetSettledWiderRatio = 1.5;  // and wider sweep
 constexpr double kTargetPeakRssBytes = 1.5e9;     // bytes: the issue's "1.5 GB" (decimal)
 constexpr double kTargetOpenS = 1.0;              // s to load the scene (open the terrain)
 constexpr double kTargetFirstFrameMs = 1500.0;    // ms from the scene loaded to the first frame
-constexpr double kTargetSettleS = 3.0;            // s to settle the settle poses
+constexpr double kTargetSettleS = 3.0;            // s from the scene loaded to the first view settled
+constexpr double kTargetImportMSamplesPerS = 5.0; // import-terrain's rate, M samples a second
+constexpr double kTargetImportPeakBytes = 2e9;    // import-terrain's peak resident memory: "2 GB" (decimal)
 /// The finer sweep's dump: 1000 m a side (the bundled one), relief down to the cell.
 constexpr double kFinerSizeM = 1000.0;
 
@@ -145,13 +148,14 @@ Json readJson(const std::string& path) { return Json::parse(readJsonFile(path, "
 /// The process's peak resident memory (VmHWM), MiB; 0 where /proc cannot tell.
 double peakResidentMiB() { return processStatusMiB("VmHWM").value_or(0.0); }
 
-/// Runs this program as a sweep child on `request`, its stdout sent to stderr (the parent's stdout
-/// is the benchmark's document). Returns "" when it ended with status 0, else why not.
-std::string runChild(const std::string& request) {
+/// Runs this program with `args` (after its own path), its stdout sent to stderr (the parent's
+/// stdout is the benchmark's document). Returns "" when it ended with status 0, else why not;
+/// `peakMiB`, when given, gets the child's peak resident memory (getrusage's ru_maxrss).
+std::string runSelf(std::vector<std::string> args, double* peakMiB = nullptr) {
   std::error_code ec;
   const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
   if (ec) return "cannot find this program (/proc/self/exe): " + ec.message();
-  std::vector<std::string> args = {self, "bench", "render", kChildOption, request};
+  args.insert(args.begin(), self);
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -166,14 +170,49 @@ std::string runChild(const std::string& request) {
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) return "cannot start the measuring process: " + std::string(std::strerror(rc));
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
+  struct rusage usage {};
+  while (::wait4(pid, &status, 0, &usage) < 0)
     if (errno != EINTR) return "lost the measuring process: " + std::string(std::strerror(errno));
+  if (peakMiB) *peakMiB = double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   if (WIFSIGNALED(status))
     return "the measuring process crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
            ::strsignal(WTERMSIG(status)) + ")";
   return "the measuring process ended with status " + std::to_string(WEXITSTATUS(status)) +
          " (its message is above, on stderr)";
+}
+
+
+/// Runs this program as a sweep child on `request`.
+std::string runChild(const std::string& request) { return runSelf({"bench", "render", kChildOption, request}); }
+
+/// What importing a sweep DEM costs: `nestwalk import-terrain` of it (a tiled COG GDAL reads, like
+/// a survey's) into a scratch file beside it, in a process of its own; measured once per DEM and
+/// kept beside it in the cache (NAME.import.json), as the DEM itself is.
+struct ImportCost {
+  double seconds = 0, peakMiB = 0;
+  std::string problem;  // why it could not be measured ("" when it was)
+};
+ImportCost importCost(const std::string& dem) {
+  const std::string record = dem + ".import.json";
+  ImportCost c;
+  if (fs::exists(record)) {
+    const Json j = readJson(record);
+    c.seconds = j["import_s"].get<double>();
+    c.peakMiB = j["import_peak_mib"].get<double>();
+    return c;
+  }
+  const fs::path scratch = fs::path(dem).replace_extension(".import-scratch.tif");
+  std::cerr << "nestwalk: note: importing " << dem << " once to measure the import\n";
+  const auto start = std::chrono::steady_clock::now();
+  c.problem = runSelf({"import-terrain", dem, scratch.string(), "--overwrite"}, &c.peakMiB);
+  c.seconds = secondsSince(start);
+  std::error_code ec;
+  fs::remove(scratch, ec);
+  fs::remove(fs::path(scratch).replace_extension(".pyramid.tif"), ec);
+  if (c.problem.empty())
+    writeFileAtomically(record, Json{{"import_s", c.seconds}, {"import_peak_mib", c.peakMiB}}.dump());
+  return c;
 }
 
 /// The DEM of a size in the cache, generated when absent. Returns whether it was generated, and
@@ -400,6 +439,9 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     std::cerr << "nestwalk: note: measuring the " << limitText(sizeM) << " m terrain at " << limitText(t.cellM) << " m ("
               << poses.size()
               << " frames at " << width << "x" << height << ")\n";
+    const ImportCost imported = importCost(dem);
+    if (!imported.problem.empty())
+      doc.errors["import of size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = imported.problem;
     const std::string problem = runChild(request);
     if (!problem.empty()) {
       doc.errors["size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = problem;
@@ -412,7 +454,11 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
                 {"samples", r["samples"]},
                 {"dem_file", dem},
                 {"dem_generated", generated},
-                {"generate_s", generated ? Json(generateS) : Json(nullptr)}};
+                {"generate_s", generated ? Json(generateS) : Json(nullptr)},
+                {"import_s", imported.problem.empty() ? Json(imported.seconds) : Json(nullptr)},
+                {"import_peak_mib", imported.problem.empty() ? Json(imported.peakMiB) : Json(nullptr)},
+                {"import_msamples_per_s",
+                 imported.problem.empty() ? Json(r["samples"].get<double>() / 1e6 / imported.seconds) : Json(nullptr)}};
     for (const auto& item : r.items())
       if (item.key() != "samples" && item.key() != "route" && item.key() != "gl_renderer")
         row[item.key()] = item.value();
@@ -432,6 +478,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   table.column({"size m", "/size_m", 7, 0})
       .column({"cell m", "/cell_m", 7, 3})
       .column({"samples", "/samples", 11, 0})
+      .column({"imp s", "/import_s", 6, 0})
+      .column({"imp MiB", "/import_peak_mib", 8, 0})
       .column({"load s", "/dem_load_s", 7, 2})
       .column({"first ms", "/first_frame_ms", 9, 0})
       .column({"ms p50", "/ms_p50", 8, 1})
@@ -463,7 +511,8 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     doc.text << "terrains: generated mining dumps, seed " << kSweepSeed << ", " << limitText(kCellM)
              << " m cells, cached in " << cache << "\n\n";
   doc.table("sizes", table);
-  doc.text << "(load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
+  doc.text << "(imp s, imp MiB: import-terrain of the DEM, seconds and peak resident memory of its process (measured "
+              "once per DEM,\n kept in the cache); load s: the scene with that terrain loaded; first ms: from there to the first frame drawn (renderer "
               "set up,\n root chunk built, first render); view s: from there to the first pose's 1 px cut complete; ms p50 / p95: over all poses; loading: frames with chunks "
               "still wanted,\n worst load: the slowest of them; chunks, MiB: the most resident; loads/s: chunks built "
               "per second of the\n timed frames; err px: the largest projected error drawn once settled (the last pose "
@@ -504,6 +553,9 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
                                limitText(kTargetPeakRssBytes / 1e9) + " GB)",
                            rss, rss * kBytesPerMiB <= kTargetPeakRssBytes});
     doc.target("scene opened s" + at, "", big["dem_load_s"].get<double>(), "<=", kTargetOpenS, "");
+    doc.target("import M samples/s" + at, "", big["import_msamples_per_s"], ">=", kTargetImportMSamplesPerS, "");
+    doc.target("import peak RSS MiB" + at, "", big["import_peak_mib"], "<=",
+               std::floor(kTargetImportPeakBytes / kBytesPerMiB), " (2 GB)");
     doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
     doc.target("first view settled s" + at, "", big["first_view_settled_s"].get<double>(), "<=", kTargetSettleS,
                " after the scene is loaded");
