@@ -425,6 +425,9 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     const double sizeM = t.sizeM;
     const std::string dem = (fs::path(cache) / demFileName(t)).string();
     const auto [generated, generateS] = ensureDem(dem, t);
+    const ImportCost imported = importCost(dem);
+    if (!imported.problem.empty())
+      doc.errors["import of size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = imported.problem;
     const std::string request = (fs::path(run.tempPath()) / ("request_" + std::to_string(i) + ".json")).string();
     const std::string result = (fs::path(run.tempPath()) / ("result_" + std::to_string(i) + ".json")).string();
     writeFileAtomically(request, Json{{"terrain", dem},
@@ -439,9 +442,6 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     std::cerr << "nestwalk: note: measuring the " << limitText(sizeM) << " m terrain at " << limitText(t.cellM) << " m ("
               << poses.size()
               << " frames at " << width << "x" << height << ")\n";
-    const ImportCost imported = importCost(dem);
-    if (!imported.problem.empty())
-      doc.errors["import of size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = imported.problem;
     const std::string problem = runChild(request);
     if (!problem.empty()) {
       doc.errors["size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = problem;
