@@ -480,8 +480,15 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         colour = im.w() * im.head<3>() + (1 - im.w()) * colour;
       }
       if (shading.shade) {
-        const double shade = hornShadeOf([&](int sc, int sr) { return g.sampleOrNaN(sc, sr); }, hf.cols(), hf.rows(),
-                                         dx, dy, c, r, shading.sun, step);
+        // Horn's neighbours are the level's own samples: one off its lattice (step - 1 or fewer
+        // samples from the grid's irregular last column or row) counts as missing, as one beyond
+        // the grid does.
+        const double shade = hornShadeOf(
+            [&](int sc, int sr) {
+              const bool onLattice = (sc % step == 0 || sc == hf.cols() - 1) && (sr % step == 0 || sr == hf.rows() - 1);
+              return onLattice ? g.sampleOrNaN(sc, sr) : std::numeric_limits<float>::quiet_NaN();
+            },
+            hf.cols(), hf.rows(), dx, dy, c, r, shading.sun, step);
         colour *= std::min(1.0, kAmbientLight + kSunLight * shade);
       }
       for (int k = 0; k < 3; ++k) m.colours.push_back(toByte(colour[k]));

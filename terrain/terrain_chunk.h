@@ -45,8 +45,7 @@
 //
 // Errors from the pyramid (when buildChunk is given what the terrain pyramid knows of the chunk,
 // ChunkPyramidData, terrain_pyramid.h): a coarse chunk is then built from its level's samples alone
-// (the pyramid's level page: heights, and the hillshade's neighbours; only a hillshade neighbour of
-// the grid's irregular last column or row, off the level's lattice, is read from the heightfield),
+// (the pyramid's level page: heights, and the hillshade's neighbours; no fine sample is read),
 // its skirts reach down to the lowest sample of the pyramid's blocks they lie in. Its
 // grid's block errors are the given ones (the pyramid's exact errors, rounded up to float), and a
 // simplified triangle's error is bounded instead of evaluated at fine samples: over each piece of
@@ -78,7 +77,8 @@
 //
 // Shading: each vertex carries a colour: the base colour (draped imagery where given, else a ramp by
 // height) times the light of Horn's hillshade (hillshade.h) on the level's own samples (neighbours
-// s samples apart), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1. The same
+// s samples apart; one off the level's lattice, beside the grid's irregular last column or row,
+// counts as missing, as one beyond the grid does), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1. The same
 // colours, one texel per kept sample, form the chunk's texture: a simplified surface's large
 // triangles still show the imagery and the hillshade at the level's resolution.
 //
