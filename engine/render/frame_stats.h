@@ -23,7 +23,7 @@ struct PagedTerrainStats {
   std::size_t chunksResident = 0;
   std::size_t residentBytes = 0;     // as paged_terrain.h counts them (twice the arrays)
   std::size_t chunksWanted = 0;      // asked for and not yet resident
-  std::size_t chunksMerged = 0;      // built chunks this frame made drawable (at most its merge bound)
+  std::size_t chunksMerged = 0;      // built chunks this frame made drawable (within its merge bound, or one)
   std::size_t bytesMerged = 0;       // their bytes (as residentBytes counts them)
   std::uint64_t chunksLoaded = 0;    // built since the node was made
   std::uint64_t chunksEvicted = 0;

@@ -221,30 +221,28 @@ void PagedTerrain::insert(Built&& built) {
 }
 
 void PagedTerrain::mergeLoaded() {
-  std::vector<Built> done;
+  // Coarser first (a parent before its children), up to the frame's bytes (at least one chunk); the
+  // rest stay in done_, where the loader sees them (it does not build them again).
+  std::vector<Built> merging;
   {
     std::lock_guard lock(mutex_);
-    done.swap(done_);
+    std::stable_sort(done_.begin(), done_.end(), [](const Built& a, const Built& b) { return a.key.level > b.key.level; });
+    std::size_t taken = 0, bytes = 0;
+    for (; taken < done_.size(); ++taken) {
+      Built& b = done_[taken];
+      // A chunk whose parent went while it was loading cannot be reached: dropped (so is a copy).
+      const bool orphan = b.key.level + 1 < layout_.levels() && !cache_.count(terrain::parentOf(b.key));
+      if (orphan || cache_.count(b.key)) continue;
+      if (bytes > 0 && bytes + b.entry.bytes > options_.mergeBytesPerFrame) break;
+      bytes += b.entry.bytes;
+      merging.push_back(std::move(b));
+    }
+    done_.erase(done_.begin(), done_.begin() + std::ptrdiff_t(taken));
   }
-  // Coarser first (a parent before its children), up to the frame's bytes; the rest go back.
-  std::stable_sort(done.begin(), done.end(), [](const Built& a, const Built& b) { return a.key.level > b.key.level; });
-  std::size_t merged = 0, bytes = 0;
-  for (; merged < done.size(); ++merged) {
-    Built& b = done[merged];
-    const std::size_t entryBytes = b.entry.bytes;
-    if (merged > 0 && bytes + entryBytes > options_.mergeBytesPerFrame) break;
-    // A chunk whose parent went while it was loading cannot be reached: drop it.
-    const ChunkKey parent = terrain::parentOf(b.key);
-    if ((b.key.level + 1 < layout_.levels() && !cache_.count(parent)) || cache_.count(b.key)) continue;
-    insert(std::move(b));
-    bytes += entryBytes;
+  for (Built& b : merging) {
     ++stats_.chunksMerged;
-    stats_.bytesMerged += entryBytes;
-  }
-  if (merged < done.size()) {
-    std::lock_guard lock(mutex_);
-    done_.insert(done_.begin(), std::make_move_iterator(done.begin() + std::ptrdiff_t(merged)),
-                 std::make_move_iterator(done.end()));
+    stats_.bytesMerged += b.entry.bytes;
+    insert(std::move(b));
   }
 }
 
@@ -335,11 +333,13 @@ void PagedTerrain::publish(std::vector<Want> wants) {
   sortByPriority(wants);
   {
     std::lock_guard lock(mutex_);
-    // Only what fits, built chunks waiting to be merged included (they are not asked for again).
+    // Only what fits, built chunks waiting to be merged included (they and the chunks being built
+    // are not asked for again).
     std::size_t planned = residentBytes_;
     for (const Built& b : done_) planned += b.entry.bytes;
-    const auto built = [&](const ChunkKey& key) {
-      return std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; });
+    const auto built = [&](const ChunkKey& key) {  // or being built
+      return std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
+             std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; });
     };
     wants.erase(std::remove_if(wants.begin(), wants.end(), [&](const Want& w) { return built(w.key); }), wants.end());
     std::vector<Want> fitting;
@@ -362,8 +362,11 @@ void PagedTerrain::loaderLoop() {
     const ChunkKey key = wanted_.front().key;
     wanted_.erase(wanted_.begin());
     if (std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
-        std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; }))
-      continue;  // being built, or built and waiting to be merged
+        std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; })) {
+      // Being built, or built and waiting to be merged: nothing to do (but say so when it was the last).
+      if (wanted_.empty()) idle_.notify_all();
+      continue;
+    }
     inFlight_.push_back(key);
     lock.unlock();
     std::optional<Built> b;
