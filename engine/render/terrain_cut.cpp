@@ -121,6 +121,9 @@ osg::ref_ptr<osg::Group> buildTerrainCut(const terrain::Heightfield& hf, const T
                                          TerrainCutStats* statsOut) {
   if (!(options.maxErrorM >= 0)) throw std::invalid_argument("buildTerrainCut: the error must be >= 0 metres");
   const ChunkLayout layout(hf.cols(), hf.rows(), options.chunkCells);  // checks the chunk size
+  if (options.pyramid &&
+      (options.pyramid->layout().cols != hf.cols() || options.pyramid->layout().rows != hf.rows()))
+    throw std::invalid_argument("buildTerrainCut: the pyramid is not of the heightfield's grid");
   TerrainCutStats stats;
 
   // Which quadrants: by error from the root, then balanced for the skirts.

@@ -48,7 +48,9 @@ struct TerrainCutStats {
 };
 
 /// The cut's nodes: one per drawn chunk (its drawn quadrants' ranges, chunk_node.h), in the mesh
-/// frame. Throws std::invalid_argument for a negative error or a bad chunk size.
+/// frame. Throws std::invalid_argument for a negative error, a bad chunk size or a pyramid of
+/// another grid; what a pyramid's read throws (InputError naming its file: a damaged page) goes to
+/// the caller, which `export` reports (the renderer, which draws on, computes the errors instead).
 osg::ref_ptr<osg::Group> buildTerrainCut(const terrain::Heightfield& hf, const TerrainCutOptions& options,
                                          TerrainCutStats* stats = nullptr);
 

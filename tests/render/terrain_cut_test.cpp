@@ -226,6 +226,14 @@ TEST(TerrainCut, ChunksFromThePyramidStayWithinTheErrorAndTheShift) {
     EXPECT_LE(cut.check.worstLevelGap, 3) << maxError;
     EXPECT_EQ(cut.stats.surfaceTriangles + cut.stats.skirtTriangles, cut.triangles) << maxError;
   }
+  // The coarse chunks' samples are the pyramid's: told the wrong shift, they sit 40 m off the
+  // heightfield's, which the brute force sees.
+  o.pyramidHeightShift = kShift + 40;
+  EXPECT_GT(cutAndCheck(hf, 8.0, o).check.worstError, 30.0);
+  // A pyramid of another grid is refused.
+  const terrain::Heightfield smaller(cols - 1, rows, std::vector<float>(std::size_t(cols - 1) * rows, 100.0f), kOriginX,
+                                     kOriginY, 1.0, 1.0);
+  EXPECT_THROW(buildTerrainCut(smaller, o), std::invalid_argument);
 }
 
 TEST(TerrainCut, RefusesANegativeErrorAndABadChunkSize) {
