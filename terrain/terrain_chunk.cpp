@@ -140,9 +140,10 @@ void fillHoleTexels(std::vector<std::uint8_t>& texture, std::size_t w, std::size
   }
 }
 
-/// A paged chunk's fine window is copied when it holds at most this many samples: level 3 of 64-cell
-/// chunks (513 x 513, 1 MB of floats), the finest levels that read every fine sample under them
-/// (coarser ones take their errors from the pyramid: kPyramidErrorsFromLevel).
+/// A paged chunk's fine window is copied when it holds at most this many samples (4 MiB of floats):
+/// levels 0 to 3 of 64-cell chunks (level 3: 513 x 513), the finest, which read every fine sample
+/// under them (coarser ones take their errors from the pyramid: kPyramidErrorsFromLevel); level 4's
+/// 1025 x 1025 is over it.
 constexpr std::size_t kFineWindowSamples = std::size_t(1) << 20;
 
 /// The fine samples a chunk's error passes read, each several times: the heightfield's own when it

@@ -262,8 +262,10 @@ std::string reportMarkdown(const ReportData& d) {
     << " cells as the renderer cuts them (terrain/terrain_chunk.h; each level's grid, before the renderer "
        "simplifies it within a fraction of that grid's error); at " << d.terrainPoints
     << " random map points (those with ground) the height of each level's surface against the full-resolution "
-       "surface (Heightfield::groundHeight). The table's maximum error is the level's exact error; ns per query "
-       "is the least over the timed loops.\n\n"
+       "surface (Heightfield::groundHeight; a paged terrain's points lie in its central " << kPagedLodWindowCells
+    << " x " << kPagedLodWindowCells << " cells). The table's maximum error is the level's exact error (from the "
+       "terrain's pyramid when it has one: rounded up to float, and its chunks those with a valid sample, an upper "
+       "bound where the DEM has holes); ns per query is the least over the timed loops.\n\n"
     << markdown(lodTable(d)) << "\n![height error against ns per query](terrain_lod.png)\n\n";
 
   s << "## OBB fitters\n\n"

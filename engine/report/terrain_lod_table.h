@@ -24,16 +24,17 @@ struct TerrainLodRow {
   std::string name;           // "full" (Heightfield::groundHeight) or "L0", "L1", ...
   int level = -1;             // -1 for the heightfield
   int step = 1;               // samples per coarse cell side (2^level)
-  std::size_t chunks = 0;     // chunks of the level with triangles
-  double tableMaxError = 0;   // the level's exact maximum error (terrain::chunkLevelTable), metres
+  std::size_t chunks = 0;     // chunks of the level with triangles (from a pyramid: with a valid sample)
+  double tableMaxError = 0;   // the level's exact maximum error (terrain::chunkLevelTable; from a
+                              // pyramid rounded up to float), metres
   std::size_t points = 0;     // sample points where both surfaces exist
   double maxError = 0, meanError = 0;  // measured |level - full resolution|, metres
   double nsPerQuery = 0;      // the least over the timing repetitions
 };
 
-/// A paged terrain's points lie in a window of at most this many cells a side at its centre: 64 of
-/// its 256-cell tiles, 64 MiB, within the tile cache's default budget, so the timed loops measure
-/// ground following and not reading tiles from disk.
+/// A paged terrain's points lie in a window of at most this many cells a side at its centre: at
+/// most 9 x 9 of its 256-cell tiles (about 21 MiB), within the tile cache's default budget, so the
+/// timed loops measure ground following and not reading tiles from disk.
 inline constexpr int kPagedLodWindowCells = 2048;
 
 /// Ground following per level of detail: `points` uniform random map points over the terrain's

@@ -22,8 +22,8 @@
 //    north-west (azimuth 315°, clockwise from north) 45° up, n the unit normal from Horn's 3 x 3
 //    weighted differences of the sample grid at each sample (a missing neighbour, a hole or beyond
 //    the grid, is extrapolated linearly through the centre sample from the opposite one, or taken
-//    as the centre's height when that is missing too, so a plane shades exactly), interpolated
-//    bilinearly to the pixel's centre from the valid samples of its cell (hillshade.h; the rule of
+//    as the centre's height when that is missing too, so a plane shades exactly except at the
+//    grid's corners, where one diagonal pair is missing), interpolated bilinearly to the pixel's centre from the valid samples of its cell (hillshade.h; the rule of
 //    GDAL's `gdaldem hillshade`, tested against it). A pixel whose centre has no ground (a hole) is
 //    flat grey (128, 128, 128); beyond the outermost samples white.
 //    Samples: the terrain's own, or, when the scene has the terrain's pyramid (Scene::terrainPyramid)

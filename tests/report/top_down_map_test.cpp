@@ -390,11 +390,12 @@ Rgb planeColour(double f, double dzdx, double dzdy) {
 }
 
 TEST(TopDownMap, AMapCoarserThanTheCellsIsDrawnFromThePyramidsLevel) {
-  // A plane z = 300 - 0.05 c - 0.1 r on 1025 x 769 samples of 1 m at 70 N (UTM 33), written as a
+  // A plane z = 300 - 0.05 c - 0.1 r on 1027 x 771 samples of 1 m at 70 N (UTM 33), written as a
   // terrain file with its pyramid; the scene's heightfield is the file's heights moved 3.5 m up
   // (the loader's height shift). The whole-terrain map at 320 pixels has about 4 m pixels: drawn
-  // from level 2, it is still the plane's colour at every terrain pixel.
-  constexpr int cols = 1025, rows = 769;
+  // from level 2 (whose last column and row are irregular: the pixels past the last regular ones
+  // take the nearest point inside), it is still the plane's colour at every terrain pixel.
+  constexpr int cols = 1027, rows = 771;
   constexpr double x0 = 612000.5, y0 = 7769000.5, shift = 3.5;
   auto plane = [](int c, int r) { return 300 - 0.05 * c - 0.1 * r; };
   std::vector<float> heights, moved, flat;
@@ -427,6 +428,11 @@ TEST(TopDownMap, AMapCoarserThanTheCellsIsDrawnFromThePyramidsLevel) {
       const Eigen::Vector2d p = frame.pixelCentre(i, j);
       const double c = (p.x() - x0), r = (y0 - p.y());
       if (c < 0 || r < 0 || c > cols - 1 || r > rows - 1) continue;
+      // Horn's rule at a corner of the drawn grid takes one diagonal neighbour pair as the centre's
+      // height (both are missing), so a corner sample's shade is not the plane's: skip the pixels
+      // within two level cells (8 m) of a corner.
+      const bool nearX = c < 8 || c > cols - 1 - 8, nearY = r < 8 || r > rows - 1 - 8;
+      if (nearX && nearY) continue;
       ++terrainPixels;
       const Rgb expected = planeColour((300 - 0.05 * c - 0.1 * r + shift - lowest) / (highest - lowest), -0.05, 0.1);
       const Rgb got = pixel(*img, {i, j});

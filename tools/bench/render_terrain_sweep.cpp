@@ -188,7 +188,7 @@ std::string runChild(const std::string& request) { return runSelf({"bench", "ren
 
 /// What importing a sweep DEM costs: `nestwalk import-terrain` of it (a tiled COG GDAL reads, like
 /// a survey's) into a scratch file beside it, in a process of its own; measured once per DEM and
-/// kept beside it in the cache (NAME.import.json), as the DEM itself is.
+/// kept beside it in the cache (NAME.tif.import.json, removed when the DEM is generated again).
 struct ImportCost {
   double seconds = 0, peakMiB = 0;
   std::string problem;  // why it could not be measured ("" when it was)
@@ -219,6 +219,8 @@ ImportCost importCost(const std::string& dem) {
 /// the seconds that took.
 std::pair<bool, double> ensureDem(const std::string& path, const SweepTerrain& t) {
   if (fs::exists(path)) return {false, 0.0};
+  std::error_code ec;
+  fs::remove(path + ".import.json", ec);  // a record of an earlier DEM's import
   std::cerr << "nestwalk: note: generating the " << limitText(t.sizeM) << " m mining dump at " << limitText(t.cellM)
             << " m cells into " << path << "\n";
   const auto start = std::chrono::steady_clock::now();
@@ -557,8 +559,12 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     doc.target("import peak RSS MiB" + at, "", big["import_peak_mib"], "<=",
                std::floor(kTargetImportPeakBytes / kBytesPerMiB), " (2 GB)");
     doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
-    doc.target("first view settled s" + at, "", big["first_view_settled_s"].get<double>(), "<=", kTargetSettleS,
-               " after the scene is loaded");
+    // A first view that never settled (kMaxSettleFrames frames) does not meet it, however soon it stopped.
+    const bool viewSettled = big["first_view_settled"].get<bool>();
+    const double viewS = big["first_view_settled_s"].get<double>();
+    doc.targets.push_back({"first view settled s" + at + (viewSettled ? "" : " (never settled)"),
+                           "<= " + limitText(kTargetSettleS) + " after the scene is loaded", viewS,
+                           viewSettled && viewS <= kTargetSettleS});
     if (big["walker_step_us_p99"].is_number())
       doc.target("walker step us p99" + at, "", big["walker_step_us_p99"].get<double>(), "<=", kTargetStepP99Us, "");
     doc.target("ground reads waited for after the first step" + at, "", big["ground_waits"].get<double>(), "<=", 0.0,
