@@ -89,20 +89,22 @@ std::shared_ptr<const HeightTile> HeightTileCache::read(int tx, int ty) const {
   return tile;
 }
 
+void HeightTileCache::touch(Held& held) const { useOrder_.splice(useOrder_.begin(), useOrder_, held.use); }
+
 void HeightTileCache::insert(std::uint64_t k, std::shared_ptr<const HeightTile> tile) const {
-  tile->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
+  if (const auto again = held_.find(k); again != held_.end()) {  // read twice (not expected): the new one stays
+    stats_.bytesHeld -= again->second.tile->bytes();
+    useOrder_.erase(again->second.use);
+    held_.erase(again);
+  }
   stats_.bytesHeld += tile->bytes();
-  held_[k] = std::move(tile);
+  useOrder_.push_front(k);
+  held_[k] = {std::move(tile), useOrder_.begin()};
   ++stats_.reads;
   while (stats_.bytesHeld > budget_ && held_.size() > 1) {
-    auto oldest = held_.end();
-    std::uint64_t oldestUse = std::numeric_limits<std::uint64_t>::max();
-    for (auto it = held_.begin(); it != held_.end(); ++it) {
-      const std::uint64_t use = it->second->lastUse.load(std::memory_order_relaxed);
-      if (it->first != k && use < oldestUse) oldestUse = use, oldest = it;
-    }
-    if (oldest == held_.end()) break;
-    stats_.bytesHeld -= oldest->second->bytes();
+    const auto oldest = held_.find(useOrder_.back());  // never k: it is at the front
+    stats_.bytesHeld -= oldest->second.tile->bytes();
+    useOrder_.pop_back();
     held_.erase(oldest);
     ++stats_.evicted;
   }
@@ -113,17 +115,21 @@ std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
   if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) throw std::out_of_range("HeightTileCache::tile: no such tile");
   const std::uint64_t k = key(tx, ty);
   LastTile& last = lastTile;
-  if (last.cache == id_ && last.key == k && last.tile) return last.tile;  // its use was stamped when it came in
+  if (last.cache == id_ && last.key == k && last.tile) return last.tile;  // its use was counted when it came in
   std::shared_ptr<const HeightTile> found;
   {
     std::unique_lock lock(mutex_);
     if (auto it = held_.find(k); it != held_.end()) {
-      found = it->second;
+      found = it->second.tile;
+      touch(it->second);
     } else {
       ++stats_.waits;
       ++waitsOfThisThread;
       changed_.wait(lock, [&] { return !inFlight_.count(k); });  // the prefetch thread is reading it
-      if (auto again = held_.find(k); again != held_.end()) found = again->second;
+      if (auto again = held_.find(k); again != held_.end()) {
+        found = again->second.tile;
+        touch(again->second);
+      }
     }
     if (!found) {
       inFlight_.insert(k);
@@ -142,7 +148,6 @@ std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
       changed_.notify_all();
     }
   }
-  found->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
   last.cache = id_;
   last.key = k;
   last.tile = found;
@@ -170,7 +175,7 @@ void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const
       const std::uint64_t k = key(tx, ty);
       if (auto it = held_.find(k); it != held_.end()) {
         // Held: it counts as used now, so the walk's own tiles are not the next to go.
-        it->second->lastUse.store(clock_.fetch_add(1, std::memory_order_relaxed), std::memory_order_relaxed);
+        touch(it->second);
         continue;
       }
       if (inFlight_.count(k) || std::find(queue_.begin(), queue_.end(), k) != queue_.end()) continue;

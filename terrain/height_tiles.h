@@ -15,9 +15,10 @@
 // budget, then the least recently used go first (at least one tile is always kept). Tiles handed out
 // are shared: one evicted while a query still holds it lives until that query lets go, and each
 // thread keeps the last tile it used (so its hits take no lock and no atomic operation), so the
-// bytes alive can exceed the budget by a few tiles per thread. A tile's use is stamped when a thread
-// takes it into its slot and when prefetch() names it (a walker names its own tiles every step), not
-// on every hit. prefetch() queues tiles for a background thread (started by the first one), so that
+// bytes alive can exceed the budget by a few tiles per thread. A tile counts as used (it moves to
+// the front of the cache's use order, in constant time under its lock) when a thread takes it into
+// its slot and when prefetch() names it (a walker names its own tiles as they change), not on every
+// hit; eviction takes the back, also in constant time. prefetch() queues tiles for a background thread (started by the first one), so that
 // a walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
 // wait (stats().waits), whether read there or in flight on the background thread.
 //
@@ -32,6 +33,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <list>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -59,7 +61,6 @@ struct HeightTile {
   std::vector<float> clean;  // cols * rows heights, holes NaN
   int blocksX = 0, blocksY = 0;
   std::vector<float> blockRange;  // {min, max} of the valid samples of each ray block (+inf, -inf if none)
-  mutable std::atomic<std::uint64_t> lastUse{0};
 
   const float* at(int c, int r) const {
     return clean.data() + std::size_t(r - r0) * std::size_t(cols) + std::size_t(c - c0);
@@ -118,8 +119,16 @@ class HeightTileCache {
   void waitForPrefetch() const;
 
  private:
+  /// The tiles held, each with its place in useOrder_ (most recently used first): a use moves it to
+  /// the front and eviction takes the back, in constant time under mutex_ (a scan for the oldest of
+  /// some 970 tiles, each a cache miss, held the lock for up to 300 us and stalled a walker's step).
+  struct Held {
+    std::shared_ptr<const HeightTile> tile;
+    std::list<std::uint64_t>::iterator use;
+  };
   std::shared_ptr<const HeightTile> read(int tx, int ty) const;
   void insert(std::uint64_t key, std::shared_ptr<const HeightTile> tile) const;  // mutex_ held
+  void touch(Held& held) const;                                                   // mutex_ held: used now
   void prefetchLoop() const;
   std::uint64_t key(int tx, int ty) const { return std::uint64_t(ty) * std::uint64_t(tilesX_) + std::uint64_t(tx); }
 
@@ -132,10 +141,10 @@ class HeightTileCache {
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
-  mutable std::unordered_map<std::uint64_t, std::shared_ptr<const HeightTile>> held_;
+  mutable std::unordered_map<std::uint64_t, Held> held_;
+  mutable std::list<std::uint64_t> useOrder_;
   mutable std::unordered_set<std::uint64_t> inFlight_;
   mutable std::deque<std::uint64_t> queue_;
-  mutable std::atomic<std::uint64_t> clock_{0};
   mutable HeightTileStats stats_;
   mutable std::mutex readMutex_;  // the loader, one call at a time
   bool stopping_ = false;
