@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 
 namespace nestwalk {
 namespace {
@@ -28,6 +29,19 @@ Script shifted(Script s, const Eigen::Vector3d& shift) {
   return s;
 }
 
+/// The bundled script `name`.
+Script bundledScript(const char* name) { return readScript((kDir / "scripts" / name).string()); }
+
+/// `script` played on `scene` with its viewer (no part timing), each record to `onRecord`.
+FlythroughResult playOn(const Scene& scene, const Script& script,
+                        const std::function<void(const FrameRecord&)>& onRecord = {}) {
+  WalkerOptions opts;
+  opts.viewer = scene.spec.viewer;
+  opts.timeParts = false;
+  const CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
+  return runFlythrough(scene, world, script, opts, onRecord);
+}
+
 class BundledFlythrough : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
@@ -40,14 +54,9 @@ TEST_P(BundledFlythrough, UtmAndOriginGiveTheSameContactsAndHeights) {
   SceneLoadOptions moved;
   moved.mapShift = Eigen::Vector3d(-550000.0, -4650000.0, 0.0);
   const Scene origin = loadScene((kDir / "scene.json").string(), moved);
-  const Script script = readScript((kDir / "scripts" / GetParam()).string());
-  WalkerOptions opts;
-  opts.viewer = utm.spec.viewer;
-  opts.timeParts = false;
-  const CollisionWorld w0 = CollisionWorld::fromScene(utm, utm.spec.method);
-  const CollisionWorld w1 = CollisionWorld::fromScene(origin, origin.spec.method);
-  const FlythroughResult a = runFlythrough(utm, w0, script, opts);
-  const FlythroughResult b = runFlythrough(origin, w1, shifted(script, moved.mapShift), opts);
+  const Script script = bundledScript(GetParam());
+  const FlythroughResult a = playOn(utm, script);
+  const FlythroughResult b = playOn(origin, shifted(script, moved.mapShift));
   ASSERT_EQ(a.records.size(), b.records.size());
   std::size_t blocked = 0;
   for (std::size_t i = 0; i < a.records.size(); ++i) {
@@ -69,21 +78,17 @@ TEST_P(BundledFlythrough, UtmAndOriginGiveTheSameContactsAndHeights) {
 
 TEST_P(BundledFlythrough, WalkingEyeIsEyeHeightAboveTheTerrainQuery) {
   const Scene scene = loadScene((kDir / "scene.json").string());
-  const Script script = readScript((kDir / "scripts" / GetParam()).string());
-  WalkerOptions opts;
-  opts.viewer = scene.spec.viewer;
-  opts.timeParts = false;
-  const CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
-  const FlythroughResult r = runFlythrough(scene, world, script, opts);
+  const FlythroughResult r = playOn(scene, bundledScript(GetParam()));
+  const double eyeHeight = scene.spec.viewer.eyeHeight;
   ASSERT_FALSE(r.records.empty());
   double worst = 0;
   for (const FrameRecord& f : r.records) {
     const std::optional<double> g = scene.terrain->groundHeight(f.eye.x(), f.eye.y());
     ASSERT_TRUE(g.has_value()) << "frame " << f.frame;
     if (f.flying) {
-      EXPECT_GE(f.eye.z() - opts.viewer.eyeHeight - *g, 0.0) << "frame " << f.frame;
+      EXPECT_GE(f.eye.z() - eyeHeight - *g, 0.0) << "frame " << f.frame;
     } else {
-      worst = std::max(worst, std::abs(f.eye.z() - opts.viewer.eyeHeight - *g));
+      worst = std::max(worst, std::abs(f.eye.z() - eyeHeight - *g));
     }
   }
   EXPECT_LE(worst, 1e-9);
@@ -97,18 +102,13 @@ TEST_P(BundledFlythrough, OnThePagedTerrainEveryStepIsTheResidentOnesAndNoneWait
   const Scene a = loadScene((kDir / "scene.json").string(), held);
   const Scene b = loadScene((kDir / "scene.json").string(), paged);
   ASSERT_TRUE(b.terrain->paged());
-  const Script script = readScript((kDir / "scripts" / GetParam()).string());
-  WalkerOptions opts;
-  opts.viewer = a.spec.viewer;
-  opts.timeParts = false;
-  const CollisionWorld w0 = CollisionWorld::fromScene(a, a.spec.method);
-  const CollisionWorld w1 = CollisionWorld::fromScene(b, b.spec.method);
-  const FlythroughResult ra = runFlythrough(a, w0, script, opts);
+  const Script script = bundledScript(GetParam());
+  const FlythroughResult ra = playOn(a, script);
   // Each step lets the tiles the walker asked for be read first, as playing at the real pace does
   // (the walker asks kPrefetchSeconds of motion ahead; a tile takes milliseconds): what is tested is
   // that it asks for the ground it then reaches.
   std::uint64_t waitsAfterFirst = 0;
-  const FlythroughResult rb = runFlythrough(b, w1, script, opts, [&](const FrameRecord& r) {
+  const FlythroughResult rb = playOn(b, script, [&](const FrameRecord& r) {
     if (r.frame > 1) waitsAfterFirst += r.groundWaits;
     b.terrain->tiles()->waitForPrefetch();
   });
