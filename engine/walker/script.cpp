@@ -200,9 +200,17 @@ ScriptCommand parseLine(const LineParser& p) {
   }
   if (kw == "goto") {
     c.op = ScriptOp::Goto;
-    p.expectCount(kw, {2, 3});
-    for (std::size_t i = 1; i < p.size(); ++i) c.v[Eigen::Index(i - 1)] = p.number(kw, i);
-    c.hasZ = p.size() == 4;
+    std::size_t end = p.size();
+    if (end >= 3 && p.word(end - 2) == "by") {
+      c.hasTime = true;
+      c.time = p.nonNegative(kw, end - 1, "the arrival time");
+      end -= 2;
+    }
+    const std::size_t n = end - 1;
+    if (n != 2 && n != 3)
+      p.fail(kw, "expected 2 or 3 numbers, got " + std::to_string(n) + (c.hasTime ? " before `by`" : ""));
+    for (std::size_t i = 0; i < n; ++i) c.v[Eigen::Index(i)] = p.number(kw, 1 + i);
+    c.hasZ = n == 3;
     return c;
   }
   if (kw == "move") {

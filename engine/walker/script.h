@@ -6,7 +6,8 @@
 //   speed V                  m/s for the following moves (default: the scene's viewer speed)
 //   clearance C              flying: lowest body bottom above the ground (default: the scene's)
 //   start X Y [Z] [heading H]  place the viewer (map coordinates); once, before any motion
-//   goto X Y [Z]             turn toward the point and go there in a straight line
+//   goto X Y [Z] [by T]      turn toward the point and go there in a straight line; with `by T`,
+//                            arrive T seconds after the start (the speed that takes, see below)
 //   move D                   go D metres along the current heading (negative: backwards)
 //   move DX DY [DZ]          relative move in map axes (east, north, up)
 //   turn A                   turn by A degrees (positive: clockwise, to the right)
@@ -21,6 +22,9 @@
 //
 // A motion command ends when its target is reached or when the viewer has not moved for
 // `kBlockedTimeout` seconds (it is blocked); the script then goes on with the next line.
+// A timed `goto ... by T` (a route replayed at its recorded pace, gis/route_script.h) turns first,
+// then moves at the speed that arrives at the step nearest T seconds after `start` (at least one
+// step; a target already reached waits until then): late after a contact, it hurries on.
 // Errors name the file and line ("patrol.txt:12: goto: expected 2 or 3 numbers, got 1").
 //
 // Thread safety: pure functions (readScript reads the file).
@@ -49,6 +53,8 @@ struct ScriptCommand {
                                    //  Start/Goto/MoveBy: x y [z]; ExpectPosition: x y, tol in `tolerance`
   bool hasZ = false;               // Start/Goto/MoveBy gave a z
   bool hasHeading = false;         // Start: `heading H` given, in `heading`
+  bool hasTime = false;            // Goto: `by T` given, in `time` (seconds after `start`)
+  double time = 0;
   double heading = 0;
   double tolerance = 0;            // ExpectGround/ExpectPosition: TOL; ExpectClearance: C
   bool fly = false;                // Mode: true for fly

@@ -3,6 +3,7 @@
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -79,7 +80,8 @@ void ScriptPlayer::pitchTo(double pitchDeg, const StepCallback& onStep) {
   walker_.setView(walker_.state().headingDeg, pitchDeg);
 }
 
-void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep) {
+void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep,
+                        double arriveAt) {
   const double dt = walker_.options().dt;
   const double eyeHeight = walker_.options().viewer.eyeHeight;
   // A flying target below the clearance over its ground is aimed at the lowest allowed height
@@ -99,12 +101,24 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     const Eigen::Vector3d d = offset();
     if (d.head<2>().norm() > kArrivalTolerance) turnTo(headingOf(d.x(), d.y()), onStep);
   }
+  double speed = speed_;
+  if (!std::isnan(arriveAt)) {
+    // A timed goto: the steps left until the arrival time, at least one when there is a way to go.
+    const double dist = offset().norm();
+    const double stepsLeft = std::max(0.0, std::round((arriveAt - walker_.state().time) / dt));
+    if (dist <= kArrivalTolerance) {
+      for (double i = 0; i < stepsLeft; ++i)
+        stepOnce(Eigen::Vector3d::Zero(), walker_.state().headingDeg, walker_.state().pitchDeg, onStep);
+      return;
+    }
+    speed = dist / (std::max(1.0, stepsLeft) * dt);
+  }
   double stuck = 0;
   for (;;) {
     const Eigen::Vector3d d = offset();
     const double dist = d.norm();
     if (dist <= kArrivalTolerance) break;
-    const double stepLen = speed_ * dt;
+    const double stepLen = speed * dt;
     // The last step takes the whole rest when it is within kLastStepSlack of a step's length
     // (flying targets recorded below the clearance floor are a hair out of reach otherwise).
     const bool last = dist <= stepLen * (1.0 + kLastStepSlack);
@@ -230,6 +244,7 @@ void ScriptPlayer::run(const StepCallback& onStep) {
         const std::string why = walker_.place(c.v, c.hasZ, heading, s.flying, s.clearance);
         if (!why.empty()) throw InputError(where(c) + ": " + why);
         started = true;
+        startTime_ = walker_.state().time;
         break;
       }
       case ScriptOp::Goto:
@@ -240,7 +255,7 @@ void ScriptPlayer::run(const StepCallback& onStep) {
         if (c.op == ScriptOp::Goto) {
           Eigen::Vector3d t = c.v;
           if (!c.hasZ) t.z() = eye.z();
-          goTo(t, c.hasZ, true, onStep);
+          goTo(t, c.hasZ, true, onStep, c.hasTime ? startTime_ + c.time : std::numeric_limits<double>::quiet_NaN());
         } else if (c.op == ScriptOp::Move) {
           const double h = radians(s.headingDeg);
           goTo(eye + c.v.x() * Eigen::Vector3d(std::sin(h), std::cos(h), 0), false, false, onStep);

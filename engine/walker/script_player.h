@@ -4,7 +4,10 @@
 //
 // Motion: `goto` turns the view toward the target at kTurnRate, then walks (or flies) straight at
 // the current speed, re-aiming every step; `move D` goes to the point D ahead of the heading at
-// its start; `move DX DY [DZ]` to the offset point, keeping the heading. A motion ends at its
+// its start; `move DX DY [DZ]` to the offset point, keeping the heading. A timed `goto ... by T`
+// turns as any goto, then takes S = round((start time + T - now) / dt) steps (at least one) of
+// equal length to its target, so that it arrives within half a step of T when nothing blocks it;
+// a target already reached stands for the S steps. A motion ends at its
 // target (within kArrivalTolerance) or after kBlockedTimeout seconds without progress. `turn`,
 // `heading` and `look` run at kTurnRate / kPitchRate in whole steps; the rest (less than one
 // step's turn) turns the view at once, the body following at the next step. `wait` stands for
@@ -19,6 +22,7 @@
 #include "nestwalk/walker/walker.h"
 
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace nestwalk {
@@ -47,7 +51,9 @@ class ScriptPlayer {
   void stepOnce(const Eigen::Vector3d& move, double headingDeg, double pitchDeg, const StepCallback& onStep);
   void turnTo(double headingDeg, const StepCallback& onStep);
   void pitchTo(double pitchDeg, const StepCallback& onStep);
-  void goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep);
+  // arriveAt: the walker time (WalkerState::time) at which a timed goto arrives; NaN: untimed.
+  void goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, const StepCallback& onStep,
+            double arriveAt = std::numeric_limits<double>::quiet_NaN());
   void expect(const ScriptCommand& c);
   std::string where(const ScriptCommand& c) const;
 
@@ -56,6 +62,7 @@ class ScriptPlayer {
   double speed_;
   std::vector<ExpectationResult> results_;
   std::uint64_t steps_ = 0;
+  double startTime_ = 0;  // the walker's time at `start` (timed gotos count from it)
 };
 
 }  // namespace nestwalk

@@ -33,6 +33,21 @@ using TempDir = test::TempFolder;
 using test::writeText;
 
 
+TEST(Script, TimedGoto) {
+  const Script s = parseScript("start 0 0\ngoto 5 6 by 12.5\ngoto 5 6 7 by 0\ngoto 1 2\n", "timed.txt");
+  ASSERT_EQ(s.commands.size(), 4u);
+  const auto& c = s.commands;
+  EXPECT_TRUE(c[1].hasTime);
+  EXPECT_EQ(c[1].time, 12.5);
+  EXPECT_FALSE(c[1].hasZ);
+  EXPECT_EQ(c[1].v, Eigen::Vector3d(5, 6, 0));
+  EXPECT_TRUE(c[2].hasTime);
+  EXPECT_EQ(c[2].time, 0.0);
+  EXPECT_TRUE(c[2].hasZ);
+  EXPECT_EQ(c[2].v, Eigen::Vector3d(5, 6, 7));
+  EXPECT_FALSE(c[3].hasTime);
+}
+
 TEST(Script, EveryCommandForm) {
   const std::string text =
       "# patrol around the weather station\n"
@@ -185,6 +200,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadLine{"Goto 1 2\n", 1, "Goto: unknown command"},
         BadLine{"start 0 0\n\n\ngoto 1\n", 4, "goto: expected 2 or 3 numbers, got 1"},
         BadLine{"goto 1 2 3 4\n", 1, "goto: expected 2 or 3 numbers, got 4"},
+        BadLine{"goto 1 by 3\n", 1, "goto: expected 2 or 3 numbers, got 1 before `by`"},
+        BadLine{"goto 1 2 by -3\n", 1, "goto: the arrival time must not be negative, got -3"},
+        BadLine{"goto 1 2 by\n", 1, "goto: 'by' is not a number"},
         BadLine{"speed\n", 1, "speed: expected 1 number, got 0"},
         BadLine{"turn 1 2\n", 1, "turn: expected 1 number, got 2"},
         BadLine{"move\n", 1, "move: expected 1, 2 or 3 numbers, got 0"},
