@@ -17,6 +17,7 @@ void registerBenchTerrain(CLI::App& bench);  // nestwalk bench terrain [--json]
 void registerMakeScene(CLI::App& app);       // nestwalk make-scene DIR
 void registerBuildScene(CLI::App& app);      // nestwalk build-scene --terrain DEM --equipment SOURCE ...
 void registerExport(CLI::App& app);          // nestwalk export SCENE OUT.osgb
+void registerRoute(CLI::App& app);           // nestwalk route SCENE ROUTE --out SCRIPT
 void registerRun(CLI::App& app);             // nestwalk run SCENE --script FILE --headless --out DIR
 void registerView(CLI::App& app);            // nestwalk view SCENE [--script FILE] (a window)
 void registerBenchWalker(CLI::App& bench);  // nestwalk bench walker [--json]

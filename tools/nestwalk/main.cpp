@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerMakeScene(app);
   nestwalk::tools::registerBuildScene(app);
   nestwalk::tools::registerExport(app);
+  nestwalk::tools::registerRoute(app);
   nestwalk::tools::registerRun(app);
   nestwalk::tools::registerView(app);
   nestwalk::tools::registerReport(app);

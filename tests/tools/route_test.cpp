@@ -1,0 +1,65 @@
+// `nestwalk route` on the bundled mining-dump scene: a UTM line becomes a script that `nestwalk run`
+// plays to its last point; an existing script is kept unless --overwrite; a route of points only is
+// refused with exit 1, the file and layer named, and nothing written.
+#include "tests/common/build_paths.h"
+#include "tests/common/run_command.h"
+
+#include <filesystem>
+
+namespace nestwalk::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kScene = fs::path(nestwalk::test::build::bundledSceneDir()) / "scene.json";
+
+/// A GeoJSON layer in the bundled scene's CRS (UTM 51N, named by the legacy crs member OGR reads).
+std::string geojson(const std::string& geometry) {
+  return R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32651"}},
+"features": [{"type": "Feature", "properties": {"name": "r"}, "geometry": )" + geometry + "}]}";
+}
+
+TEST(RouteCommand, WritesAScriptThatRunPlaysToTheEnd) {
+  if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  const TempFolder dir;
+  writeText(dir / "line.geojson",
+            geojson(R"({"type": "LineString", "coordinates": [[549600, 4650100], [549650, 4650120], [549700, 4650100]]})"));
+  const std::string route = "route " + quoted(kScene) + " " + quoted(dir / "line.geojson") + " --speed 3 --out ";
+  const auto made = runNestwalk(route + quoted(dir / "walk.txt"));
+  ASSERT_EQ(made.exitCode, 0) << made.out << made.err;
+  EXPECT_NE(made.out.find("walk.txt: 2 gotos, 107.7 m"), std::string::npos) << made.out;
+  const std::string script = readText(dir / "walk.txt");
+  EXPECT_NE(script.find("speed 3\nstart 549600 4650100 heading"), std::string::npos) << script;
+  EXPECT_NE(script.find("goto 549700 4650100\n"), std::string::npos) << script;
+
+  const auto run = runNestwalk("run " + quoted(kScene) + " --script " + quoted(dir / "walk.txt") + " --headless --quiet --out " +
+                               quoted(dir / "run"));
+  ASSERT_EQ(run.exitCode, 0) << run.out << run.err;
+  const std::string frames = readText(dir / "run" / "frames.csv");
+  const std::size_t last = frames.rfind('\n', frames.size() - 2);
+  EXPECT_NE(frames.find(",549700.0000,4650100.0000,", last), std::string::npos) << frames.substr(last);
+
+  // Kept unless asked; replaced with --overwrite.
+  writeText(dir / "walk.txt", "# mine\n");
+  const auto kept = runNestwalk(route + quoted(dir / "walk.txt"));
+  EXPECT_EQ(kept.exitCode, 1);
+  EXPECT_NE(kept.err.find("walk.txt: exists; pass --overwrite"), std::string::npos) << kept.err;
+  EXPECT_EQ(readText(dir / "walk.txt"), "# mine\n");
+  EXPECT_EQ(runNestwalk(route + quoted(dir / "walk.txt") + " --overwrite").exitCode, 0);
+  EXPECT_NE(readText(dir / "walk.txt").find("goto 549700 4650100"), std::string::npos);
+}
+
+TEST(RouteCommand, PointsOnlyAreRefusedAndNothingIsWritten) {
+  if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  const TempFolder dir;
+  writeText(dir / "wells.geojson", geojson(R"({"type": "Point", "coordinates": [549600, 4650100]})"));
+  const auto r = runNestwalk("route " + quoted(kScene) + " " + quoted(dir / "wells.geojson") + " --out " +
+                             quoted(dir / "walk.txt"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("wells.geojson: layer 'wells' feature 0: is a Point, not a line"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "walk.txt"));
+  for (const auto& e : fs::directory_iterator(dir.path())) EXPECT_EQ(e.path().filename(), "wells.geojson");
+}
+
+}  // namespace
+}  // namespace nestwalk::test
