@@ -61,7 +61,7 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
                      ": cannot write the video: ffmpeg is not installed (tools/setup-deps.sh installs it; "
                      "--no-video renders without it)");
 
-  const Script script = readScript(o.script);
+  const Script script = o.scriptText.empty() ? readScript(o.script) : parseScript(o.scriptText, o.script);
   const Scene scene = loadScene(o.scene);
   const MethodSpec method = o.method ? o.method(scene.spec.method) : scene.spec.method;
   CollisionWorld world = CollisionWorld::fromScene(scene, method);

@@ -40,6 +40,7 @@ struct RunRendering {
 
 struct RecordedRunOptions {
   std::string scene, script, out;  // scene.json, the script (or a .path), the run's folder
+  std::string scriptText;          // not empty: the script itself (`script` names it in messages)
   double hz = 60.0;                // steps per second (the walker's fixed time step is 1 / hz)
   bool slide = false;              // slide along contact faces instead of stopping
   bool overwrite = false;          // replace the run's files in `out`

@@ -1,10 +1,12 @@
 // `nestwalk route` on the bundled mining-dump scene: a UTM line becomes a script that `nestwalk run`
-// plays to its last point; an existing script is kept unless --overwrite; a route of points only is
-// refused with exit 1, the file and layer named, and nothing written.
+// plays to its last point, and `run --route` walks the same frames in one step; an existing script
+// is kept unless --overwrite; a route of points only is refused with exit 1, the file and layer
+// named, and nothing written.
 #include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
 #include <filesystem>
+#include <sstream>
 
 namespace nestwalk::test {
 namespace {
@@ -38,6 +40,22 @@ TEST(RouteCommand, WritesAScriptThatRunPlaysToTheEnd) {
   const std::string frames = readText(dir / "run" / "frames.csv");
   const std::size_t last = frames.rfind('\n', frames.size() - 2);
   EXPECT_NE(frames.find(",549700.0000,4650100.0000,", last), std::string::npos) << frames.substr(last);
+  // `run --route` in one step walks the same path, frame for frame (positions and headings).
+  const auto direct = runNestwalk("run " + quoted(kScene) + " --route " + quoted(dir / "line.geojson") +
+                                  " --speed 3 --headless --quiet --out " + quoted(dir / "direct"));
+  ASSERT_EQ(direct.exitCode, 0) << direct.out << direct.err;
+  const std::string directFrames = readText(dir / "direct" / "frames.csv");
+  auto positions = [](const std::string& csv) {  // frame, time, x, y, z, heading of every row
+    std::string out;
+    std::stringstream in(csv);
+    for (std::string line; std::getline(in, line);) {
+      std::size_t pos = 0;
+      for (int i = 0; i < 6 && pos != std::string::npos; ++i) pos = line.find(',', pos + 1);
+      out += line.substr(0, pos) + "\n";
+    }
+    return out;
+  };
+  EXPECT_EQ(positions(directFrames), positions(frames));
 
   // Kept unless asked; replaced with --overwrite.
   writeText(dir / "walk.txt", "# mine\n");

@@ -1,9 +1,9 @@
-// nestwalk run SCENE --script FILE --headless --out DIR [--render ...]: a recorded run
-// (engine/session/recorded_run.h: the flythrough played without any display, optionally rendered
-// offscreen, the run's files written in DIR), then its figures printed. Exits with 3 when an
-// expectation of the script failed (each is printed with its frame and position), 1 for bad input.
+// nestwalk run SCENE (--script FILE | --route ROUTE ...) --headless --out DIR [--render ...]: a recorded run
+// (session/recorded_run.h: played without a display, optionally rendered offscreen, its files written in
+// DIR), its figures printed. Exit 3: an expectation failed (printed with frame and position); 1: bad input.
 #include "nestwalk/session/recorded_run.h"
 #include "tools/nestwalk/commands.h"
+#include "tools/nestwalk/route_options.h"
 #include "tools/nestwalk/walk_options.h"
 
 #include <unistd.h>
@@ -21,6 +21,7 @@ struct RunArgs {
   std::string size = "1280x720";
   MethodOverrides method;
   TerrainArgs terrain;
+  RouteArgs route;  // --route and its options
 };
 
 // The run's figures: steps, step times, failed expectations, rendering, files.
@@ -50,6 +51,7 @@ void printRun(const RecordedRunOptions& o, const RecordedRun& run) {
 
 void runRun(RunArgs& args) {
   RecordedRunOptions& o = args.run;
+  o.scriptText = scriptOrRoute(o.scene, o.script, args.route);
   o.method = [&args](const MethodSpec& m) { return applyMethodOverrides(args.method, m); };
   if (args.render) {
     std::tie(args.rendering.view.width, args.rendering.view.height) = parseFrameSize(args.size);
@@ -80,8 +82,8 @@ void registerRun(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* cmd = app.add_subcommand("run", "Play a flythrough script on a scene (headless): per-frame CSV, summary, plot, camera path");
   cmd->add_option("SCENE", args->run.scene, "Scene file (JSON, see README)")->required();
-  cmd->add_option("--script", args->run.script, "Flythrough script (text, see README) or an osgviewer AnimationPath (.path)")
-      ->required();
+  cmd->add_option("--script", args->run.script, "Flythrough script (text, see README) or an osgviewer AnimationPath (.path)");
+  addRouteOptions(*cmd, args->route, /*routeOption=*/true);
   cmd->add_option("--out", args->run.out, "Folder for the run's files")->required();
   cmd->add_flag("--headless", args->headless, "No display (nestwalk never opens a window: rendering is offscreen)");
   cmd->add_flag("--render", args->render, "Render the walker's view offscreen: frames/*.png, flythrough.mp4, render times");
