@@ -107,6 +107,25 @@ const Format kFormats[] = {{"gpx", "GPX", ".gpx", false},           {"gpkg", "GP
                            {"geojson", "GeoJSON", ".geojson", false}, {"kml", "LIBKML", ".kml", false},
                            {"csv", "CSV", ".csv", false}};
 
+/// A one-feature line layer in EPSG:`epsg` (map coordinates), written with OGR's `driver`.
+void writeProjectedLine(const fs::path& path, const char* driver, const char* layer, int epsg,
+                        const std::vector<Eigen::Vector2d>& points) {
+  GDALAllRegister();
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName(driver), path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
+  ASSERT_NE(ds, nullptr);
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(srs, epsg);
+  OGRLayerH l = GDALDatasetCreateLayer(ds, layer, srs, wkbLineString, nullptr);
+  OGRFeatureH feature = OGR_F_Create(OGR_L_GetLayerDefn(l));
+  OGRGeometryH g = OGR_G_CreateGeometry(wkbLineString);
+  for (const auto& p : points) OGR_G_AddPoint_2D(g, p.x(), p.y());
+  OGR_F_SetGeometryDirectly(feature, g);
+  ASSERT_EQ(OGR_L_CreateFeature(l, feature), OGRERR_NONE);
+  OGR_F_Destroy(feature);
+  OSRDestroySpatialReference(srs);
+  GDALClose(ds);
+}
+
 void writeRoute(const fs::path& path, const Format& f, const std::vector<Eigen::Vector2d>& lonLat,
                 const std::vector<Eigen::Vector2d>& utm, int epsg) {
   const std::string driver = f.driver;
@@ -121,20 +140,7 @@ void writeRoute(const fs::path& path, const Format& f, const std::vector<Eigen::
     return test::writeText(path, wkt + ")\",walk\n");
   }
   if (!f.projected) return test::writeGeoLayer(path, f.driver, "route", {{"route", "walk", std::nullopt, lonLat}});
-  GDALAllRegister();
-  GDALDatasetH ds = GDALCreate(GDALGetDriverByName(f.driver), path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-  ASSERT_NE(ds, nullptr);
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, epsg);
-  OGRLayerH l = GDALDatasetCreateLayer(ds, "route", srs, wkbLineString, nullptr);
-  OGRFeatureH feature = OGR_F_Create(OGR_L_GetLayerDefn(l));
-  OGRGeometryH g = OGR_G_CreateGeometry(wkbLineString);
-  for (const auto& p : utm) OGR_G_AddPoint_2D(g, p.x(), p.y());
-  OGR_F_SetGeometryDirectly(feature, g);
-  ASSERT_EQ(OGR_L_CreateFeature(l, feature), OGRERR_NONE);
-  OGR_F_Destroy(feature);
-  OSRDestroySpatialReference(srs);
-  GDALClose(ds);
+  writeProjectedLine(path, f.driver, "route", epsg, utm);
 }
 
 class RouteFormats : public ::testing::TestWithParam<std::tuple<Latitude, Format>> {};
@@ -309,20 +315,7 @@ TEST(RoutePlayed, FlightKeepsTheEyeAtTheHeightOverEachPoint) {
   gis::RouteRequest request;
   request.script.fly = true;
   request.script.height = 20.0;
-  GDALAllRegister();  // the line in the terrain's own UTM CRS
-
-  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GPKG"), (dir / "line.gpkg").c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, lat.terrain.epsg);
-  OGRLayerH l = GDALDatasetCreateLayer(ds, "flight", srs, wkbLineString, nullptr);
-  OGRFeatureH f = OGR_F_Create(OGR_L_GetLayerDefn(l));
-  OGRGeometryH g = OGR_G_CreateGeometry(wkbLineString);
-  for (const auto& q : utm) OGR_G_AddPoint_2D(g, q.x(), q.y());
-  OGR_F_SetGeometryDirectly(f, g);
-  ASSERT_EQ(OGR_L_CreateFeature(l, f), OGRERR_NONE);
-  OGR_F_Destroy(f);
-  OSRDestroySpatialReference(srs);
-  GDALClose(ds);
+  writeProjectedLine(dir / "line.gpkg", "GPKG", "flight", lat.terrain.epsg, utm);  // the terrain's own CRS
   request.route.source = (dir / "line.gpkg").string();
   const Played p = play(scene, gis::planRoute(scene.string(), request).text);
   std::size_t at = 0;
