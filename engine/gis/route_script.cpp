@@ -122,11 +122,11 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
   out.stops = visits.size();
 
   ScriptWriter w(o);
-  char head[512];
-  std::snprintf(head, sizeof head, "# nestwalk route: %s (%zu points, %zu line feature(s), CRS %s): %.1f m%s",
-                what.c_str(), route.points.size(), route.features, route.crs.c_str(), out.length,
-                o.useTimes ? (", timed: " + exact(way.back().time) + " s").c_str() : "");
-  w.line(head);
+  char length[32];
+  std::snprintf(length, sizeof length, "%.1f m", out.length);
+  w.line("# nestwalk route: " + what + " (" + std::to_string(route.points.size()) + " points, " +
+         std::to_string(route.features) + " line feature(s), CRS " + route.crs + "): " + length +
+         (o.useTimes ? ", timed: " + exact(way.back().time) + " s" : ""));
   if (out.dropped) w.line("# " + std::to_string(out.dropped) + " point(s) within 1 mm of the one before left out");
   w.line(o.fly ? "mode fly" : "mode walk");
   if (o.speed && !o.useTimes) w.line("speed " + exact(*o.speed));
