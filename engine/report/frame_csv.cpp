@@ -71,6 +71,30 @@ const std::vector<std::string>& frameCsvColumns() {
   return columns;
 }
 
+void frameCells(const FrameRecord& r, const RenderRecord& render, std::vector<FrameCell>& out) {
+  out.clear();
+  auto integer = [&](std::uint64_t v) { out.push_back({FrameCellKind::Integer, double(v), {}, 0}); };
+  auto real = [&](std::optional<double> v, int digits) { out.push_back({FrameCellKind::Real, v, {}, digits}); };
+  integer(r.frame);
+  real(r.time, kTimeDigits);
+  for (int axis = 0; axis < 3; ++axis) real(r.eye[axis], kPositionDigits);
+  real(r.headingDeg, kAngleDigits);
+  real(r.pitchDeg, kAngleDigits);
+  integer(r.flying);
+  integer(r.hasGround);
+  real(r.hasGround ? std::optional<double>(r.ground) : std::nullopt, kPositionDigits);  // empty: no ground
+  integer(r.blocked);
+  out.push_back({FrameCellKind::Text, std::nullopt, r.blockedBy, 0});
+  for (std::uint64_t c : {r.nodeTests, r.stageTests[OverlapStage::AabbAabb], r.stageTests[OverlapStage::AabbObb],
+                          r.stageTests[OverlapStage::ObbObb], r.primitiveTests, r.volumesUpdated})
+    integer(c);
+  integer(render.rendered);
+  for (std::uint64_t c : {render.triangles, render.instancesDrawn, render.culledByAabb, render.culledByObb}) integer(c);
+  real(render.terrainErrorPx, kPixelDigits);
+  for (double us : r.micros) real(us, kMicrosDigits);
+  for (double us : render.micros) real(us, kMicrosDigits);
+}
+
 void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& records,
                    std::span<const RenderRecord> renders) {
   if (!renders.empty() && renders.size() != records.size())
@@ -81,51 +105,16 @@ void writeFrameCsv(const std::string& path, const std::vector<FrameRecord>& reco
   text += '\n';
   text.reserve(text.size() + records.size() * 200);
   const RenderRecord notRendered;
+  std::vector<FrameCell> cells;
   for (std::size_t i = 0; i < records.size(); ++i) {
-    const FrameRecord& r = records[i];
-    const RenderRecord& render = renders.empty() ? notRendered : renders[i];
-    appendInt(text, r.frame);
-    text += ',';
-    appendFixed(text, r.time, kTimeDigits);
-    for (int axis = 0; axis < 3; ++axis) {
-      text += ',';
-      appendFixed(text, r.eye[axis], kPositionDigits);
-    }
-    text += ',';
-    appendFixed(text, r.headingDeg, kAngleDigits);
-    text += ',';
-    appendFixed(text, r.pitchDeg, kAngleDigits);
-    text += r.flying ? ",1" : ",0";
-    text += r.hasGround ? ",1," : ",0,";
-    if (r.hasGround) appendFixed(text, r.ground, kPositionDigits);  // empty: no ground under the eye
-    text += r.blocked ? ",1," : ",0,";
-    appendField(text, r.blockedBy);
-    const std::uint64_t counters[] = {r.nodeTests,
-                                      r.stageTests[OverlapStage::AabbAabb],
-                                      r.stageTests[OverlapStage::AabbObb],
-                                      r.stageTests[OverlapStage::ObbObb],
-                                      r.primitiveTests,
-                                      r.volumesUpdated};
-    for (std::uint64_t c : counters) {
-      text += ',';
-      appendInt(text, c);
-    }
-    text += render.rendered ? ",1" : ",0";
-    const std::uint64_t drawn[] = {render.triangles, render.instancesDrawn, render.culledByAabb,
-                                   render.culledByObb};
-    for (std::uint64_t c : drawn) {
-      text += ',';
-      appendInt(text, c);
-    }
-    text += ',';
-    appendFixed(text, render.terrainErrorPx, kPixelDigits);
-    for (double us : r.micros) {
-      text += ',';
-      appendFixed(text, us, kMicrosDigits);
-    }
-    for (double us : render.micros) {
-      text += ',';
-      appendFixed(text, us, kMicrosDigits);
+    frameCells(records[i], renders.empty() ? notRendered : renders[i], cells);
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      if (c) text += ',';
+      const FrameCell& cell = cells[c];
+      if (cell.kind == FrameCellKind::Text) appendField(text, cell.text);
+      else if (!cell.number) continue;
+      else if (cell.kind == FrameCellKind::Integer) appendInt(text, std::uint64_t(*cell.number));
+      else appendFixed(text, *cell.number, cell.digits);
     }
     text += '\n';
   }

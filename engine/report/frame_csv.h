@@ -7,6 +7,8 @@
 #include "nestwalk/report/render_record.h"
 #include "nestwalk/walker/frame_record.h"
 
+#include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,6 +22,19 @@ namespace nestwalk {
 ///   rendered,triangles,instances_drawn,culled_aabb,culled_obb,terrain_error_px,
 ///   us_ground,us_broad,us_narrow,us_total,us_render_cull,us_render_draw,us_render_readback,us_render_total
 const std::vector<std::string>& frameCsvColumns();
+
+/// One cell of a frame's row: what the CSV writes and what the results layers (result_layers.h)
+/// store, from the one function that reads the records. Integers (counters, flags, the frame) and
+/// reals carry `number` (unset: an empty cell, ground without ground); blocked_by carries `text`.
+enum class FrameCellKind : std::uint8_t { Integer, Real, Text };
+struct FrameCell {
+  FrameCellKind kind = FrameCellKind::Real;
+  std::optional<double> number;
+  std::string text;
+  int digits = 0;  // Real: digits after the point in the CSV
+};
+/// The cells of one row, in frameCsvColumns()'s order (`out` is resized).
+void frameCells(const FrameRecord& record, const RenderRecord& render, std::vector<FrameCell>& out);
 
 /// Writes `records` with `renders` (one per record, or empty: nothing was rendered, the render
 /// columns are 0). time %.6f s; x, y, z, ground %.4f m (ground empty without ground); heading,
