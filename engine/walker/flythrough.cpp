@@ -18,6 +18,7 @@ FrameRecord makeFrameRecord(const Walker& walker, const StepReport& report) {
   r.time = s.time;
   r.eye = walker.eye();
   r.headingDeg = s.headingDeg;
+  r.bodyYawDeg = s.bodyYawDeg;
   r.pitchDeg = s.pitchDeg;
   r.flying = s.flying;
   r.hasGround = s.hasGround;

@@ -30,6 +30,7 @@ struct FrameRecord {
   double time = 0;                                      // seconds of simulated time at the frame's end
   Eigen::Vector3d eye = Eigen::Vector3d::Zero();        // map frame
   double headingDeg = 0, pitchDeg = 0;
+  double bodyYawDeg = 0;                                // the body box's heading (walker.h: bodyVolumeAt)
   bool flying = false;
   bool hasGround = false;
   double ground = 0;                                    // terrain height under the eye (map z)

@@ -58,16 +58,21 @@ Walker::Walker(const terrain::Heightfield& terrain, const CollisionWorld& world,
   state_.clearance = options.viewer.flyClearance;
 }
 
-NestedVolume<double> Walker::bodyVolume(const Eigen::Vector3d& feetMap, double yawDeg) const {
-  const Eigen::Vector3d& h = options_.viewer.bodyHalfExtents;
+NestedVolume<double> bodyVolumeAt(const ViewerSpec& viewer, const Eigen::Vector3d& origin,
+                                  const Eigen::Vector3d& feetMap, double yawDeg) {
+  const Eigen::Vector3d& h = viewer.bodyHalfExtents;
   const Eigen::Vector2d f = forwardOf(yawDeg);
   Obb<double> b;
-  b.center = feetMap + Eigen::Vector3d(0, 0, h.z()) - origin_;
+  b.center = feetMap + Eigen::Vector3d(0, 0, h.z()) - origin;
   b.axes.col(0) = Vec3<double>(f.x(), f.y(), 0);
   b.axes.col(1) = Vec3<double>(-f.y(), f.x(), 0);
   b.axes.col(2) = Vec3<double>(0, 0, 1);
   b.halfExtents = h;
   return NestedVolume<double>::fromObb(b);
+}
+
+NestedVolume<double> Walker::bodyVolume(const Eigen::Vector3d& feetMap, double yawDeg) const {
+  return bodyVolumeAt(options_.viewer, origin_, feetMap, yawDeg);
 }
 
 bool Walker::footprintHeights(double x, double y, double yawDeg, std::array<double, 5>& h) const {

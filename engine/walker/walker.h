@@ -102,6 +102,12 @@ struct StepReport {
   std::uint64_t groundWaits = 0;     // paged terrain: tile reads the step waited for (heightfield.h)
 };
 
+/// The body's nested volumes in the local frame (map - `origin`): the box of `viewer`'s half
+/// extents standing on `feetMap`, turned to `yawDeg` (forward along the heading). What the walker
+/// tests every step, and what a run's contacts are measured from afterwards (report).
+NestedVolume<double> bodyVolumeAt(const ViewerSpec& viewer, const Eigen::Vector3d& origin,
+                                  const Eigen::Vector3d& feetMap, double yawDeg);
+
 class Walker {
  public:
   Walker(const terrain::Heightfield& terrain, const CollisionWorld& world, const Eigen::Vector3d& origin,
@@ -129,7 +135,7 @@ class Walker {
   const WalkerState& state() const { return state_; }
   const WalkerOptions& options() const { return options_; }
   Eigen::Vector3d eye() const { return state_.feet + Eigen::Vector3d(0, 0, options_.viewer.eyeHeight); }
-  // The body's nested volumes (local frame) with its feet at a map point and a yaw.
+  // The body's nested volumes (local frame) with its feet at a map point and a yaw (bodyVolumeAt).
   NestedVolume<double> bodyVolume(const Eigen::Vector3d& feetMap, double yawDeg) const;
   const CollisionWorld& world() const { return world_; }
   const terrain::Heightfield& terrain() const { return terrain_; }
