@@ -7,10 +7,12 @@
 #include "nestwalk/render/frame_writers.h"
 #include "nestwalk/report/frame_csv.h"
 #include "nestwalk/report/frame_time_plot.h"
+#include "nestwalk/report/result_layers.h"
 #include "nestwalk/report/run_summary.h"
 #include "nestwalk/report/top_down_map.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/animation_path.h"
+#include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/script_file.h"
 
 #include <nlohmann/json.hpp>
@@ -24,7 +26,8 @@ namespace nestwalk {
 namespace fs = std::filesystem;
 
 std::vector<std::string> recordedRunOutputs(const RecordedRunOptions& options) {
-  std::vector<std::string> outputs = {"frames.csv", "summary.json", "frame_times.png", "top_down.png", "camera.path"};
+  std::vector<std::string> outputs = {"frames.csv",  "summary.json", "frame_times.png", "top_down.png",
+                                      "camera.path", "results.gpkg", "results.geojson"};
   if (options.rendering) {
     if (options.rendering->frames) outputs.push_back("frames");
     if (options.rendering->video) outputs.push_back("flythrough.mp4");
@@ -156,6 +159,14 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
   writeFrameTimePlot((out / "frame_times.png").string(), f.records, run.renders);
   writeTopDownMap((out / "top_down.png").string(), scene, f.records, f.expectations);
   writeAnimationPath((out / "camera.path").string(), f.camera);
+  // The contacts' stop gaps need the triangles of the units met: the mesh methods' own trees, else
+  // trees of those units' models built here (after the timed play).
+  run.contacts = runContacts(scene, f.records, world.meshes().get());
+  std::vector<std::uint32_t> met;
+  for (const RunContact& c : run.contacts)
+    if (const int u = world.meshes() ? -1 : scene.findUnit(c.unit); u >= 0) met.push_back(std::uint32_t(u));
+  if (!met.empty()) run.contacts = runContacts(scene, f.records, MeshWorld::fromScene(scene, &met).get());
+  writeResultLayers(out.string(), scene.terrain->crsWkt(), info, f.records, f.expectations, run.contacts, run.renders);
   return run;
 }
 

@@ -2,7 +2,9 @@
 // offscreen, and the run's files written into a folder (what `nestwalk run` does; a program that
 // links nestwalk::engine does the same with one call):
 //   frames.csv (a record per step), summary.json, frame_times.png, top_down.png (the run over the
-//   terrain's hillshade), camera.path (an OpenSceneGraph AnimationPath osgviewer replays); with
+//   terrain's hillshade), camera.path (an OpenSceneGraph AnimationPath osgviewer replays),
+//   results.gpkg and results.geojson (the path, contacts, blocked stretches, expectations and
+//   frames as GIS layers, report/result_layers.h); with
 //   rendering, frames/frame_NNNNNN.png and flythrough.mp4, and the render times in the same CSV
 //   and summary.
 //
@@ -17,6 +19,7 @@
 
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/report/render_record.h"
+#include "nestwalk/report/run_contacts.h"
 #include "nestwalk/scene/method_spec.h"
 #include "nestwalk/walker/flythrough.h"
 
@@ -59,6 +62,7 @@ struct RecordedRun {
   // The figures a run is summed up by (percentiles nearest rank, core/statistics.h).
   double stepP50Us = 0, stepP99Us = 0, stepMaxUs = 0;  // whole step, wall clock
   std::size_t blockedSteps = 0, expectationsMet = 0;
+  std::vector<RunContact> contacts;   // the blocking events (report/run_contacts.h)
   // Rendering (zero or empty without it): ms per rendered frame, p50 by part and p95 in all.
   std::size_t framesRendered = 0, pngFrames = 0, videoFrames = 0;
   std::string route, glRenderer;      // the offscreen route and the GL renderer's name

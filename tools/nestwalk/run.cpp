@@ -29,8 +29,8 @@ void printRun(const RecordedRunOptions& o, const RecordedRun& run) {
   const auto& records = run.flythrough.records;
   std::printf("%s on %s: %zu frames (%.1f s at %g Hz), %zu units, method %s\n", o.script.c_str(), o.scene.c_str(),
               records.size(), records.empty() ? 0.0 : records.back().time, o.hz, run.units, run.method.c_str());
-  std::printf("  step time: p50 %.2f us, p99 %.2f us, max %.2f us; %zu frames blocked\n", run.stepP50Us,
-              run.stepP99Us, run.stepMaxUs, run.blockedSteps);
+  std::printf("  step time: p50 %.2f us, p99 %.2f us, max %.2f us; %zu frames blocked, %zu contact(s)\n",
+              run.stepP50Us, run.stepP99Us, run.stepMaxUs, run.blockedSteps, run.contacts.size());
   for (const auto& e : run.flythrough.expectations)
     if (!e.met)
       std::printf("  FAILED %s:%d: %s at frame %llu, eye (%.3f, %.3f, %.3f): %s\n", e.script.c_str(), e.line,
@@ -46,7 +46,7 @@ void printRun(const RecordedRunOptions& o, const RecordedRun& run) {
     if (o.rendering->video) std::printf("  wrote %s/flythrough.mp4 (%zu frames)\n", o.out.c_str(), run.videoFrames);
   }
   std::printf("  expectations: %zu of %zu met\n", run.expectationsMet, run.flythrough.expectations.size());
-  std::printf("  wrote %s/{frames.csv, summary.json, frame_times.png, top_down.png, camera.path}\n", o.out.c_str());
+  std::printf("  wrote %s/{frames.csv, summary.json, frame_times.png, top_down.png, camera.path, results.gpkg}\n", o.out.c_str());
 }
 
 void runRun(RunArgs& args) {
