@@ -122,8 +122,10 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
   Walker walker(*scene.terrain, world, scene.origin, options);
   ScriptPlayer player(script, walker);
   std::vector<std::uint32_t> near;
+  std::vector<FrameRecord> records;
   std::int32_t blockedBy = -1;  // the unit the previous step was blocked by
   player.run([&](const Walker& w, const StepReport& report) {
+    records.push_back(makeFrameRecord(w, report));
     s.nearTriangles.push_back(watch.takeHeaviest());
     s.bvTests += report.counters.nodeTests;
     for (std::uint64_t n : report.counters.stageTests) s.bvTests += n;
@@ -138,6 +140,7 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
     if (std::isfinite(gap)) s.gapsMm.push_back(1000.0 * gap);
   });
   s.tally = watch.tally();
+  s.contacts = runContacts(scene, records, &meshes);
 }
 
 /// Auto's choices, by the kind of unit (units without a kind under "(none)").
@@ -330,6 +333,7 @@ int runMethodReport(const MethodReportOptions& o, std::ostream& log) {
   d.units = scene.units.size();
   d.instances = scene.instances.size();
   d.hierarchy = describe(scene.spec.method);
+  d.crsWkt = scene.terrain->crsWkt();
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw InputError(out.string() + ": cannot create the folder: " + ec.message());

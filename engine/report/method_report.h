@@ -44,8 +44,8 @@ struct MethodReportOptions {
 
 /// The files the report writes into its folder.
 inline const std::vector<std::string>& reportFiles() {
-  static const std::vector<std::string> files = {"report.md",   "report.json",     "pareto.png",
-                                                 "methods.png", "terrain_lod.png", "model_weight.png"};
+  static const std::vector<std::string> files = {"report.md",   "report.json",     "pareto.png",      "methods.png",
+                                                 "terrain_lod.png", "model_weight.png", "contacts.gpkg"};
   return files;
 }
 

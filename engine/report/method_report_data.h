@@ -3,9 +3,10 @@
 // Thread safety: plain values; aggregate() and reportTargets() are pure.
 #pragma once
 
+#include "nestwalk/core/targets.h"
 #include "nestwalk/report/fitter_table.h"
 #include "nestwalk/report/reference_comparison.h"
-#include "nestwalk/core/targets.h"
+#include "nestwalk/report/run_contacts.h"
 #include "nestwalk/report/terrain_lod_table.h"
 #include "nestwalk/scene/method_spec.h"
 
@@ -34,6 +35,8 @@ struct PlayStats {
   std::vector<double> gapsMm;                       // the stop gap after each of them
   std::vector<std::uint32_t> blockingEvents;        // the unit of each blocking event: a run of steps
                                                     // blocked by one unit (accuracy play)
+  std::vector<RunContact> contacts;                 // the accuracy play's blocking events, terrain
+                                                    // included, with exact stop gaps (contacts.gpkg)
   std::vector<std::size_t> nearTriangles;           // per frame (accuracy play): the triangles of the
                                                     // heaviest unit the step's sweep reached (the
                                                     // units whose outer AABB the body's swept outer
@@ -108,6 +111,7 @@ struct BlockingKindRow {
 
 struct ReportData {
   std::string scene, cpu, hierarchy;
+  std::string crsWkt;  // the scene's (its terrain's): contacts.gpkg's CRS
   std::vector<std::string> scripts;  // file names
   bool quick = false;
   double hz = 60;

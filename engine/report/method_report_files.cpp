@@ -3,6 +3,7 @@
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/plot/charts.h"
+#include "nestwalk/report/result_layers.h"
 
 #include <nlohmann/json.hpp>
 
@@ -440,6 +441,11 @@ void writeReportFiles(const ReportData& d, const std::string& folder) {
   writeMethodBars(d, (dir / "methods.png").string());
   writeTerrainPlot(d, (dir / "terrain_lod.png").string());
   writeWeightBars(d, (dir / "model_weight.png").string());
+  std::vector<ContactSet> contacts;
+  for (const MethodResult& m : d.methods)
+    for (std::size_t s = 0; s < m.plays.size(); ++s)
+      contacts.push_back({volumeMethodName(m.method), d.scripts[s], &m.plays[s].contacts});
+  writeContactsLayer((dir / "contacts.gpkg").string(), d.crsWkt, contacts);
   writeFileAtomically((dir / "report.md").string(), reportMarkdown(d));
 }
 

@@ -145,14 +145,20 @@ void contactFields(LayerFile& file, OGRLayerH l) {
   for (const char* name : {"stop_gap_m", "approach_deg"}) file.field(l, name, OFTReal);
 }
 
-/// featureKind: the GeoJSON's "feature" field, its points in plan (nullptr in the GeoPackage, which
-/// has no such field and keeps the height).
+/// Fields some layers add: the GeoJSON's "feature" (its points then in plan), the methods report's
+/// "script".
+struct ContactLabels {
+  const char* feature = nullptr;
+  const std::string* script = nullptr;
+};
+
 void writeContact(LayerFile& file, OGRLayerH l, const RunContact& c, const std::string& method,
-                  const char* featureKind = nullptr) {
+                  const ContactLabels& labels = {}) {
   OGRFeatureH f = OGR_F_Create(OGR_L_GetLayerDefn(l));
-  if (featureKind) setText(f, "feature", featureKind);
+  if (labels.feature) setText(f, "feature", labels.feature);
+  if (labels.script) setText(f, "script", *labels.script);
   OGRGeometryH point = pointZ(c.eye);
-  if (featureKind) OGR_G_FlattenTo2D(point);
+  if (labels.feature) OGR_G_FlattenTo2D(point);
   setInt(f, "frame", std::int64_t(c.frame));
   setReal(f, "time_s", c.time);
   setText(f, "unit", c.unit);
@@ -275,9 +281,19 @@ ResultLayerFiles writeResultLayers(const std::string& folder, const std::string&
     line = simple;
   }
   json.add(l, path, line);
-  for (const RunContact& contact : contacts) writeContact(json, l, contact, info.method, "contact");
+  for (const RunContact& contact : contacts) writeContact(json, l, contact, info.method, {"contact"});
   json.commit();
   return out;
+}
+
+void writeContactsLayer(const std::string& path, const std::string& crsWkt, const std::vector<ContactSet>& sets) {
+  LayerFile gpkg(path, "GPKG", crsWkt);
+  OGRLayerH l = gpkg.layer("contacts", wkbPoint25D);
+  contactFields(gpkg, l);
+  gpkg.field(l, "script", OFTString);
+  for (const ContactSet& set : sets)
+    for (const RunContact& c : *set.contacts) writeContact(gpkg, l, c, set.method, {nullptr, &set.script});
+  gpkg.commit();
 }
 
 }  // namespace nestwalk

@@ -47,4 +47,12 @@ ResultLayerFiles writeResultLayers(const std::string& folder, const std::string&
                                    const std::vector<RunContact>& contacts, std::span<const RenderRecord> renders = {},
                                    std::size_t frameEvery = kDefaultFrameLayerEvery);
 
+/// Contacts of several plays in one layer (the methods report's contacts.gpkg, layer `contacts`):
+/// the fields of results.gpkg's contacts plus `script`, `method` the set's.
+struct ContactSet {
+  std::string method, script;
+  const std::vector<RunContact>* contacts = nullptr;
+};
+void writeContactsLayer(const std::string& path, const std::string& crsWkt, const std::vector<ContactSet>& sets);
+
 }  // namespace nestwalk

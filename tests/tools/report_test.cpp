@@ -5,11 +5,14 @@
 #include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
+#include <gdal.h>
 #include <nlohmann/json.hpp>
+#include <ogr_api.h>
 #include <osg/Image>
 #include <osgDB/ReadFile>
 
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -36,7 +39,8 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   const fs::path dir = folder / "report";
   const auto r = runNestwalk("report --quick --out " + quoted(dir));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png", "model_weight.png"})
+  for (const char* f : {"report.md", "report.json", "pareto.png", "methods.png", "terrain_lod.png", "model_weight.png",
+                        "contacts.gpkg"})
     ASSERT_TRUE(fs::exists(dir / f)) << f << "\n" << r.out << r.err;
 
   const auto j = nlohmann::json::parse(readText(dir / "report.json"));
@@ -115,6 +119,35 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
     const auto& v = model["volume"];
     EXPECT_LE(v["hull_search"].get<double>(), v["covariance"].get<double>() * (1 + 1e-9)) << model["model"];
     EXPECT_GT(v["cgal_optimal"].get<double>(), 0.0) << model["model"];
+  }
+
+  // contacts.gpkg: every method's blocking events in one layer; per method and flythrough, the
+  // equipment's are the report's blocking events.
+  {
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpenEx((dir / "contacts.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
+    ASSERT_NE(ds, nullptr);
+    OGRLayerH l = GDALDatasetGetLayerByName(ds, "contacts");
+    ASSERT_NE(l, nullptr);
+    std::map<std::pair<std::string, std::string>, std::size_t> equipment;
+    for (OGRFeatureH f = OGR_L_GetNextFeature(l); f; f = OGR_L_GetNextFeature(l)) {
+      const std::string kind = OGR_F_GetFieldAsString(f, OGR_F_GetFieldIndex(f, "kind"));
+      if (kind != "terrain")
+        ++equipment[{OGR_F_GetFieldAsString(f, OGR_F_GetFieldIndex(f, "method")),
+                     OGR_F_GetFieldAsString(f, OGR_F_GetFieldIndex(f, "script"))}];
+      OGR_F_Destroy(f);
+    }
+    GDALClose(ds);
+    std::size_t events = 0;
+    for (const auto& method : j["methods"])
+      for (const auto& play : method["flythroughs"]) {
+        if (play.contains("error")) continue;
+        const std::size_t want = play["blocking_events"].get<std::size_t>();
+        EXPECT_EQ((equipment[{method["method"].get<std::string>(), play["script"].get<std::string>()}]), want)
+            << method["method"] << " " << play["script"];
+        events += want;
+      }
+    EXPECT_GT(events, 20u);
   }
 
   const std::string md = readText(dir / "report.md");
