@@ -241,13 +241,13 @@ void writeFrames(LayerFile& file, OGRLayerH l, const std::vector<FrameRecord>& r
 
 }  // namespace
 
-ResultLayerFiles writeResultLayers(const std::string& folder, const std::string& crsWkt, const RunSummaryInfo& info,
+ResultLayerFiles writeResultLayers(const std::string& base, const std::string& crsWkt, const RunSummaryInfo& info,
                                    const std::vector<FrameRecord>& records,
                                    const std::vector<ExpectationResult>& expectations,
                                    const std::vector<RunContact>& contacts, std::span<const RenderRecord> renders,
                                    std::size_t frameEvery) {
   ResultLayerFiles out;
-  out.gpkg = (std::filesystem::path(folder) / "results.gpkg").string();
+  out.gpkg = base + ".gpkg";
   {
     LayerFile gpkg(out.gpkg, "GPKG", crsWkt);
     writePath(gpkg, gpkg.layer("path", wkbLineStringZM), info, records, expectations, contacts.size(), true);
@@ -261,7 +261,7 @@ ResultLayerFiles writeResultLayers(const std::string& folder, const std::string&
   }
   if (crsWkt.empty()) return out;
   // GeoJSON (RFC 7946): one collection, the path and the contacts, told apart by "feature".
-  out.geojson = (std::filesystem::path(folder) / "results.geojson").string();
+  out.geojson = base + ".geojson";
   LayerFile json(out.geojson, "GeoJSON", crsWkt);
   char rfc7946[] = "RFC7946=YES";
   char* options[] = {rfc7946, nullptr};

@@ -40,8 +40,10 @@ struct ResultLayerFiles {
   std::string geojson;  // "" : not written (or the scene has no CRS)
 };
 
-/// Writes the layers (see above); `crsWkt` is the scene's (its terrain's). Returns what was written.
-ResultLayerFiles writeResultLayers(const std::string& folder, const std::string& crsWkt, const RunSummaryInfo& info,
+/// Writes the layers (see above) as `base`.gpkg and `base`.geojson (a run: DIR/results; a walk
+/// recorded in the window: walk_NNN); `crsWkt` is the scene's (its terrain's). Returns what was
+/// written.
+ResultLayerFiles writeResultLayers(const std::string& base, const std::string& crsWkt, const RunSummaryInfo& info,
                                    const std::vector<FrameRecord>& records,
                                    const std::vector<ExpectationResult>& expectations,
                                    const std::vector<RunContact>& contacts, std::span<const RenderRecord> renders = {},

@@ -75,4 +75,15 @@ std::vector<RunContact> runContacts(const Scene& scene, const std::vector<FrameR
   return out;
 }
 
+std::vector<RunContact> measuredContacts(const Scene& scene, const std::vector<FrameRecord>& records,
+                                         const MeshWorld* meshes) {
+  std::vector<RunContact> contacts = runContacts(scene, records, meshes);
+  if (meshes) return contacts;
+  std::vector<std::uint32_t> met;
+  for (const RunContact& c : contacts)
+    if (const int u = c.kind == "terrain" ? -1 : scene.findUnit(c.unit); u >= 0) met.push_back(std::uint32_t(u));
+  if (met.empty()) return contacts;
+  return runContacts(scene, records, MeshWorld::fromScene(scene, &met).get());
+}
+
 }  // namespace nestwalk

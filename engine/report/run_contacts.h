@@ -39,4 +39,10 @@ struct RunContact {
 std::vector<RunContact> runContacts(const Scene& scene, const std::vector<FrameRecord>& records,
                                     const MeshWorld* meshes);
 
+/// runContacts with every equipment contact's stop gap measured: with `meshes` (a mesh method's
+/// own) when given, else with trees built here for the models of the units met (MeshWorld::
+/// fromScene's subset: the cost of the models met, not of the scene).
+std::vector<RunContact> measuredContacts(const Scene& scene, const std::vector<FrameRecord>& records,
+                                         const MeshWorld* meshes);
+
 }  // namespace nestwalk

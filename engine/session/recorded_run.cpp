@@ -12,7 +12,6 @@
 #include "nestwalk/report/top_down_map.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/walker/animation_path.h"
-#include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/script_file.h"
 
 #include <nlohmann/json.hpp>
@@ -159,14 +158,8 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
   writeFrameTimePlot((out / "frame_times.png").string(), f.records, run.renders);
   writeTopDownMap((out / "top_down.png").string(), scene, f.records, f.expectations);
   writeAnimationPath((out / "camera.path").string(), f.camera);
-  // The contacts' stop gaps need the triangles of the units met: the mesh methods' own trees, else
-  // trees of those units' models built here (after the timed play).
-  run.contacts = runContacts(scene, f.records, world.meshes().get());
-  std::vector<std::uint32_t> met;
-  for (const RunContact& c : run.contacts)
-    if (const int u = world.meshes() ? -1 : scene.findUnit(c.unit); u >= 0) met.push_back(std::uint32_t(u));
-  if (!met.empty()) run.contacts = runContacts(scene, f.records, MeshWorld::fromScene(scene, &met).get());
-  writeResultLayers(out.string(), scene.terrain->crsWkt(), info, f.records, f.expectations, run.contacts, run.renders);
+  run.contacts = measuredContacts(scene, f.records, world.meshes().get());
+  writeResultLayers((out / "results").string(), scene.terrain->crsWkt(), info, f.records, f.expectations, run.contacts, run.renders);
   return run;
 }
 

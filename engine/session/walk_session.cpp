@@ -6,6 +6,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/report/result_layers.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/viewer/walk_recording.h"
 #include "nestwalk/terrain/dem_reader.h"
@@ -104,12 +105,15 @@ void WalkSession::toggleRecording() {
     recordFolderMade_ = true;
   }
   recording_ = std::make_unique<WalkRecording>(*walker_, options_.scene, volumeMethodName(method_.volumes));
+  recorded_.clear();
   status_ = "RECORDING";
   say("recording started");
 }
 
-void WalkSession::recordStep(const StepInput& input) {
-  if (recording_) recording_->add(input, *walker_);
+void WalkSession::recordStep(const StepInput& input, const StepReport& report) {
+  if (!recording_) return;
+  recording_->add(input, *walker_);
+  recorded_.push_back(makeFrameRecord(*walker_, report));
 }
 
 void WalkSession::stopRecording() {
@@ -119,9 +123,17 @@ void WalkSession::stopRecording() {
   const fs::path path = fs::path(options_.recordFolder) / (std::string(name) + ".path");
   writeFileAtomically(script.string(), recording_->scriptText());
   writeAnimationPath(path.string(), recording_->camera());
+  RunSummaryInfo info;
+  info.scene = options_.scene;
+  info.script = script.string();
+  info.method = volumeMethodName(method_.volumes);
+  info.dt = walkerOptions_.dt;
+  const fs::path layers = fs::path(options_.recordFolder) / name;
+  writeResultLayers(layers.string(), scene_.terrain->crsWkt(), info, recorded_, {},
+                    measuredContacts(scene_, recorded_, world_->meshes().get()));
   status_ = "recorded " + script.string();
-  say("recording written " + script.string() + " and " + path.string() + " (" + std::to_string(recording_->steps()) +
-      " steps, " + std::to_string(recording_->contacts().size()) + " contacts)");
+  say("recording written " + script.string() + ", " + path.string() + " and " + layers.string() + ".gpkg (" +
+      std::to_string(recording_->steps()) + " steps, " + std::to_string(recording_->contacts().size()) + " contacts)");
   recording_.reset();
 }
 

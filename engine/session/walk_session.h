@@ -6,8 +6,9 @@
 //    kStartRingDirections directions, out to half the terrain's larger side);
 //  - a played script: computed first on its own walker (the steps `nestwalk run` takes), then
 //    shown frame by frame, its expectations said as the shown frame reaches them;
-//  - recording (R): walk_NNN.txt (a script `run` plays back) and walk_NNN.path in the recording
-//    folder, started and stopped by toggleRecording(), fed by recordStep() after each hand step;
+//  - recording (R): walk_NNN.txt (a script `run` plays back), walk_NNN.path and the walk as GIS
+//    layers, walk_NNN.gpkg and walk_NNN.geojson (report/result_layers.h), in the recording folder,
+//    started and stopped by toggleRecording(), fed by recordStep() after each hand step;
 //  - each frame's HUD data (viewer/hud.h's HudState), the blocked-by events, and the frame
 //    statistics.
 // Every event goes to the `say` sink as one line (standard output for `nestwalk view`).
@@ -85,8 +86,8 @@ class WalkSession {
   /// its files. Refused, with a status, while a script plays or when the folder cannot be had.
   void toggleRecording();
   bool recording() const { return recording_ != nullptr; }
-  /// After each step the hand takes (the input it took), while recording.
-  void recordStep(const StepInput& input);
+  /// After each step the hand takes (the input it took and the step's report), while recording.
+  void recordStep(const StepInput& input, const StepReport& report);
   /// The status line (recording, recorded FILE, why a recording did not start).
   const std::string& status() const { return status_; }
 
@@ -117,6 +118,7 @@ class WalkSession {
   std::unique_ptr<Walker> walker_;
   std::string crs_, status_;
   std::unique_ptr<WalkRecording> recording_;
+  std::vector<FrameRecord> recorded_;  // the recording's steps (its layers)
   int recordings_ = 0;
   bool recordFolderMade_ = false;
   bool wasBlocked_ = false;

@@ -91,7 +91,7 @@ bool runWalkWindow(const WalkWindowOptions& o) {
 
   bool screenshotArmed = false;
   ViewPose shotPose;
-  manipulator->onStep([&](const StepInput& in, const StepReport&) { session.recordStep(in); });
+  manipulator->onStep([&](const StepInput& in, const StepReport& report) { session.recordStep(in, report); });
   manipulator->onCommandKey([&](int key) {
     switch (key) {
       case 'v':

@@ -12,7 +12,9 @@
 #include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
 
+#include <gdal.h>
 #include <gtest/gtest.h>
+#include <ogr_api.h>
 
 #include <filesystem>
 
@@ -98,8 +100,7 @@ TEST_F(WalkSessionTest, ARecordedWalkPlaysBackToTheSamePlace) {
   in.headingDeg = 30;
   in.move = Eigen::Vector3d(0.5, 0.866, 0) * 1.4 * walker.options().dt;  // 1.4 m/s, heading 30
   for (int k = 0; k < 240; ++k) {
-    walker.step(in);
-    session.recordStep(in);
+    session.recordStep(in, walker.step(in));
   }
   const Eigen::Vector3d end = walker.state().feet;
   session.toggleRecording();
@@ -107,6 +108,22 @@ TEST_F(WalkSessionTest, ARecordedWalkPlaysBackToTheSamePlace) {
   const fs::path script = folder.path() / "walks" / "walk_001.txt";
   ASSERT_TRUE(fs::exists(script)) << session.status();
   EXPECT_TRUE(fs::exists(folder.path() / "walks" / "walk_001.path"));
+  EXPECT_TRUE(fs::exists(folder.path() / "walks" / "walk_001.geojson"));
+  {  // The walk's layers: its path holds every recorded step, ending where the walker stood.
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpenEx((folder.path() / "walks" / "walk_001.gpkg").c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr);
+    ASSERT_NE(ds, nullptr);
+    OGRLayerH l = GDALDatasetGetLayerByName(ds, "path");
+    ASSERT_NE(l, nullptr);
+    OGRFeatureH f = OGR_L_GetNextFeature(l);
+    ASSERT_NE(f, nullptr);
+    OGRGeometryH g = OGR_F_GetGeometryRef(f);
+    ASSERT_EQ(OGR_G_GetPointCount(g), 240);
+    const Eigen::Vector3d last = walker.eye();
+    EXPECT_EQ(Eigen::Vector3d(OGR_G_GetX(g, 239), OGR_G_GetY(g, 239), OGR_G_GetZ(g, 239)), last);
+    OGR_F_Destroy(f);
+    GDALClose(ds);
+  }
   EXPECT_NE(session.status().find("walk_001.txt"), std::string::npos);
 
   const Scene& scene = session.scene();
