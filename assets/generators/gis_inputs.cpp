@@ -2,6 +2,7 @@
 #include "assets/generators/gis_inputs.h"
 
 #include "assets/generators/generated_folder.h"
+#include "assets/generators/to_lon_lat.h"
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
@@ -27,7 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kBarrierPiece = 3.0;     // metres: one jersey barrier, end to end (equipment_models.h)
-constexpr double kHeadingBaseline = 0.5;  // metres either side of a point along its grid heading
 constexpr float kNoData = -9999.0f;       // the DEM's nodata value (no cell uses it)
 constexpr const char* kPickupCadFile = "pickup_mm_yup.osgt";
 
@@ -61,42 +61,6 @@ void writeDem(const GeneratedScene& scene, const fs::path& path) {
   if (band->RasterIO(GF_Write, 0, 0, d.cols, d.rows, heights.data(), d.cols, d.rows, GDT_Float32, 0, 0) != CE_None)
     throw InputError(path.string() + ": cannot write its heights");
 }
-
-/// Map (the site's CRS) to longitude and latitude, both in the traditional GIS order (x east).
-class ToLonLat {
- public:
-  explicit ToLonLat(const char* crs) {
-    map_.SetFromUserInput(crs);
-    map_.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    wgs84_.importFromEPSG(4326);
-    wgs84_.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    transform_.reset(OGRCreateCoordinateTransformation(&map_, &wgs84_));
-    if (!transform_) throw std::runtime_error(std::string("no transformation from ") + crs + " to EPSG:4326");
-    geod_init(&geodesic_, 6378137.0, 1 / 298.257223563);  // WGS 84
-  }
-  const OGRSpatialReference& wgs84() const { return wgs84_; }
-
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
-    double x = p.x(), y = p.y();
-    if (!transform_->Transform(1, &x, &y)) throw std::runtime_error("a point could not be transformed to EPSG:4326");
-    return {x, y};
-  }
-  /// The true azimuth (degrees clockwise from north, [0, 360)) of the grid heading at p: the
-  /// geodesic between the points kHeadingBaseline either side, its mean azimuth.
-  double trueAzimuth(const Eigen::Vector2d& p, double gridHeadingDeg) const {
-    const auto [s, c] = sinCosDegrees(gridHeadingDeg);
-    const Eigen::Vector2d step = kHeadingBaseline * Eigen::Vector2d(s, c);
-    const Eigen::Vector2d a = (*this)(p - step), b = (*this)(p + step);
-    double distance, azimuthA, azimuthB;
-    geod_inverse(&geodesic_, a.y(), a.x(), b.y(), b.x(), &distance, &azimuthA, &azimuthB);
-    return wrapDegrees360(azimuthA + 0.5 * wrapDegrees180(azimuthB - azimuthA));
-  }
-
- private:
-  OGRSpatialReference map_, wgs84_;
-  std::unique_ptr<OGRCoordinateTransformation> transform_;
-  geod_geodesic geodesic_;
-};
 
 OGRLayer* createLayer(GDALDataset& ds, const char* name, OGRSpatialReference crs, OGRwkbGeometryType type,
                       const std::vector<std::pair<const char*, OGRFieldType>>& fields, const fs::path& path) {
