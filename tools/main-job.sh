@@ -7,7 +7,10 @@
 # into build/runs/<flythrough>/, writes the speed-against-error report of every contact method
 # (nestwalk report, full settings) into build/runs/report/, and plays the equipment walk on the
 # second bundled scene, the one the build makes from GIS inputs with build-scene
-# (build/assets/gis_dump), into build/runs/gis_equipment_walk/. Exits non-zero when a flythrough's
+# (build/assets/gis_dump), into build/runs/gis_equipment_walk/, and replays the bundled GPS track
+# (routes/patrol_track.gpx) at its recorded pace, stopping at its waypoint, into
+# build/runs/patrol_track/ with its results as GIS layers (results.gpkg, results.geojson). Exits
+# non-zero when a flythrough's
 # expectations are not met or the report cannot be made.
 # Extra arguments go to the rendered run (e.g. --size 640x360, --every 1).
 set -euo pipefail
@@ -32,10 +35,14 @@ gis=build/assets/gis_dump
 build/tools/nestwalk run "$gis/scene.json" --script "${gis}_inputs/scripts/equipment_walk.txt" --headless \
   --method auto --out "$runs/gis_equipment_walk" --overwrite || status=$?
 echo
+build/tools/nestwalk run "$scene/scene.json" --route "$scene/routes/patrol_track.gpx" --use-times --stops waypoints \
+  --headless --out "$runs/patrol_track" --overwrite || status=$?
+echo
 echo "nestwalk: the rendered flythrough is in $(pwd)/$runs/bench_patrol:" \
      "flythrough.mp4, frames/, frames.csv, summary.json, frame_times.png, top_down.png, camera.path"
 echo "nestwalk: the other runs are in $(pwd)/$runs/{ramp_descent,low_flight,equipment_walk,equipment_fly}" \
      "and, on the scene built from GIS inputs, $(pwd)/$runs/gis_equipment_walk (replay one in osgviewer:" \
      "build/tools/nestwalk export $scene/scene.json $runs/scene.osgb && osgviewer $runs/scene.osgb -p $runs/low_flight/camera.path)"
 echo "nestwalk: the methods' speed against error: $(pwd)/$runs/report/report.md"
+echo "nestwalk: the GPS track replayed: $(pwd)/$runs/patrol_track (results.gpkg opens in QGIS, results.geojson on a web map)"
 exit $status

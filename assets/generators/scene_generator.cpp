@@ -3,6 +3,7 @@
 #include "assets/generators/equipment_tours.h"
 #include "assets/generators/footprint_rect.h"
 #include "assets/generators/generated_folder.h"
+#include "assets/generators/phone_track.h"
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/terrain/heightfield.h"
@@ -43,6 +44,12 @@ constexpr double kPatrolApproach = 40.0;   // metres of lane walked before the s
 constexpr double kPatrolOvershoot = 20.0;  // the goto aims this far past the mast
 constexpr double kPatrolRetreat = 25.0;    // metres walked back after turning
 constexpr double kPatrolSpeed = 1.4;       // m/s, walking
+// The bundled GPS track (routes/patrol_track.gpx): it stops this far before the patrol's mast,
+// stands there this long, and walks back to this far past the patrol's start.
+constexpr double kTrackStopShort = 8.0;   // metres
+constexpr double kTrackPause = 12.0;      // seconds
+constexpr double kTrackBackShort = 10.0;  // metres
+constexpr std::uint64_t kTrackSeedSalt = 0x747261636bULL;  // "track": the fixes' noise, apart from the placements
 constexpr double kRampRunIn = 12.0;        // metres of flat top before the ramp's head
 constexpr double kRampToeRunOut = 3.0;     // the descent ends this far up the ramp from its toe
 constexpr double kRampSpeed = 3.0;         // m/s: a brisk walk down 350 m
@@ -321,6 +328,15 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
     P.patrolBlockedAt = lane(l - approachSide - kBodyHalfForward - kStopDistance);
     P.patrolEnd = lane(l - approachSide - kBodyHalfForward - kPatrolRetreat);
     P.patrolHeading = roundMilli(headingOf(mapDirection(g, patrolSide.tangent())));
+    // The patrol walked with a phone in the pocket: along the lane to within kTrackStopShort of the
+    // station, a pause there, then back; the station as the track's waypoint to look at.
+    PhoneTrack track;
+    track.name = "patrol along " + benchName(patrolBench);
+    track.legs = {lane(l - kPatrolApproach), lane(l - kTrackStopShort), lane(l - kPatrolApproach + kTrackBackShort)};
+    track.pauseAt = 1;
+    track.pauseSeconds = kTrackPause;
+    track.waypoints = {{out.points.patrolStation, P.patrolMast}};
+    out.routes.emplace_back("patrol_track.gpx", phoneTrackGpx(track, hf, site.crs, seed ^ kTrackSeedSalt));
   }
   P.rampTop = g.toMap(g.rampEnd + kRampRunIn, g.rampV);
   P.rampToe = g.toMap(g.rampStart + kRampToeRunOut, g.rampV);
@@ -408,6 +424,8 @@ void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwr
     for (ModelKind m : kAllModels) writeModel(m, (tmp / "models" / modelFileName(m)).string());
     writeTextFile(tmp / "scene.json", scene.sceneJson);
     for (const auto& [name, text] : scene.scripts) writeTextFile(tmp / "scripts" / name, text);
+    if (!scene.routes.empty()) fs::create_directories(tmp / "routes");
+    for (const auto& [name, text] : scene.routes) writeTextFile(tmp / "routes" / name, text);
   });
 }
 

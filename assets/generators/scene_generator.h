@@ -81,6 +81,7 @@ struct GeneratedScene {
   ScriptPoints points;
   std::string sceneJson;                                      // scene.json's text
   std::vector<std::pair<std::string, std::string>> scripts;  // file name (in scripts/), text
+  std::vector<std::pair<std::string, std::string>> routes;   // file name (in routes/), GPX text
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> tourEvents;
       // per equipment tour (equipment_tours.h): its file and the (group, kind) of each blocking event
 };
@@ -90,7 +91,8 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site = {});
 
 /// Writes the scene into `dir`: terrain.tif, ortho.tif (the synthetic orthophoto on the terrain's
 /// grid, terrain/mining_dump_ortho.h, its noise seeded with the scene's seed; scene.json names it as
-/// the "imagery"), models/*.osgt, scene.json, scripts/*.txt. `dir` is
+/// the "imagery"), models/*.osgt, scene.json, scripts/*.txt, routes/*.gpx (GPS tracks for
+/// `nestwalk route` and `run --route`, phone_track.h). `dir` is
 /// built under a temporary name beside it and renamed to `dir` at the end; an existing `dir` is
 /// replaced only when `overwrite` (else InputError, and it is left as it was).
 void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite);

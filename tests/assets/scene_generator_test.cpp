@@ -11,7 +11,10 @@
 #include "nestwalk/terrain/dem_reader.h"
 #include "tests/common/temp_folder.h"
 
+#include <gdal.h>
 #include <gtest/gtest.h>
+#include <ogr_api.h>
+#include <proj.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -290,6 +293,77 @@ TEST(SceneGenerator, ExistingFolderIsKeptWithoutOverwrite) {
   // No temporary folder is left beside it.
   for (const auto& f : fs::directory_iterator(dir.parent_path()))
     EXPECT_EQ(f.path().filename().string().find(".kept"), std::string::npos) << f.path();
+}
+
+}  // namespace
+}  // namespace nestwalk::assets
+
+namespace nestwalk::assets {
+namespace {
+
+// The bundled GPS track (routes/patrol_track.gpx), read back with OGR's GPX driver as a user's
+// track is: one track of fixes one second apart, each within 25 cm (5 sigma) of the patrol's lane
+// (the line through the patrol's start and mast, the scene's own points, carried to WGS 84 by PROJ
+// here), its ele the ground's height rounded to 0.1 m, a pause of 12 fixes in a row within 25 cm
+// of each other, and the station as its waypoint.
+TEST(PhoneTrack, BundledTrackIsAPhonesRecordOfThePatrolLane) {
+  const Written& w = written();
+  const fs::path gpx = w.dir / "routes" / "patrol_track.gpx";
+  ASSERT_TRUE(fs::exists(gpx));
+  GDALAllRegister();
+  GDALDatasetH ds = GDALOpenEx(gpx.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
+  ASSERT_NE(ds, nullptr);
+  PJ_CONTEXT* ctx = proj_context_create();
+  PJ* raw = proj_create_crs_to_crs(ctx, "EPSG:4326", w.scene.site.crs, nullptr);
+  PJ* toMap = proj_normalize_for_visualization(ctx, raw);
+  proj_destroy(raw);
+  auto mapOf = [&](double lon, double lat) {
+    const PJ_COORD c = proj_trans(toMap, PJ_FWD, proj_coord(lon, lat, 0, 0));
+    return Eigen::Vector2d(c.xy.x, c.xy.y);
+  };
+  const terrain::Heightfield hf = terrain::readDem((w.dir / "terrain.tif").string());
+  const ScriptPoints& P = w.scene.points;
+  const Eigen::Vector2d along = (P.patrolMast - P.patrolStart).normalized();
+
+  OGRLayerH points = GDALDatasetGetLayerByName(ds, "track_points");
+  ASSERT_NE(points, nullptr);
+  std::vector<Eigen::Vector2d> fixes;
+  std::vector<double> seconds;
+  const int timeField = OGR_FD_GetFieldIndex(OGR_L_GetLayerDefn(points), "time");
+  const int eleField = OGR_FD_GetFieldIndex(OGR_L_GetLayerDefn(points), "ele");
+  for (OGRFeatureH f = OGR_L_GetNextFeature(points); f; f = OGR_L_GetNextFeature(points)) {
+    OGRGeometryH g = OGR_F_GetGeometryRef(f);
+    const Eigen::Vector2d p = mapOf(OGR_G_GetX(g, 0), OGR_G_GetY(g, 0));
+    const Eigen::Vector2d off = p - P.patrolStart;
+    EXPECT_LT(std::abs(off.x() * along.y() - off.y() * along.x()), 0.25) << "fix " << fixes.size() << " off the lane";
+    const std::optional<double> ground = hf.groundHeight(p.x(), p.y());
+    ASSERT_TRUE(ground.has_value());
+    EXPECT_NEAR(OGR_F_GetFieldAsDouble(f, eleField), *ground, 0.05 + 1e-9);
+    int y, mo, d, h, mi, tz;
+    float s;
+    ASSERT_TRUE(OGR_F_GetFieldAsDateTimeEx(f, timeField, &y, &mo, &d, &h, &mi, &s, &tz));
+    seconds.push_back(h * 3600.0 + mi * 60.0 + s);
+    fixes.push_back(p);
+    OGR_F_Destroy(f);
+  }
+  ASSERT_GT(fixes.size(), 40u);
+  int still = 1, longestStill = 1;  // fixes in a row standing still
+  for (std::size_t k = 1; k < fixes.size(); ++k) {
+    EXPECT_EQ(seconds[k] - seconds[k - 1], 1.0) << "fix " << k;
+    still = (fixes[k] - fixes[k - 1]).norm() < 0.25 ? still + 1 : 1;
+    longestStill = std::max(longestStill, still);
+  }
+  EXPECT_GE(longestStill, 12);
+  OGRLayerH waypoints = GDALDatasetGetLayerByName(ds, "waypoints");
+  ASSERT_EQ(OGR_L_GetFeatureCount(waypoints, TRUE), 1);
+  OGRFeatureH wpt = OGR_L_GetNextFeature(waypoints);
+  EXPECT_EQ(std::string(OGR_F_GetFieldAsString(wpt, OGR_F_GetFieldIndex(wpt, "name"))), P.patrolStation);
+  const Eigen::Vector2d station = mapOf(OGR_G_GetX(OGR_F_GetGeometryRef(wpt), 0), OGR_G_GetY(OGR_F_GetGeometryRef(wpt), 0));
+  EXPECT_LT((station - P.patrolMast).norm(), 0.002);  // 8 decimals of a degree: about a millimetre
+  OGR_F_Destroy(wpt);
+  proj_destroy(toMap);
+  proj_context_destroy(ctx);
+  GDALClose(ds);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <sstream>
 
@@ -77,6 +79,26 @@ TEST(RouteCommand, PointsOnlyAreRefusedAndNothingIsWritten) {
   EXPECT_NE(r.err.find("wells.geojson: layer 'wells' feature 0: is a Point, not a line"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "walk.txt"));
   for (const auto& e : fs::directory_iterator(dir.path())) EXPECT_EQ(e.path().filename(), "wells.geojson");
+}
+
+// The bundled GPS track replayed at its pace (the main job's run): the walk ends at the last fix's
+// time plus the stop's wait, within a step, and the run writes its layers.
+TEST(RouteCommand, BundledTrackReplaysAtItsRecordedPace) {
+  if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
+  const TempFolder dir;
+  const fs::path gpx = kScene.parent_path() / "routes" / "patrol_track.gpx";
+  const std::string text = readText(gpx);
+  std::size_t fixes = 0;
+  for (std::size_t at = text.find("<trkpt"); at != std::string::npos; at = text.find("<trkpt", at + 1)) ++fixes;
+  ASSERT_GT(fixes, 40u);
+  const auto r = runNestwalk("run " + quoted(kScene) + " --route " + quoted(gpx) +
+                             " --use-times --stops waypoints --stop-wait 3 --headless --quiet --out " + quoted(dir / "run"));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const auto summary = nlohmann::json::parse(readText(dir / "run" / "summary.json"));
+  const double want = double(fixes - 1) + 3.0;  // one fix a second, and the wait at the station
+  EXPECT_NEAR(summary["simulated_seconds"].get<double>(), want, 1.0 / 60 + 1e-9);
+  EXPECT_TRUE(fs::exists(dir / "run" / "results.gpkg"));
+  EXPECT_TRUE(fs::exists(dir / "run" / "results.geojson"));
 }
 
 }  // namespace
