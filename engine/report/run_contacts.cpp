@@ -1,6 +1,7 @@
 #include "nestwalk/report/run_contacts.h"
 
 #include "nestwalk/core/angles.h"
+#include "nestwalk/geometry/triangle_box.h"
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/walker.h"
 
@@ -22,6 +23,29 @@ Vec3<double> nearestPointOf(const Obb<double>& box, const Vec3<double>& p) {
   const Vec3<double> local = box.axes.transpose() * (p - box.center);
   const Vec3<double> clamped = local.cwiseMax(-box.halfExtents).cwiseMin(box.halfExtents);
   return box.center + box.axes * clamped;
+}
+
+/// The exact distance from `body` (local frame) to the unit's triangles, scanning each instance's
+/// model in the model's own frame: a triangle whose bounding box is at least the best distance so
+/// far from the body's (a lower bound of its distance) is skipped.
+double gapToUnit(const Scene& scene, const CollisionUnit& unit, const Obb<double>& body) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::uint32_t i : unit.instances) {
+    const SceneInstance& inst = scene.instances[i];
+    const Similarity<double> toModel = inst.toLocal.inverse();
+    const Obb<double> box = toModel.apply(body);
+    const Aabb<double> bounds = aabbOf(box);
+    const double scale = inst.toLocal.scale;  // model distances times this are local ones
+    const TriangleMesh& mesh = scene.models[inst.model].mesh;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Triangle tri = mesh.triangle(t);
+      const Vec3<double> lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]), hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
+      const Vec3<double> apart = (bounds.min - hi).cwiseMax(lo - bounds.max).cwiseMax(0.0);
+      if (apart.norm() * scale >= best) continue;
+      best = std::min(best, triangleBoxDistance(tri, box) * scale);
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -66,24 +90,12 @@ std::vector<RunContact> runContacts(const Scene& scene, const std::vector<FrameR
       c.approachDeg = degrees(std::acos(std::clamp(travel.normalized().dot(toward.normalized()), -1.0, 1.0)));
     else
       c.approachDeg = 0;  // the body's centre inside the unit's box: head-on
-    if (meshes) {
-      MeshQueryCounters counters;
-      c.stopGapM = meshes->distance(std::uint32_t(it->second), body.inner, counters);
-    }
+    MeshQueryCounters counters;
+    c.stopGapM = meshes ? meshes->distance(std::uint32_t(it->second), body.inner, counters)
+                        : gapToUnit(scene, unit, body.inner);
     out.push_back(std::move(c));
   }
   return out;
-}
-
-std::vector<RunContact> measuredContacts(const Scene& scene, const std::vector<FrameRecord>& records,
-                                         const MeshWorld* meshes) {
-  std::vector<RunContact> contacts = runContacts(scene, records, meshes);
-  if (meshes) return contacts;
-  std::vector<std::uint32_t> met;
-  for (const RunContact& c : contacts)
-    if (const int u = c.kind == "terrain" ? -1 : scene.findUnit(c.unit); u >= 0) met.push_back(std::uint32_t(u));
-  if (met.empty()) return contacts;
-  return runContacts(scene, records, MeshWorld::fromScene(scene, &met).get());
 }
 
 }  // namespace nestwalk

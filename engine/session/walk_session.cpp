@@ -130,7 +130,7 @@ void WalkSession::stopRecording() {
   info.dt = walkerOptions_.dt;
   const fs::path layers = fs::path(options_.recordFolder) / name;
   writeResultLayers(layers.string(), scene_.terrain->crsWkt(), info, recorded_, {},
-                    measuredContacts(scene_, recorded_, world_->meshes().get()));
+                    runContacts(scene_, recorded_, world_->meshes().get()));
   status_ = "recorded " + script.string();
   say("recording written " + script.string() + ", " + path.string() + " and " + layers.string() + ".gpkg (" +
       std::to_string(recording_->steps()) + " steps, " + std::to_string(recording_->contacts().size()) + " contacts)");

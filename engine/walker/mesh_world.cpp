@@ -19,17 +19,11 @@ constexpr double kAdvanceMargin = 0.5 * kMeshContactTolerance;
 
 }  // namespace
 
-std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene, const std::vector<std::uint32_t>* onlyUnits) {
+std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
-  std::vector<bool> wanted(scene.models.size(), onlyUnits == nullptr);
-  if (onlyUnits)
-    for (std::uint32_t u : *onlyUnits)
-      for (std::uint32_t i : scene.units.at(u).instances) wanted[scene.instances[i].model] = true;
   world->models_.reserve(scene.models.size());
-  const TriangleMesh none;
-  for (std::size_t k = 0; k < scene.models.size(); ++k) {
-    const TriangleMesh& mesh = wanted[k] ? scene.models[k].mesh : none;
-    world->models_.push_back({KdopTree(mesh), mesh.triangles.size()});
+  for (const SceneModel& m : scene.models) {
+    world->models_.push_back({KdopTree(m.mesh), m.mesh.triangles.size()});
   }
   world->unitParts_.resize(scene.units.size());
   for (std::size_t u = 0; u < scene.units.size(); ++u)

@@ -58,11 +58,8 @@ inline constexpr int kMaxAdvancementSteps = 4096;
 
 class MeshWorld {
  public:
-  // Trees for every model the scene's units use; with `onlyUnits`, for the models those units use
-  // (the others' units then have no triangles: +infinity away, never touched). A run's contacts
-  // measure their stop gaps so, at the cost of the models met rather than of the scene.
-  static std::shared_ptr<const MeshWorld> fromScene(const Scene& scene,
-                                                    const std::vector<std::uint32_t>* onlyUnits = nullptr);
+  // Trees for every model the scene's units use.
+  static std::shared_ptr<const MeshWorld> fromScene(const Scene& scene);
 
   std::size_t units() const { return unitParts_.size(); }
   std::size_t triangles(std::size_t unit) const;
