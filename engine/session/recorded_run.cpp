@@ -4,6 +4,7 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/core/stopwatch.h"
 #include "nestwalk/render/frame_writers.h"
 #include "nestwalk/report/frame_csv.h"
 #include "nestwalk/report/frame_time_plot.h"
@@ -16,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -50,6 +52,7 @@ RenderRecord renderRecordOf(const RenderFrameStats& s, std::size_t sceneInstance
 }
 
 RecordedRun recordRun(const RecordedRunOptions& o) {
+  const auto runStart = std::chrono::steady_clock::now();
   const fs::path out(o.out);
   if (!o.overwrite)
     for (const std::string& f : recordedRunOutputs(o))
@@ -158,8 +161,11 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
   writeFrameTimePlot((out / "frame_times.png").string(), f.records, run.renders);
   writeTopDownMap((out / "top_down.png").string(), scene, f.records, f.expectations);
   writeAnimationPath((out / "camera.path").string(), f.camera);
-  run.contacts = measuredContacts(scene, f.records, world.meshes().get());
+  const auto layersStart = std::chrono::steady_clock::now();
+  run.contacts = runContacts(scene, f.records, world.meshes().get());
   writeResultLayers((out / "results").string(), scene.terrain->crsWkt(), info, f.records, f.expectations, run.contacts, run.renders);
+  run.layersSeconds = secondsSince(layersStart);
+  run.seconds = secondsSince(runStart);
   return run;
 }
 

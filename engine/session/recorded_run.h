@@ -63,6 +63,8 @@ struct RecordedRun {
   double stepP50Us = 0, stepP99Us = 0, stepMaxUs = 0;  // whole step, wall clock
   std::size_t blockedSteps = 0, expectationsMet = 0;
   std::vector<RunContact> contacts;   // the blocking events (report/run_contacts.h)
+  double seconds = 0;                 // wall clock of the whole run: load, play, render, files
+  double layersSeconds = 0;           // of which the results layers (contacts measured, files written)
   // Rendering (zero or empty without it): ms per rendered frame, p50 by part and p95 in all.
   std::size_t framesRendered = 0, pngFrames = 0, videoFrames = 0;
   std::string route, glRenderer;      // the offscreen route and the GL renderer's name

@@ -3,7 +3,7 @@
 // hierarchies, btDbvt and FCL, finds the same hits on every query (and nestwalk's default hierarchy
 // those of brute force, FCL's boxes being exactly the benchmark's), and every hierarchy gives the same
 // contacts on the bundled flythroughs (the fACT Table 2 part), with the template hierarchy as the
-// 100 % row.
+// 100 % row; every flythrough is recorded with its results layers and a 10,000-fix track planned.
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
@@ -46,8 +46,18 @@ TEST(BenchWalker, QuickJsonRunHasStepsIdenticalBroadPhaseHitsAndTable2) {
     EXPECT_EQ(j["table2"][0]["hierarchy"], "template");
     EXPECT_DOUBLE_EQ(j["table2"][0]["percent_of_template"].get<double>(), 100.0);
     EXPECT_EQ(j["table2"].size(), 13u);
+    // Routes and results: every bundled flythrough recorded, its layers a part of its run's time;
+    // the GPS track of at least 10,000 fixes planned.
+    ASSERT_EQ(j["results_layers"].size(), j["table2_scripts"].size());
+    for (const auto& row : j["results_layers"]) {
+      EXPECT_GT(row["layers_s"].get<double>(), 0.0) << row["script"];
+      EXPECT_LT(row["layers_s"].get<double>(), row["run_s"].get<double>()) << row["script"];
+    }
+    EXPECT_GE(j["route_fixes"].get<std::size_t>(), 10000u);
+    EXPECT_EQ(j["targets"].size(), 4u) << "btDbvt against nestwalk at 1k and 10k boxes, layers' share, route";
+  } else {
+    EXPECT_EQ(j["targets"].size(), 2u) << "btDbvt against nestwalk at 1k and 10k boxes";
   }
-  EXPECT_EQ(j["targets"].size(), 2u) << "btDbvt against nestwalk at 1k and 10k boxes";
 }
 
 }  // namespace

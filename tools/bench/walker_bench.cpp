@@ -11,8 +11,12 @@
 #include "nestwalk/geometry/obb_batch.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/gis/route_plan.h"
+#include "nestwalk/session/recorded_run.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/script_file.h"
+#include "assets/generators/phone_track.h"
+#include "nestwalk/core/output_file.h"
 
 #include <Eigen/Geometry>
 
@@ -31,6 +35,9 @@ constexpr double kCell = 5.0;
 constexpr double kOriginX = 550000.0, kOriginY = 4650000.0;
 constexpr std::size_t kTargetInstances = 1'000'000;  // the target is for steps among this many instances
 constexpr double kTargetP99Us = 2.0;                 // target: p99 µs per walker step at most
+constexpr double kTargetLayersPercent = 5.0;   // target: the results layers' share of a headless run, %
+constexpr double kTargetRouteSeconds = 1.0;    // target: a 10,000-fix GPX track into a script, s ("well under")
+constexpr std::size_t kRouteFixes = 10'000;
 constexpr const char* kStageKeys[3] = {"aabb_aabb_per_script", "aabb_obb_per_script", "obb_obb_per_script"};
 constexpr const char* kStageTitles[3] = {"aabb-aabb", "aabb-obb", "obb-obb"};
 
@@ -363,6 +370,55 @@ void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
 
 }  // namespace
 
+/// Part 5: what a run's results layers cost next to the whole headless run (each flythrough
+/// recorded as `nestwalk run` does), and a 10,000-fix GPS track turned into a script.
+void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
+  const std::filesystem::path folder = tempPathBeside(
+      (std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string(), "bench");
+  std::filesystem::create_directories(folder);
+  Table table;
+  table.column({"flythrough", "/script", 22, 0, true}).column({"run s", "/run_s", 9, 3}).column({"layers s", "/layers_s", 10, 3});
+  table.column({"%", "/layers_percent", 7, 1, false, false, "%"});
+  double run = 0, layers = 0;
+  for (const std::string& script : o.scripts) {
+    RecordedRunOptions ro;
+    ro.scene = o.scene;
+    ro.script = script;
+    ro.out = (folder / "run").string();
+    ro.overwrite = true;
+    const RecordedRun r = recordRun(ro);
+    run += r.seconds;
+    layers += r.layersSeconds;
+    table.add({{"script", std::filesystem::path(script).filename().string()}, {"run_s", r.seconds},
+               {"layers_s", r.layersSeconds}, {"layers_percent", 100.0 * r.layersSeconds / r.seconds}});
+  }
+  // A phone's track of kRouteFixes fixes, walking back and forth across the scene's middle.
+  const Scene scene = loadScene(o.scene);
+  const terrain::Heightfield& hf = *scene.terrain;
+  const Eigen::Vector2d mid = hf.samplePosition(hf.cols() / 2, hf.rows() / 2);
+  assets::PhoneTrack track;
+  track.name = "bench";
+  const double leg = 0.3 * double(hf.cols()) * (hf.samplePosition(1, 0).x() - hf.samplePosition(0, 0).x());
+  for (std::size_t k = 0; double(k) * leg < track.speed * double(kRouteFixes) + 2 * leg; ++k)
+    track.legs.push_back(mid + Eigen::Vector2d(k % 2 ? leg / 2 : -leg / 2, 0.5 * double(k % 7)));
+  const std::string gpx = (folder / "track.gpx").string();
+  writeFileAtomically(gpx, assets::phoneTrackGpx(track, hf, hf.crsWkt().c_str(), 1));
+  gis::RouteRequest request;
+  request.route.source = gpx;
+  request.script.useTimes = true;
+  std::size_t gotos = 0;
+  const double routeSeconds = leastSeconds(3, [&] { gotos = gis::planRoute(o.scene, request).gotos; });
+  std::filesystem::remove_all(folder);
+  doc.text << "\nResults layers (results.gpkg, results.geojson) against the whole headless run, per flythrough\n";
+  doc.table("results_layers", table);
+  doc.text << "route: a " << gotos + 1 << "-fix GPX track into a timed script: " << routeSeconds << " s\n";
+  doc.json["route_fixes"] = gotos + 1;
+  doc.json["route_seconds"] = routeSeconds;
+  doc.targets.push_back({"results layers' share of the headless runs (%)", "<= " + std::to_string(int(kTargetLayersPercent)),
+                         100.0 * layers / run, 100.0 * layers / run <= kTargetLayersPercent});
+  doc.targets.push_back({"10,000-fix GPX track into a script (s)", "<= 1", routeSeconds, routeSeconds <= kTargetRouteSeconds});
+}
+
 int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
   Document doc("nestwalk bench walker:"
                " walker steps, the broad phase against btDbvt and FCL, BV tests per hierarchy");
@@ -379,6 +435,7 @@ int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
   if (o.table2 && !o.scene.empty() && !o.scripts.empty() && !table2(doc, o))
     doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
   if (o.table2 && !o.scene.empty() && !o.scripts.empty()) narrowPhase(doc, o);
+  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) routesAndResults(doc, o);
   return doc.write(out, o.json);
 }
 

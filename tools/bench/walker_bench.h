@@ -7,7 +7,11 @@
 //  3. BV tests per hierarchy on the bundled flythroughs, printed like Table 2 of the fACT
 //     paper ("Bounding volume hierarchies for collision detection"): hierarchy node tests and
 //     the three stages per script, and the total as a % of the template hierarchy's; every
-//     hierarchy must give the same contacts (checked, reported).
+//     hierarchy must give the same contacts (checked, reported);
+//  4. the narrow phase per query: the scalar nested test against the batch, by candidate count;
+//  5. routes and results: each bundled flythrough recorded as `nestwalk run` does, its results
+//     layers' share of the run's wall time (target <= 5 %), and a 10,000-fix GPS track turned
+//     into a timed script (target well under a second).
 #pragma once
 
 #include "tools/bench/bench_runner.h"
