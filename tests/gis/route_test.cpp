@@ -48,8 +48,9 @@ std::vector<Eigen::Vector2d> routeUtm(const test::UtmTerrain& t) {
 }
 
 /// A scene over `dem.tif` in `dir` with one box far from every route (scene.json).
-fs::path writeScene(const fs::path& dir, const test::UtmTerrain& t) {
-  test::writeUtmTerrain(dir / "dem.tif", t);
+fs::path writeScene(const fs::path& dir, const test::UtmTerrain& t,
+                    std::optional<std::pair<int, int>> holeAt = std::nullopt) {
+  test::writeUtmTerrain(dir / "dem.tif", t, holeAt);
   test::writeBoxModel(dir / "box.osgt", {-0.5, -0.5, 0.0}, {0.5, 0.5, 1.0});
   char buf[512];
   std::snprintf(buf, sizeof buf,
@@ -59,8 +60,10 @@ fs::path writeScene(const fs::path& dir, const test::UtmTerrain& t) {
   return dir / "scene.json";
 }
 
-/// A GPX track of `lonLat` points (with times when given: seconds after 2026-05-04T06:00:00Z).
-std::string gpxTrack(const std::vector<Eigen::Vector2d>& lonLat, const std::vector<double>& times = {}) {
+/// A GPX track of `lonLat` points (with times when given: seconds after 2026-05-04T06:00:00Z; ele
+/// 1000 m unless given).
+std::string gpxTrack(const std::vector<Eigen::Vector2d>& lonLat, const std::vector<double>& times = {},
+                     const std::vector<double>& eles = {}) {
   std::string s = R"(<?xml version="1.0" encoding="UTF-8"?>
 <gpx version="1.1" creator="nestwalk test" xmlns="http://www.topografix.com/GPX/1/1">
 <wpt lat="0" lon="0"><name>unused</name></wpt>
@@ -68,7 +71,8 @@ std::string gpxTrack(const std::vector<Eigen::Vector2d>& lonLat, const std::vect
 )";
   char buf[256];
   for (std::size_t k = 0; k < lonLat.size(); ++k) {
-    std::snprintf(buf, sizeof buf, R"(<trkpt lat="%.15f" lon="%.15f"><ele>1000.0</ele>)", lonLat[k].y(), lonLat[k].x());
+    std::snprintf(buf, sizeof buf, R"(<trkpt lat="%.15f" lon="%.15f"><ele>%.6f</ele>)", lonLat[k].y(), lonLat[k].x(),
+                  eles.empty() ? 1000.0 : eles[k]);
     s += buf;
     if (!times.empty()) {
       const double t = times[k];
@@ -329,6 +333,37 @@ TEST(RoutePlayed, FlightKeepsTheEyeAtTheHeightOverEachPoint) {
   }
 }
 
+TEST(RoutePlayed, FlightWithoutAHeightFliesAtTheRoutesOwnHeights) {
+  const Latitude& lat = kLatitudes[1];
+  const test::TempFolder dir;
+  const test::ProjOracle proj(lat.terrain.epsg);
+  const fs::path scene = writeScene(dir.path(), lat.terrain);
+  const auto utm = routeUtm(lat.terrain);
+  std::vector<Eigen::Vector2d> lonLat;
+  std::vector<double> eles;  // 25 m over the ground at each point, and 40 m over the third
+  for (std::size_t k = 0; k < utm.size(); ++k) {
+    lonLat.push_back(proj.toLonLat(utm[k]));
+    eles.push_back(lat.terrain.height(utm[k].x(), utm[k].y()) + (k == 2 ? 40.0 : 25.0));
+  }
+  test::writeText(dir / "flight.gpx", gpxTrack(lonLat, {}, eles));
+  gis::RouteRequest request;
+  request.route.source = (dir / "flight.gpx").string();
+  request.script.fly = true;
+  const Played p = play(scene, gis::planRoute(scene.string(), request).text);
+  std::size_t at = 0;
+  for (std::size_t k = 1; k < utm.size(); ++k) {
+    const std::size_t i = reach(p.result.records, at, utm[k], kVertexTol);
+    ASSERT_NE(i, std::string::npos) << "point " << k;
+    EXPECT_NEAR(p.result.records[i].eye.z(), eles[k], 1e-6) << "point " << k;
+    at = i;
+  }
+  // Walking, the same track's heights are ignored: the eye is at eye height over the ground.
+  request.script.fly = false;
+  const Played walked = play(scene, gis::planRoute(scene.string(), request).text);
+  const FrameRecord& last = walked.result.records.back();
+  EXPECT_NEAR(last.eye.z(), last.ground + walked.scene->spec.viewer.eyeHeight, 1e-6);
+}
+
 TEST(RoutePlayed, StopTurnsTheViewToTheInstrument) {
   const Latitude& lat = kLatitudes[0];
   const test::TempFolder dir;
@@ -398,6 +433,21 @@ TEST(RouteBadInput, RefusedWithFileLayerAndFeature) {
   test::writeText(dir / "leaving.gpx", gpxTrack(leaving));
   EXPECT_NE(plan(dir / "leaving.gpx").find("leaving.gpx: layer 'track_points' feature 3 at ("), std::string::npos);
   EXPECT_NE(plan(dir / "leaving.gpx").find("outside the terrain"), std::string::npos);
+
+  // Over a hole in the DEM (nodata), well inside it: the point is named.
+  {
+    const fs::path holed = dir / "holed";
+    fs::create_directories(holed);
+    const fs::path holedScene = writeScene(holed, lat.terrain, std::pair<int, int>{200, 200});
+    std::vector<Eigen::Vector2d> overHole = lonLat;
+    overHole[2] = proj.toLonLat({lat.terrain.west + 200.5, lat.terrain.north - 200.5});
+    test::writeText(holed / "hole.gpx", gpxTrack(overHole));
+    gis::RouteRequest r;
+    r.route.source = (holed / "hole.gpx").string();
+    const std::string message = test::inputError([&] { gis::planRoute(holedScene.string(), r); });
+    EXPECT_NE(message.find("hole.gpx: layer 'track_points' feature 2 at ("), std::string::npos) << message;
+    EXPECT_NE(message.find("over a hole"), std::string::npos) << message;
+  }
 
   test::writeText(dir / "nocrs.csv", "wkt,name\n\"LINESTRING (1 2, 3 4)\",a\n");
   EXPECT_NE(plan(dir / "nocrs.csv").find("nocrs.csv: layer 'nocrs': has no CRS"), std::string::npos);
