@@ -60,6 +60,21 @@ fs::path writeScene(const fs::path& dir, const test::UtmTerrain& t,
   return dir / "scene.json";
 }
 
+/// A test's site: a scene over the terrain at `lat` in the test's folder, the route's UTM points and
+/// PROJ's longitudes and latitudes of them.
+struct Site {
+  explicit Site(const Latitude& l)
+      : lat(l), proj(l.terrain.epsg), scene(writeScene(dir.path(), l.terrain)), utm(routeUtm(l.terrain)) {
+    for (const auto& p : utm) lonLat.push_back(proj.toLonLat(p));
+  }
+  const Latitude& lat;
+  const test::TempFolder dir;
+  const test::ProjOracle proj;
+  const fs::path scene;
+  const std::vector<Eigen::Vector2d> utm;
+  std::vector<Eigen::Vector2d> lonLat;
+};
+
 /// A GPX track of `lonLat` points (with times when given: seconds after 2026-05-04T06:00:00Z; ele
 /// 1000 m unless given).
 std::string gpxTrack(const std::vector<Eigen::Vector2d>& lonLat, const std::vector<double>& times = {},
@@ -334,17 +349,11 @@ TEST(RoutePlayed, FlightKeepsTheEyeAtTheHeightOverEachPoint) {
 }
 
 TEST(RoutePlayed, FlightWithoutAHeightFliesAtTheRoutesOwnHeights) {
-  const Latitude& lat = kLatitudes[1];
-  const test::TempFolder dir;
-  const test::ProjOracle proj(lat.terrain.epsg);
-  const fs::path scene = writeScene(dir.path(), lat.terrain);
-  const auto utm = routeUtm(lat.terrain);
-  std::vector<Eigen::Vector2d> lonLat;
+  const Site site(kLatitudes[1]);
+  const auto& [lat, dir, proj, scene, utm, lonLat] = site;
   std::vector<double> eles;  // 25 m over the ground at each point, and 40 m over the third
-  for (std::size_t k = 0; k < utm.size(); ++k) {
-    lonLat.push_back(proj.toLonLat(utm[k]));
+  for (std::size_t k = 0; k < utm.size(); ++k)
     eles.push_back(lat.terrain.height(utm[k].x(), utm[k].y()) + (k == 2 ? 40.0 : 25.0));
-  }
   test::writeText(dir / "flight.gpx", gpxTrack(lonLat, {}, eles));
   gis::RouteRequest request;
   request.route.source = (dir / "flight.gpx").string();
@@ -365,13 +374,8 @@ TEST(RoutePlayed, FlightWithoutAHeightFliesAtTheRoutesOwnHeights) {
 }
 
 TEST(RoutePlayed, StopTurnsTheViewToTheInstrument) {
-  const Latitude& lat = kLatitudes[0];
-  const test::TempFolder dir;
-  const test::ProjOracle proj(lat.terrain.epsg);
-  const fs::path scene = writeScene(dir.path(), lat.terrain);
-  const auto utm = routeUtm(lat.terrain);
-  std::vector<Eigen::Vector2d> lonLat;
-  for (const auto& p : utm) lonLat.push_back(proj.toLonLat(p));
+  const Site site(kLatitudes[0]);
+  const auto& [lat, dir, proj, scene, utm, lonLat] = site;
   // An instrument 6 m to the side of the first segment's middle, one 40 m away (not visited).
   const Eigen::Vector2d mid = 0.5 * (utm[0] + utm[1]), along = (utm[1] - utm[0]).normalized();
   const Eigen::Vector2d side(along.y(), -along.x());
@@ -404,10 +408,8 @@ TEST(RoutePlayed, StopTurnsTheViewToTheInstrument) {
 // Bad routes: refused, naming the file, the layer and the feature.
 
 TEST(RouteBadInput, RefusedWithFileLayerAndFeature) {
-  const Latitude& lat = kLatitudes[0];
-  const test::TempFolder dir;
-  const test::ProjOracle proj(lat.terrain.epsg);
-  const fs::path scene = writeScene(dir.path(), lat.terrain);
+  const Site site(kLatitudes[0]);
+  const auto& [lat, dir, proj, scene, utm, lonLat] = site;
   auto plan = [&](const fs::path& file, bool useTimes = false, const std::string& assumedCrs = "") {
     gis::RouteRequest r;
     r.route.source = file.string();
@@ -415,9 +417,6 @@ TEST(RouteBadInput, RefusedWithFileLayerAndFeature) {
     r.script.useTimes = useTimes;
     return test::inputError([&] { gis::planRoute(scene.string(), r); });
   };
-  const auto utm = routeUtm(lat.terrain);
-  std::vector<Eigen::Vector2d> lonLat;
-  for (const auto& p : utm) lonLat.push_back(proj.toLonLat(p));
 
   test::writeGeoLayer(dir / "points.gpkg", "GPKG", "wells", {{"x", "a", std::nullopt, {lonLat[0]}}});
   EXPECT_NE(plan(dir / "points.gpkg").find("points.gpkg: layer 'wells' feature 1: is a Point, not a line"),
