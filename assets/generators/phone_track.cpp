@@ -2,6 +2,9 @@
 
 #include "assets/generators/to_lon_lat.h"
 
+#include <cpl_conv.h>
+#include <cpl_string.h>
+
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -29,6 +32,14 @@ std::string isoTime(std::int64_t unixTime) {
   return buf;
 }
 
+/// Text as XML character data (GDAL's escaping).
+std::string xmlText(const std::string& text) {
+  char* escaped = CPLEscapeString(text.c_str(), -1, CPLES_XML);
+  std::string out = escaped;
+  CPLFree(escaped);
+  return out;
+}
+
 std::string latLon(const Eigen::Vector2d& lonLat) {
   char buf[80];
   std::snprintf(buf, sizeof buf, "lat=\"%.8f\" lon=\"%.8f\"", lonLat.y(), lonLat.x());
@@ -44,8 +55,8 @@ std::string phoneTrackGpx(const PhoneTrack& track, const terrain::Heightfield& g
   std::mt19937_64 rng(seed);
   std::string gpx = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
                     "<gpx version=\"1.1\" creator=\"nestwalk make-scene\" xmlns=\"http://www.topografix.com/GPX/1/1\">\n";
-  for (const auto& [name, p] : track.waypoints) gpx += "<wpt " + latLon(toLonLat(p)) + "><name>" + name + "</name></wpt>\n";
-  gpx += "<trk><name>" + track.name + "</name><trkseg>\n";
+  for (const auto& [name, p] : track.waypoints) gpx += "<wpt " + latLon(toLonLat(p)) + "><name>" + xmlText(name) + "</name></wpt>\n";
+  gpx += "<trk><name>" + xmlText(track.name) + "</name><trkseg>\n";
   // The walk as a function of time: legs at the speed, the pause on reaching legs[pauseAt].
   std::int64_t second = 0;
   auto fix = [&](const Eigen::Vector2d& at) {

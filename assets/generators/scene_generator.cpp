@@ -45,7 +45,7 @@ constexpr double kPatrolOvershoot = 20.0;  // the goto aims this far past the ma
 constexpr double kPatrolRetreat = 25.0;    // metres walked back after turning
 constexpr double kPatrolSpeed = 1.4;       // m/s, walking
 // The bundled GPS track (routes/patrol_track.gpx): it stops this far before the patrol's mast,
-// stands there this long, and walks back to this far past the patrol's start.
+// stands there this long, and walks back to this far along the lane from the patrol's start.
 constexpr double kTrackStopShort = 8.0;   // metres
 constexpr double kTrackPause = 12.0;      // seconds
 constexpr double kTrackBackShort = 10.0;  // metres

@@ -2,6 +2,7 @@
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/gis/layer_features.h"
+#include "nestwalk/gis/ogr_source.h"
 #include "nestwalk/scene/scene_file.h"
 #include "nestwalk/terrain/paged_heightfield.h"
 
@@ -22,8 +23,21 @@ RouteScript planRoute(const std::string& sceneFile, const RouteRequest& request)
     LayerSelection stops;
     std::error_code ec;
     if (std::filesystem::is_regular_file(request.stops, ec)) {
+      // A file of stops: its point layers (a GPX's waypoints; not its track or route points).
       stops.sources = {request.stops};
+      const Dataset ds = openVectorSource(request.stops);
+      for (int i = 0; i < GDALDatasetGetLayerCount(ds.get()); ++i) {
+        OGRLayerH l = GDALDatasetGetLayer(ds.get(), i);
+        const std::string name = OGR_L_GetName(l);
+        const OGRwkbGeometryType t = wkbFlatten(OGR_L_GetGeomType(l));
+        if ((t == wkbPoint || t == wkbMultiPoint) && name != "track_points" && name != "route_points")
+          stops.layers.push_back(name);
+      }
+      if (stops.layers.empty()) throw InputError(request.stops + ": --stops: has no point layer");
     } else {
+      const Dataset ds = openVectorSource(request.route.source);
+      if (!GDALDatasetGetLayerByName(ds.get(), request.stops.c_str()))
+        throw InputError("--stops " + request.stops + ": neither a file nor a layer of " + request.route.source);
       stops.sources = {request.route.source};
       stops.layers = {request.stops};
     }

@@ -4,8 +4,9 @@
 // (layer_features.h), and the script written (route_script.h) with the scene's eye height.
 //
 // Stops: `stops` names a layer of the route's own source (a GPX's `waypoints`, a GeoPackage's
-// `instruments`), or a vector file whose point layers are all read; every point is a stop, named by
-// its `name` field (else "<layer>#<feature id>").
+// `instruments`), or a vector file whose point layers are all read (a GPX's waypoints, not its
+// track or route points); every point is a stop, named by its `name` field (else
+// "<layer>#<feature id>"). Neither a file nor a layer of the route's source: InputError.
 //
 // Errors: InputError, as the parts say (the scene file, its terrain, the route, the stops).
 // Thread safety: as readRoute (GDAL objects of its own).

@@ -70,6 +70,9 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
         throw InputError(p.where + ": has no time (--use-times replays the times of GPX track or route points)");
       if (k > 0 && *p.time < *route.points[k - 1].time)
         throw InputError(p.where + ": its time is before the previous point's (the route's times go backwards)");
+      if (k > 0 && *p.time - *route.points[k - 1].time > kMaxTimedGap)
+        throw InputError(p.where + ": comes " + exact(*p.time - *route.points[k - 1].time) +
+                         " s after the previous point (over an hour: split the track, or replay it without --use-times)");
     }
   }
   if (o.fly && !o.height)
@@ -126,7 +129,7 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
   std::snprintf(length, sizeof length, "%.1f m", out.length);
   w.line("# nestwalk route: " + what + " (" + std::to_string(route.points.size()) + " points, " +
          std::to_string(route.features) + " line feature(s), CRS " + route.crs + "): " + length +
-         (o.useTimes ? ", timed: " + exact(way.back().time) + " s" : ""));
+         (o.useTimes ? ", timed: " + exact(way.back().time + double(visits.size()) * o.stopWait) + " s" : ""));
   if (out.dropped) w.line("# " + std::to_string(out.dropped) + " point(s) within 1 mm of the one before left out");
   w.line(o.fly ? "mode fly" : "mode walk");
   if (o.speed && !o.useTimes) w.line("speed " + exact(*o.speed));

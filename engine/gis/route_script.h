@@ -20,8 +20,8 @@
 // played path passes the route's points to rounding.
 //
 // Errors (InputError, no script): a point outside the terrain or over a hole (the first such
-// point named by its source, layer and feature); --use-times on a route without times, or whose
-// times go backwards; flying at the route's z on a route without heights; a stop over no ground.
+// point named by its source, layer and feature); --use-times on a route without times, whose
+// times go backwards, or with a gap over kMaxTimedGap; flying at the route's z on a route without heights; a stop over no ground.
 //
 // Units: metres, seconds, degrees (headings clockwise from the grid's north). Thread safety: pure
 // (reads the terrain's heights).
@@ -45,6 +45,9 @@ inline constexpr double kSamePoint = 1e-3;
 /// Metres above a stop's ground that the view is turned to: about the middle of an instrument.
 inline constexpr double kStopLookHeight = 1.0;
 inline constexpr double kDefaultStopDistance = 10.0;  // metres
+/// Seconds: a timed route whose consecutive points are further apart in time is refused (a replay
+/// stands through the gap a step at a time: a day's gap is 5 million steps); split the track.
+inline constexpr double kMaxTimedGap = 3600.0;
 inline constexpr double kDefaultStopWait = 3.0;       // seconds
 
 struct RouteStop {

@@ -27,13 +27,14 @@ std::string gpxPointsLayer(const std::string& lineLayer) {
   return {};
 }
 
-/// The time field as seconds since the Unix epoch (UTC), nullopt when unset.
-std::optional<double> timeField(OGRFeatureH f, int field) {
+/// The time field as seconds since the Unix epoch (UTC), nullopt when unset; InputError naming
+/// `where` when it is set but not a date and time.
+std::optional<double> timeField(OGRFeatureH f, int field, const std::string& where) {
   if (field < 0 || !OGR_F_IsFieldSetAndNotNull(f, field)) return std::nullopt;
   int year = 0, month = 0, day = 0, hour = 0, minute = 0, zone = 0;
   float second = 0;
-  if (!OGR_F_GetFieldAsDateTimeEx(f, field, &year, &month, &day, &hour, &minute, &second, &zone))
-    return std::nullopt;
+  if (!OGR_F_GetFieldAsDateTimeEx(f, field, &year, &month, &day, &hour, &minute, &second, &zone) || year <= 0)
+    throw InputError(where + ": time '" + textField(f, field) + "' is not a date and time");
   std::tm tm{};
   tm.tm_year = year - 1900;
   tm.tm_mon = month - 1;
@@ -169,9 +170,15 @@ class RouteReader {
     int index = 0;
     for (OGRGeometryH part : parts) {
       const bool hasZ = OGR_G_Is3D(part) != 0;
-      for (int i = 0; i < OGR_G_GetPointCount(part); ++i, ++index)
-        addPoint(OGR_G_GetX(part, i), OGR_G_GetY(part, i), hasZ ? std::optional<double>(OGR_G_GetZ(part, i)) : std::nullopt,
-                 std::nullopt, where + " point " + std::to_string(index), transform);
+      for (int i = 0; i < OGR_G_GetPointCount(part); ++i, ++index) {
+        const std::string point = where + " point " + std::to_string(index);
+        std::optional<double> z;
+        if (hasZ) {
+          z = OGR_G_GetZ(part, i);
+          if (!std::isfinite(*z)) throw InputError(point + ": its height is not a finite number");
+        }
+        addPoint(OGR_G_GetX(part, i), OGR_G_GetY(part, i), z, std::nullopt, point, transform);
+      }
     }
   }
 
@@ -194,7 +201,7 @@ class RouteReader {
       bool ok = true;
       const std::optional<double> z = numberField(f.get(), ele, ok);
       if (!ok) throw InputError(where + ": ele '" + textField(f.get(), ele) + "' is not a number (metres)");
-      addPoint(OGR_G_GetX(g, 0), OGR_G_GetY(g, 0), z, timeField(f.get(), time), where, transform);
+      addPoint(OGR_G_GetX(g, 0), OGR_G_GetY(g, 0), z, timeField(f.get(), time, where), where, transform);
     }
   }
 

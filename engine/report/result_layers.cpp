@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <type_traits>
 
 namespace nestwalk {
 namespace {
@@ -21,7 +22,9 @@ namespace {
 /// written to 1e-7 degrees, about 1 cm, as RFC 7946's GDAL writer does by default).
 constexpr double kWebPathTolerance = 0.01;
 
-/// An OGR dataset being written to a temporary file; close() closes it (GDAL flushes on close).
+/// An OGR dataset being written to a temporary file beside its target: close() closes it (GDAL
+/// flushes on close), commit() renames it onto the target. The handles are owned, so a throw at
+/// any point (the constructor's too) closes the dataset before the temporary is removed.
 class LayerFile {
  public:
   LayerFile(const std::string& target, const char* driver, const std::string& crsWkt)
@@ -29,25 +32,19 @@ class LayerFile {
     terrain::initGdal();
     CPLErrorReset();
     GDALDriverH d = GDALGetDriverByName(driver);
-    ds_ = d ? GDALCreate(d, file_.tempPath().c_str(), 0, 0, 0, GDT_Unknown, nullptr) : nullptr;
+    ds_.reset(d ? GDALCreate(d, file_.tempPath().c_str(), 0, 0, 0, GDT_Unknown, nullptr) : nullptr);
     if (!ds_) fail("cannot be created");
     // One transaction for the whole file (GeoPackage: one SQLite commit instead of one per feature).
-    GDALDatasetStartTransaction(ds_, FALSE);
+    GDALDatasetStartTransaction(ds_.get(), FALSE);
     if (!crsWkt.empty()) {
-      srs_ = OSRNewSpatialReference(nullptr);
-      if (OSRSetFromUserInput(srs_, crsWkt.c_str()) != OGRERR_NONE) fail("the scene's CRS cannot be read");
-      OSRSetAxisMappingStrategy(srs_, OAMS_TRADITIONAL_GIS_ORDER);
+      srs_.reset(OSRNewSpatialReference(nullptr));
+      if (OSRSetFromUserInput(srs_.get(), crsWkt.c_str()) != OGRERR_NONE) fail("the scene's CRS cannot be read");
+      OSRSetAxisMappingStrategy(srs_.get(), OAMS_TRADITIONAL_GIS_ORDER);
     }
   }
-  ~LayerFile() {
-    if (ds_) GDALClose(ds_);
-    if (srs_) OSRRelease(srs_);
-  }
-  LayerFile(const LayerFile&) = delete;
-  LayerFile& operator=(const LayerFile&) = delete;
 
   OGRLayerH layer(const char* name, OGRwkbGeometryType type, char** options = nullptr) {
-    OGRLayerH l = GDALDatasetCreateLayer(ds_, name, srs_, type, options);
+    OGRLayerH l = GDALDatasetCreateLayer(ds_.get(), name, srs_.get(), type, options);
     if (!l) fail(std::string("cannot create the layer '") + name + "'");
     return l;
   }
@@ -65,25 +62,30 @@ class LayerFile {
     OGR_F_Destroy(f);
     if (err != OGRERR_NONE) fail(std::string("cannot write a feature of '") + OGR_L_GetName(l) + "'");
   }
-  void commit() {
+  void close() {
     CPLErrorReset();
-    if (GDALDatasetCommitTransaction(ds_) == OGRERR_FAILURE) fail("cannot be written");
-    GDALClose(ds_);
-    ds_ = nullptr;
+    if (GDALDatasetCommitTransaction(ds_.get()) == OGRERR_FAILURE) fail("cannot be written");
+    ds_.reset();
     if (!terrain::lastGdalError().empty()) fail("cannot be written");
-    file_.commit();
   }
+  void commit() { file_.commit(); }
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
     const std::string gdal = terrain::lastGdalError();
     throw InputError(target_ + ": " + what + (gdal.empty() ? "" : ": " + gdal));
   }
+  struct Close {
+    void operator()(GDALDatasetH d) const { GDALClose(d); }
+  };
+  struct Release {
+    void operator()(OGRSpatialReferenceH s) const { OSRRelease(s); }
+  };
 
   std::string target_;
   OutputFile file_;
-  GDALDatasetH ds_ = nullptr;
-  OGRSpatialReferenceH srs_ = nullptr;
+  std::unique_ptr<std::remove_pointer_t<GDALDatasetH>, Close> ds_;
+  std::unique_ptr<std::remove_pointer_t<OGRSpatialReferenceH>, Release> srs_;
 };
 
 void setReal(OGRFeatureH f, const char* name, double v) {
@@ -110,7 +112,7 @@ double pathLength(const std::vector<FrameRecord>& records) {
 
 /// The path: one LineStringZM feature with the run's summary fields.
 void writePath(LayerFile& file, OGRLayerH l, const RunSummaryInfo& info, const std::vector<FrameRecord>& records,
-               const std::vector<ExpectationResult>& expectations, std::size_t contacts, bool measured) {
+               const std::vector<ExpectationResult>& expectations, std::size_t contacts) {
   for (const char* name : {"scene", "script", "method"}) file.field(l, name, OFTString);
   for (const char* name : {"frames", "blocked_frames", "contacts", "expectations_met", "expectations_failed"})
     file.field(l, name, OFTInteger64);
@@ -129,11 +131,10 @@ void writePath(LayerFile& file, OGRLayerH l, const RunSummaryInfo& info, const s
   setInt(f, "expectations_failed", std::int64_t(expectations.size()) - met);
   setReal(f, "seconds", records.empty() ? 0.0 : records.back().time);
   setReal(f, "length_m", pathLength(records));
-  OGRGeometryH g = OGR_G_CreateGeometry(measured ? wkbLineStringZM : wkbLineString25D);
+  OGRGeometryH g = OGR_G_CreateGeometry(wkbLineStringZM);
   for (std::size_t i = 0; i < records.size(); ++i) {
     const FrameRecord& r = records[i];
-    if (measured) OGR_G_SetPointZM(g, int(i), r.eye.x(), r.eye.y(), r.eye.z(), r.time);
-    else OGR_G_SetPoint(g, int(i), r.eye.x(), r.eye.y(), r.eye.z());
+    OGR_G_SetPointZM(g, int(i), r.eye.x(), r.eye.y(), r.eye.z(), r.time);
   }
   file.add(l, f, g);
 }
@@ -248,18 +249,19 @@ ResultLayerFiles writeResultLayers(const std::string& base, const std::string& c
                                    std::size_t frameEvery) {
   ResultLayerFiles out;
   out.gpkg = base + ".gpkg";
-  {
-    LayerFile gpkg(out.gpkg, "GPKG", crsWkt);
-    writePath(gpkg, gpkg.layer("path", wkbLineStringZM), info, records, expectations, contacts.size(), true);
-    OGRLayerH c = gpkg.layer("contacts", wkbPoint25D);
-    contactFields(gpkg, c);
-    for (const RunContact& contact : contacts) writeContact(gpkg, c, contact, info.method);
-    writeBlocked(gpkg, gpkg.layer("blocked", wkbLineString25D), records, info.dt);
-    writeExpectations(gpkg, gpkg.layer("expectations", wkbPoint25D), expectations);
-    writeFrames(gpkg, gpkg.layer("frames", wkbPoint25D), records, renders, std::max<std::size_t>(1, frameEvery));
+  LayerFile gpkg(out.gpkg, "GPKG", crsWkt);
+  writePath(gpkg, gpkg.layer("path", wkbLineStringZM), info, records, expectations, contacts.size());
+  OGRLayerH c = gpkg.layer("contacts", wkbPoint25D);
+  contactFields(gpkg, c);
+  for (const RunContact& contact : contacts) writeContact(gpkg, c, contact, info.method);
+  writeBlocked(gpkg, gpkg.layer("blocked", wkbLineString25D), records, info.dt);
+  writeExpectations(gpkg, gpkg.layer("expectations", wkbPoint25D), expectations);
+  writeFrames(gpkg, gpkg.layer("frames", wkbPoint25D), records, renders, std::max<std::size_t>(1, frameEvery));
+  gpkg.close();
+  if (crsWkt.empty()) {
     gpkg.commit();
+    return out;
   }
-  if (crsWkt.empty()) return out;
   // GeoJSON (RFC 7946): one collection, the path and the contacts, told apart by "feature".
   out.geojson = base + ".geojson";
   LayerFile json(out.geojson, "GeoJSON", crsWkt);
@@ -282,6 +284,9 @@ ResultLayerFiles writeResultLayers(const std::string& base, const std::string& c
   }
   json.add(l, path, line);
   for (const RunContact& contact : contacts) writeContact(json, l, contact, info.method, {"contact"});
+  json.close();
+  // Both written: renamed together, so a failure leaves neither new file beside an old one.
+  gpkg.commit();
   json.commit();
   return out;
 }
@@ -293,6 +298,7 @@ void writeContactsLayer(const std::string& path, const std::string& crsWkt, cons
   gpkg.field(l, "script", OFTString);
   for (const ContactSet& set : sets)
     for (const RunContact& c : *set.contacts) writeContact(gpkg, l, c, set.method, {nullptr, &set.script});
+  gpkg.close();
   gpkg.commit();
 }
 

@@ -35,7 +35,7 @@ struct RunContact {
   Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // map frame
   std::string unit, kind, group;                  // unit: its name, or the terrain reason
   double approachDeg = 0;                         // NaN for the terrain
-  double stopGapM = 0;                            // NaN for the terrain or without meshes
+  double stopGapM = 0;                            // NaN for the terrain
 };
 
 std::vector<RunContact> runContacts(const Scene& scene, const std::vector<FrameRecord>& records,

@@ -3,6 +3,7 @@
 #include "nestwalk/session/recorded_run.h"
 
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/render/frame_writers.h"
@@ -33,6 +34,7 @@ std::vector<std::string> recordedRunOutputs(const RecordedRunOptions& options) {
     if (options.rendering->frames) outputs.push_back("frames");
     if (options.rendering->video) outputs.push_back("flythrough.mp4");
   }
+  if (!options.scriptText.empty()) outputs.push_back(kRouteScriptFile);
   return outputs;
 }
 
@@ -66,7 +68,9 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
                      ": cannot write the video: ffmpeg is not installed (tools/setup-deps.sh installs it; "
                      "--no-video renders without it)");
 
-  const Script script = o.scriptText.empty() ? readScript(o.script) : parseScript(o.scriptText, o.script);
+  // A script given as text (a planned route) is kept in the run's folder, and named by it.
+  const std::string scriptFile = o.scriptText.empty() ? o.script : (out / kRouteScriptFile).string();
+  const Script script = o.scriptText.empty() ? readScript(o.script) : parseScript(o.scriptText, scriptFile);
   const Scene scene = loadScene(o.scene);
   const MethodSpec method = o.method ? o.method(scene.spec.method) : scene.spec.method;
   CollisionWorld world = CollisionWorld::fromScene(scene, method);
@@ -142,7 +146,8 @@ RecordedRun recordRun(const RecordedRunOptions& o) {
   writeFrameCsv((out / "frames.csv").string(), f.records, run.renders);
   RunSummaryInfo info;
   info.scene = o.scene;
-  info.script = o.script;
+  info.script = scriptFile;
+  if (!o.scriptText.empty()) writeFileAtomically(scriptFile, o.scriptText);
   info.method = run.method;
   info.dt = walker.dt;
   info.units = run.units;

@@ -41,9 +41,12 @@ struct RunRendering {
   bool video = true;      // flythrough.mp4 (needs ffmpeg)
 };
 
+inline constexpr const char* kRouteScriptFile = "route_script.txt";
+
 struct RecordedRunOptions {
   std::string scene, script, out;  // scene.json, the script (or a .path), the run's folder
-  std::string scriptText;          // not empty: the script itself (`script` names it in messages)
+  std::string scriptText;          // not empty: the script itself (a planned route, `script` its source),
+                                   // kept in `out` as kRouteScriptFile, which messages and files name
   double hz = 60.0;                // steps per second (the walker's fixed time step is 1 / hz)
   bool slide = false;              // slide along contact faces instead of stopping
   bool overwrite = false;          // replace the run's files in `out`

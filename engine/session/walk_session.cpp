@@ -113,7 +113,12 @@ void WalkSession::toggleRecording() {
 void WalkSession::recordStep(const StepInput& input, const StepReport& report) {
   if (!recording_) return;
   recording_->add(input, *walker_);
-  recorded_.push_back(makeFrameRecord(*walker_, report));
+  // Counted from the recording's start (its layers' times and frames), not the window's.
+  FrameRecord r = makeFrameRecord(*walker_, report);
+  if (recorded_.empty()) recordStart_ = {r.frame - 1, r.time - walkerOptions_.dt};
+  r.frame -= recordStart_.first;
+  r.time -= recordStart_.second;
+  recorded_.push_back(std::move(r));
 }
 
 void WalkSession::stopRecording() {

@@ -119,6 +119,7 @@ class WalkSession {
   std::string crs_, status_;
   std::unique_ptr<WalkRecording> recording_;
   std::vector<FrameRecord> recorded_;  // the recording's steps (its layers)
+  std::pair<std::uint64_t, double> recordStart_{0, 0.0};  // frame and time just before its first step
   int recordings_ = 0;
   bool recordFolderMade_ = false;
   bool wasBlocked_ = false;

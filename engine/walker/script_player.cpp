@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace nestwalk {
 namespace {
@@ -97,12 +98,18 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     if (!(hasZ && s.flying)) d.z() = 0;
     return d;
   };
-  if (aim) {
+  const bool timed = !std::isnan(arriveAt);
+  if (aim && !timed) {
     const Eigen::Vector3d d = offset();
     if (d.head<2>().norm() > kArrivalTolerance) turnTo(headingOf(d.x(), d.y()), onStep);
   }
+  // A timed goto turns the view while it walks (its time is the route's), and not at all toward a
+  // target closer than kTimedViewDistance (the jitter of a GPS standing still).
+  const double reaimBeyond = timed && offset().head<2>().norm() < kTimedViewDistance
+                                 ? std::numeric_limits<double>::infinity()
+                                 : kReaimDistance;
   double speed = speed_;
-  if (!std::isnan(arriveAt)) {
+  if (timed) {
     // A timed goto: the steps left until the arrival time, at least one when there is a way to go.
     const double dist = offset().norm();
     const double stepsLeft = std::max(0.0, std::round((arriveAt - walker_.state().time) / dt));
@@ -124,7 +131,7 @@ void ScriptPlayer::goTo(const Eigen::Vector3d& target, bool hasZ, bool aim, cons
     const bool last = dist <= stepLen * (1.0 + kLastStepSlack);
     const Eigen::Vector3d move = last ? d : Eigen::Vector3d(d * (stepLen / dist));
     double heading = walker_.state().headingDeg;
-    if (aim && d.head<2>().norm() > kReaimDistance) {
+    if (aim && d.head<2>().norm() > reaimBeyond) {
       // Re-aim (a slide may have moved the viewer off the line), within the turn rate.
       const double want = headingOf(d.x(), d.y());
       const double turn = turnBetween(heading, want);

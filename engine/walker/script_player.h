@@ -5,10 +5,12 @@
 // Motion: `goto` turns the view toward the target at kTurnRate, then walks (or flies) straight at
 // the current speed, re-aiming every step; `move D` goes to the point D ahead of the heading at
 // its start; `move DX DY [DZ]` to the offset point, keeping the heading. A timed `goto ... by T`
-// turns as any goto, then takes S = round((start time + T - now) / dt) steps (at least one) of
-// equal length to its target, so that it arrives within half a step of T when nothing blocks it;
-// a target already reached stands for the S steps. A motion ends at its
-// target (within kArrivalTolerance) or after kBlockedTimeout seconds without progress. `turn`,
+// takes S = round((start time + T - now) / dt) steps (at least one, at whatever speed that needs)
+// of equal length to its target, so that it arrives within half a step of T when nothing blocks it;
+// it does not stop to turn (the view turns at kTurnRate while it walks, and not at all toward a
+// target closer than kTimedViewDistance); a target already reached stands for the S steps. A
+// motion ends at its target (within kArrivalTolerance) or after kBlockedTimeout seconds without
+// progress. `turn`,
 // `heading` and `look` run at kTurnRate / kPitchRate in whole steps; the rest (less than one
 // step's turn) turns the view at once, the body following at the next step. `wait` stands for
 // ceil(T / dt) steps.
@@ -32,6 +34,7 @@ inline constexpr double kPitchRate = 60.0;         // degrees per second
 inline constexpr double kArrivalTolerance = 1e-6;  // metres
 inline constexpr double kProgressEpsilon = 1e-6;   // metres per step that count as progress
 inline constexpr double kLastStepSlack = 0.01;     // a rest up to 1 % over a step is taken in one
+inline constexpr double kTimedViewDistance = 0.5;  // metres: a timed goto this short keeps the view
 
 class ScriptPlayer {
  public:

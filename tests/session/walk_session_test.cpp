@@ -93,6 +93,11 @@ TEST_F(WalkSessionTest, ARecordedWalkPlaysBackToTheSamePlace) {
   WalkSessionOptions o = options();
   o.recordFolder = (folder.path() / "walks").string();
   WalkSession session(o);
+  for (int k = 0; k < 30; ++k) {  // the window runs a while before R is pressed
+    StepInput still;
+    still.headingDeg = session.walker().state().headingDeg;
+    session.walker().step(still);
+  }
   session.toggleRecording();
   ASSERT_TRUE(session.recording()) << session.status();
   Walker& walker = session.walker();
@@ -119,6 +124,9 @@ TEST_F(WalkSessionTest, ARecordedWalkPlaysBackToTheSamePlace) {
     ASSERT_NE(f, nullptr);
     OGRGeometryH g = OGR_F_GetGeometryRef(f);
     ASSERT_EQ(OGR_G_GetPointCount(g), 240);
+    // Times from the recording's start, not the window's (30 steps before it).
+    EXPECT_NEAR(OGR_G_GetM(g, 0), walker.options().dt, 1e-9);
+    EXPECT_NEAR(OGR_G_GetM(g, 239), 240 * walker.options().dt, 1e-9);
     const Eigen::Vector3d last = walker.eye();
     EXPECT_EQ(Eigen::Vector3d(OGR_G_GetX(g, 239), OGR_G_GetY(g, 239), OGR_G_GetZ(g, 239)), last);
     OGR_F_Destroy(f);

@@ -47,6 +47,7 @@ TEST(RouteCommand, WritesAScriptThatRunPlaysToTheEnd) {
                                   " --speed 3 --headless --quiet --out " + quoted(dir / "direct"));
   ASSERT_EQ(direct.exitCode, 0) << direct.out << direct.err;
   const std::string directFrames = readText(dir / "direct" / "frames.csv");
+  EXPECT_EQ(readText(dir / "direct" / "route_script.txt"), readText(dir / "walk.txt"));  // the played script, kept
   auto positions = [](const std::string& csv) {  // frame, time, x, y, z, heading of every row
     std::string out;
     std::stringstream in(csv);

@@ -376,6 +376,13 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
   const std::filesystem::path folder = tempPathBeside(
       (std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string(), "bench");
   std::filesystem::create_directories(folder);
+  struct RemoveAtEnd {
+    std::filesystem::path folder;
+    ~RemoveAtEnd() {
+      std::error_code ec;
+      std::filesystem::remove_all(folder, ec);
+    }
+  } removeAtEnd{folder};  // also when a run or the route throws
   Table table;
   table.column({"flythrough", "/script", 22, 0, true}).column({"run s", "/run_s", 9, 3}).column({"layers s", "/layers_s", 10, 3});
   table.column({"%", "/layers_percent", 7, 1, false, false, "%"});
@@ -408,7 +415,6 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
   request.script.useTimes = true;
   std::size_t gotos = 0;
   const double routeSeconds = leastSeconds(3, [&] { gotos = gis::planRoute(o.scene, request).gotos; });
-  std::filesystem::remove_all(folder);
   doc.text << "\nResults layers (results.gpkg, results.geojson) against the whole headless run, per flythrough\n";
   doc.table("results_layers", table);
   doc.text << "route: a " << gotos + 1 << "-fix GPX track into a timed script: " << routeSeconds << " s\n";
