@@ -1,6 +1,7 @@
 #include "nestwalk/core/number_text.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <iomanip>
 #include <locale>
@@ -38,6 +39,13 @@ std::string shortText(double value) {
 
 nlohmann::ordered_json jsonNumber(double value) {
   return std::isnan(value) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(value);
+}
+
+std::string exactText(double value) {
+  if (value == 0) return "0";  // no "-0"
+  char buf[32];                // holds any double's shortest form
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);
+  return std::string(buf, r.ptr);
 }
 
 }  // namespace nestwalk

@@ -26,17 +26,9 @@ class LayerReader {
               LayerFeatures& out)
       : source_(source), layer_(layer), sel_(sel), out_(out), layerName_(OGR_L_GetName(layer)) {
     what_ = source + ": layer '" + layerName_ + "'";
-    OGRSpatialReferenceH own = OGR_L_GetSpatialRef(layer);
-    Srs layerSrs;
-    if (own) {
-      layerSrs = traditionalAxes(own);
-    } else if (!sel.assumedCrs.empty()) {
-      layerSrs = srsFrom(sel.assumedCrs, what_ + ": --layer-crs");
-    } else {
-      throw InputError(what_ + ": has no CRS; give the CRS its coordinates are in with --layer-crs (e.g. EPSG:4326)");
-    }
-    crs_ = srsName(layerSrs.get());
-    transform_ = std::make_unique<LayerTransform>(layerSrs.get(), target, what_);
+    const Srs srs = layerSrs(layer, sel.assumedCrs, what_);
+    crs_ = srsName(srs.get());
+    transform_ = std::make_unique<LayerTransform>(srs.get(), target, what_);
   }
 
   void read() {

@@ -58,6 +58,12 @@ std::string srsName(OGRSpatialReferenceH s) {
   return name ? name : "unnamed CRS";
 }
 
+Srs layerSrs(OGRLayerH layer, const std::string& assumedCrs, const std::string& what) {
+  if (OGRSpatialReferenceH own = OGR_L_GetSpatialRef(layer)) return traditionalAxes(own);
+  if (!assumedCrs.empty()) return srsFrom(assumedCrs, what + ": --layer-crs");
+  throw InputError(what + ": has no CRS; give the CRS its coordinates are in with --layer-crs (e.g. EPSG:4326)");
+}
+
 Dataset openVectorSource(const std::string& source) {
   terrain::initGdal();
   std::error_code ec;

@@ -44,6 +44,9 @@ Srs traditionalAxes(OGRSpatialReferenceH s);
 Srs srsFrom(const std::string& text, const std::string& what);
 /// The CRS's name as OGR gives it ("unnamed CRS" without one).
 std::string srsName(OGRSpatialReferenceH s);
+/// A layer's CRS (traditional axis order): its own, else `assumedCrs` (--layer-crs), else
+/// InputError "WHAT: has no CRS; give ... --layer-crs".
+Srs layerSrs(OGRLayerH layer, const std::string& assumedCrs, const std::string& what);
 
 /// Opens a vector source read-only (runs initGdal first). InputError when a file path does not
 /// exist or OGR cannot open it.

@@ -2,9 +2,9 @@
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/number_text.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,13 +12,6 @@
 
 namespace nestwalk::gis {
 namespace {
-
-/// The shortest text that reads back to the same double.
-std::string exact(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 std::string at(const Eigen::Vector2d& p) {
   char buf[96];
@@ -47,9 +40,9 @@ class ScriptWriter {
 
   void line(const std::string& s) { text_ += s + "\n"; }
   void go(const char* op, const Eigen::Vector2d& p, double eyeZ, std::optional<double> time) {
-    std::string s = std::string(op) + " " + exact(p.x()) + " " + exact(p.y());
-    if (o_.fly) s += " " + exact(eyeZ);
-    if (time) s += " by " + exact(*time);
+    std::string s = std::string(op) + " " + exactText(p.x()) + " " + exactText(p.y());
+    if (o_.fly) s += " " + exactText(eyeZ);
+    if (time) s += " by " + exactText(*time);
     line(s);
   }
   std::string text() && { return std::move(text_); }
@@ -71,7 +64,7 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
       if (k > 0 && *p.time < *route.points[k - 1].time)
         throw InputError(p.where + ": its time is before the previous point's (the route's times go backwards)");
       if (k > 0 && *p.time - *route.points[k - 1].time > kMaxTimedGap)
-        throw InputError(p.where + ": comes " + exact(*p.time - *route.points[k - 1].time) +
+        throw InputError(p.where + ": comes " + exactText(*p.time - *route.points[k - 1].time) +
                          " s after the previous point (over an hour: split the track, or replay it without --use-times)");
     }
   }
@@ -129,15 +122,15 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
   std::snprintf(length, sizeof length, "%.1f m", out.length);
   w.line("# nestwalk route: " + what + " (" + std::to_string(route.points.size()) + " points, " +
          std::to_string(route.features) + " line feature(s), CRS " + route.crs + "): " + length +
-         (o.useTimes ? ", timed: " + exact(way.back().time + double(visits.size()) * o.stopWait) + " s" : ""));
+         (o.useTimes ? ", timed: " + exactText(way.back().time + double(visits.size()) * o.stopWait) + " s" : ""));
   if (out.dropped) w.line("# " + std::to_string(out.dropped) + " point(s) within 1 mm of the one before left out");
   w.line(o.fly ? "mode fly" : "mode walk");
-  if (o.speed && !o.useTimes) w.line("speed " + exact(*o.speed));
+  if (o.speed && !o.useTimes) w.line("speed " + exactText(*o.speed));
   const Eigen::Vector2d firstDir = way[firstMove + 1].map - way[0].map;
   {
-    std::string s = "start " + exact(way[0].map.x()) + " " + exact(way[0].map.y());
-    if (o.fly) s += " " + exact(way[0].eyeZ);
-    w.line(s + " heading " + exact(headingOf(firstDir.x(), firstDir.y())));
+    std::string s = "start " + exactText(way[0].map.x()) + " " + exactText(way[0].map.y());
+    if (o.fly) s += " " + exactText(way[0].eyeZ);
+    w.line(s + " heading " + exactText(headingOf(firstDir.x(), firstDir.y())));
   }
   double shift = 0;  // seconds of stop waits so far (timed)
   auto when = [&](double t) { return o.useTimes ? std::optional<double>(t + shift) : std::nullopt; };
@@ -148,7 +141,7 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
       const RouteStop& stop = o.stops[visit.stop];
       const Waypoint &a = way[k], &b = way[k + 1];
       const double eyeZ = a.eyeZ + visit.along * (b.eyeZ - a.eyeZ);
-      w.line("# stop: " + (stop.name.empty() ? stop.where : stop.name) + ", " + exact(std::round(visit.distance * 1000) / 1000) +
+      w.line("# stop: " + (stop.name.empty() ? stop.where : stop.name) + ", " + exactText(std::round(visit.distance * 1000) / 1000) +
              " m from the route");
       const bool elsewhere = (visit.map - (v > 0 && visits[v - 1].segment == k ? visits[v - 1].map : a.map)).norm() >= kSamePoint;
       if (elsewhere) {
@@ -158,9 +151,9 @@ RouteScript routeScript(const Route& route, const terrain::Heightfield& terrain,
       const Eigen::Vector2d d = stop.map - visit.map;
       const double eye = o.fly ? eyeZ : *terrain.groundHeight(visit.map.x(), visit.map.y()) + o.eyeHeight;
       const double target = *terrain.groundHeight(stop.map.x(), stop.map.y()) + kStopLookHeight;
-      if (d.norm() >= kSamePoint) w.line("heading " + exact(headingOf(d.x(), d.y())));
-      w.line("look " + exact(degrees(std::atan2(target - eye, std::max(d.norm(), kSamePoint)))));
-      w.line("wait " + exact(o.stopWait));
+      if (d.norm() >= kSamePoint) w.line("heading " + exactText(headingOf(d.x(), d.y())));
+      w.line("look " + exactText(degrees(std::atan2(target - eye, std::max(d.norm(), kSamePoint)))));
+      w.line("wait " + exactText(o.stopWait));
       w.line("look 0");
       shift += o.stopWait;
     }

@@ -132,16 +132,9 @@ class RouteReader {
   }
 
   std::unique_ptr<LayerTransform> transformOf(OGRLayerH layer, const std::string& what) {
-    Srs layerSrs;
-    if (OGRSpatialReferenceH own = OGR_L_GetSpatialRef(layer)) {
-      layerSrs = traditionalAxes(own);
-    } else if (!sel_.assumedCrs.empty()) {
-      layerSrs = srsFrom(sel_.assumedCrs, what + ": --layer-crs");
-    } else {
-      throw InputError(what + ": has no CRS; give the CRS its coordinates are in with --layer-crs (e.g. EPSG:4326)");
-    }
-    route_.crs = srsName(layerSrs.get());
-    return std::make_unique<LayerTransform>(layerSrs.get(), target_.get(), what);
+    const Srs srs = layerSrs(layer, sel_.assumedCrs, what);
+    route_.crs = srsName(srs.get());
+    return std::make_unique<LayerTransform>(srs.get(), target_.get(), what);
   }
 
   void addPoint(double x, double y, std::optional<double> z, std::optional<double> time, std::string where,

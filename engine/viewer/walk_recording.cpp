@@ -1,23 +1,12 @@
 // A walk by hand as a script and a camera path (walk_recording.h).
 #include "nestwalk/viewer/walk_recording.h"
 
+#include "nestwalk/core/number_text.h"
 #include "nestwalk/walker/script.h"
 
-#include <charconv>
 #include <cmath>
 
 namespace nestwalk {
-namespace {
-
-// The shortest text that reads back as the same double (std::to_chars: locale-independent).
-std::string number(double v) {
-  if (v == 0) return "0";  // no "-0"
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-}  // namespace
 
 struct WalkRecording::WriterState {
   bool flying = false;
@@ -33,13 +22,13 @@ WalkRecording::WalkRecording(const Walker& walker, const std::string& sceneFile,
   startPitch_ = s.pitchDeg;
   startSpeed_ = walker.options().viewer.speed;
   header_ = "# A walk recorded by `nestwalk view` on " + sceneFile + " (contact method " + methodName + ", " +
-            number(1.0 / dt_) + " steps per second).\n# Replay: nestwalk run " + sceneFile +
-            " --script THIS_FILE --headless --out DIR" + (std::abs(1.0 / dt_ - 60.0) > 1e-9 ? " --hz " + number(1.0 / dt_) : "") +
+            exactText(1.0 / dt_) + " steps per second).\n# Replay: nestwalk run " + sceneFile +
+            " --script THIS_FILE --headless --out DIR" + (std::abs(1.0 / dt_ - 60.0) > 1e-9 ? " --hz " + exactText(1.0 / dt_) : "") +
             "\n";
   const Eigen::Vector3d eye = walker.eye();
-  start_ = s.flying ? "start " + number(eye.x()) + " " + number(eye.y()) + " " + number(eye.z())
-                    : "start " + number(eye.x()) + " " + number(eye.y());
-  start_ += " heading " + number(s.headingDeg) + "\n";
+  start_ = s.flying ? "start " + exactText(eye.x()) + " " + exactText(eye.y()) + " " + exactText(eye.z())
+                    : "start " + exactText(eye.x()) + " " + exactText(eye.y());
+  start_ += " heading " + exactText(s.headingDeg) + "\n";
   camera_.push_back({s.time, eye, s.headingDeg, s.pitchDeg});
 }
 
@@ -95,16 +84,16 @@ void WalkRecording::writeRun(const Run& run, std::string& out, WriterState& stat
     state.flying = run.flying;
   }
   if (run.headingDeg != state.headingDeg) {
-    out += "heading " + number(run.headingDeg) + "\n";
+    out += "heading " + exactText(run.headingDeg) + "\n";
     state.headingDeg = run.headingDeg;
   }
   if (run.pitchDeg != state.pitchDeg) {
-    out += "look " + number(run.pitchDeg) + "\n";
+    out += "look " + exactText(run.pitchDeg) + "\n";
     state.pitchDeg = run.pitchDeg;
   }
   const double seconds = double(run.steps) * dt_;
   if (run.move.squaredNorm() == 0) {
-    out += "wait " + number(seconds) + "\n";
+    out += "wait " + exactText(seconds) + "\n";
     return;
   }
   // The player steps speed x dt towards the target: the speed that makes its step the hand's.
@@ -112,17 +101,17 @@ void WalkRecording::writeRun(const Run& run, std::string& out, WriterState& stat
   const double perStep = climbs ? run.move.norm() : run.move.head<2>().norm();
   const double speed = perStep / dt_;
   if (speed != state.speed) {
-    out += "speed " + number(speed) + "\n";
+    out += "speed " + exactText(speed) + "\n";
     state.speed = speed;
   }
   const Eigen::Vector3d total = run.move * double(run.steps);
-  out += "move " + number(total.x()) + " " + number(total.y()) + (climbs ? " " + number(total.z()) : "") + "\n";
+  out += "move " + exactText(total.x()) + " " + exactText(total.y()) + (climbs ? " " + exactText(total.z()) : "") + "\n";
   if (!run.blocked) return;
   out += run.expectLine;
   // The player gives up a blocked motion after kBlockedTimeout without progress; the hand may have
   // pressed on for longer: the rest stands as a wait (the position does not change either way).
   const double pressed = double(run.pressedSteps) * dt_;
-  if (pressed > kBlockedTimeout + dt_) out += "wait " + number(pressed - kBlockedTimeout) + "\n";
+  if (pressed > kBlockedTimeout + dt_) out += "wait " + exactText(pressed - kBlockedTimeout) + "\n";
 }
 
 std::string WalkRecording::scriptText() const {
@@ -135,9 +124,9 @@ std::string WalkRecording::scriptText() const {
   state.headingDeg = startHeading_;
   state.pitchDeg = startPitch_;
   state.speed = startSpeed_;
-  if (startFlying_) out += "mode fly\nclearance " + number(startClearance_) + "\n";
+  if (startFlying_) out += "mode fly\nclearance " + exactText(startClearance_) + "\n";
   out += start_;
-  if (startPitch_ != 0) out += "look " + number(startPitch_) + "\n";
+  if (startPitch_ != 0) out += "look " + exactText(startPitch_) + "\n";
   for (const Run& r : runs_) writeRun(r, out, state);
   return out;
 }

@@ -12,6 +12,7 @@
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
+#include "nestwalk/core/number_text.h"
 #include "nestwalk/core/output_file.h"
 
 #include <Eigen/Geometry>
@@ -40,12 +41,7 @@ constexpr double kVerticalViewEpsilon = 1e-9;
 constexpr double kMinQuaternionNorm = 1e-6;
 
 /// Shortest text that reads back to exactly `v` (locale-independent).
-void appendNumber(std::string& out, double v) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  (void)ec;  // 32 characters hold any double's shortest form
-  out.append(buf, end);
-}
+void appendNumber(std::string& out, double v) { out += exactText(v); }
 
 struct ControlPoint {
   int line = 0;
