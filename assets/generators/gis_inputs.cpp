@@ -182,6 +182,8 @@ void writeGisInputs(const GeneratedScene& scene, const std::string& dir, bool ov
     writePickupCad(tmp / "models" / kPickupCadFile);
     writeTextFile(tmp / "catalog.json", catalogJson());
     for (const auto& [name, text] : scene.scripts) writeTextFile(tmp / "scripts" / name, text);
+    if (!scene.routes.empty()) fs::create_directories(tmp / "routes");
+    for (const auto& [name, text] : scene.routes) writeTextFile(tmp / "routes" / name, text);
   });
 }
 

@@ -24,6 +24,8 @@
 //   models/            the models the catalog names
 //   scripts/*.txt      the generated scene's flythroughs (map coordinates of the site): the patrol,
 //                      the ramp descent, the low flight and the two equipment tours
+//   routes/*.gpx       the generated scene's GPS tracks (phone_track.h): the patrol as a phone
+//                      records it, for `nestwalk route` or `run --route` on the built scene
 #pragma once
 
 #include "assets/generators/scene_generator.h"

@@ -83,7 +83,8 @@ TEST(RouteCommand, PointsOnlyAreRefusedAndNothingIsWritten) {
 }
 
 // The bundled GPS track replayed at its pace (the main job's run): the walk ends at the last fix's
-// time plus the stop's wait, within a step, and the run writes its layers.
+// time plus the stop's wait, within a step, and the run writes its layers. The GIS sample's copy of
+// the track plays on the scene built from the GIS inputs (the same site, its own scene file).
 TEST(RouteCommand, BundledTrackReplaysAtItsRecordedPace) {
   if (!fs::exists(kScene)) GTEST_SKIP() << kScene << " is absent: build the bundled_scene target";
   const TempFolder dir;
@@ -100,6 +101,16 @@ TEST(RouteCommand, BundledTrackReplaysAtItsRecordedPace) {
   EXPECT_NEAR(summary["simulated_seconds"].get<double>(), want, 1.0 / 60 + 1e-9);
   EXPECT_TRUE(fs::exists(dir / "run" / "results.gpkg"));
   EXPECT_TRUE(fs::exists(dir / "run" / "results.geojson"));
+
+  const fs::path gisScene = kScene.parent_path().parent_path() / "gis_dump" / "scene.json";
+  const fs::path gisTrack = kScene.parent_path().parent_path() / "gis_dump_inputs" / "routes" / "patrol_track.gpx";
+  ASSERT_TRUE(fs::exists(gisScene)) << "the gis_sample_scene target builds it";
+  ASSERT_TRUE(fs::exists(gisTrack));
+  const auto g = runNestwalk("run " + quoted(gisScene) + " --route " + quoted(gisTrack) +
+                             " --use-times --headless --quiet --out " + quoted(dir / "gis"));
+  ASSERT_EQ(g.exitCode, 0) << g.out << g.err;
+  const auto gisSummary = nlohmann::json::parse(readText(dir / "gis" / "summary.json"));
+  EXPECT_NEAR(gisSummary["simulated_seconds"].get<double>(), double(fixes - 1), 1.0 / 60 + 1e-9);
 }
 
 }  // namespace
