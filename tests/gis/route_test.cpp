@@ -428,7 +428,7 @@ TEST(RouteBadInput, RefusedWithFileLayerAndFeature) {
     r.route.source = file.string();
     r.route.assumedCrs = assumedCrs;
     r.script.useTimes = useTimes;
-    return test::inputError([&] { gis::planRoute(scene.string(), r); });
+    return test::inputError([&] { gis::planRoute(site.scene.string(), r); });
   };
 
   test::writeGeoLayer(dir / "points.gpkg", "GPKG", "wells", {{"x", "a", std::nullopt, {lonLat[0]}}});
