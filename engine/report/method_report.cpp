@@ -123,7 +123,6 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
   ScriptPlayer player(script, walker);
   std::vector<std::uint32_t> near;
   std::vector<FrameRecord> records;
-  std::int32_t blockedBy = -1;  // the unit the previous step was blocked by
   player.run([&](const Walker& w, const StepReport& report) {
     records.push_back(makeFrameRecord(w, report));
     s.nearTriangles.push_back(watch.takeHeaviest());
@@ -131,16 +130,16 @@ void accuracyPlay(const Scene& scene, CollisionWorld& world, const CollisionWorl
     for (std::uint64_t n : report.counters.stageTests) s.bvTests += n;
     s.triangleTests += report.counters.primitiveTests;
     const WalkerState& st = w.state();
-    const std::int32_t unit = st.blocked && st.reason == BlockReason::Equipment ? st.blockedUnit : -1;
-    if (unit >= 0 && unit != blockedBy) s.blockingEvents.push_back(std::uint32_t(unit));
-    blockedBy = unit;
-    if (unit < 0) return;
+    if (!st.blocked || st.reason != BlockReason::Equipment || st.blockedUnit < 0) return;
     ++s.equipmentBlocks;
     const double gap = stopGap(world, meshes, w.bodyVolume(st.feet, st.bodyYawDeg), st.blockedUnit, near);
     if (std::isfinite(gap)) s.gapsMm.push_back(1000.0 * gap);
   });
   s.tally = watch.tally();
+  // The blocking events are the contacts' (one per run of steps blocked by one thing), equipment's.
   s.contacts = runContacts(scene, records, &meshes);
+  for (const RunContact& c : s.contacts)
+    if (const int u = c.kind == "terrain" ? -1 : scene.findUnit(c.unit); u >= 0) s.blockingEvents.push_back(std::uint32_t(u));
 }
 
 /// Auto's choices, by the kind of unit (units without a kind under "(none)").
