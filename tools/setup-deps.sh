@@ -19,6 +19,8 @@ packages=(
   ffmpeg                                         # the rendered flythrough as a video (MP4)
   libcgal-dev libgmp-dev libmpfr-dev             # optimal OBB reference, exact arithmetic
   libqhull-dev                                   # convex hulls
+  libtinygltf-dev                                # glTF 2.0 models in (scene/gltf_model.h)
+  assimp-utils                                   # tests: a second glTF writer re-exports the shared real models
   libmeshoptimizer-dev                           # terrain chunks simplified within their error
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
   libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)

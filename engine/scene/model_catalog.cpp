@@ -1,5 +1,7 @@
 #include "nestwalk/scene/model_catalog.h"
 
+#include "nestwalk/scene/gltf_model.h"
+
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/scene/json_fields.h"
 
@@ -64,6 +66,10 @@ ModelType readType(const JsonFieldReader& r, const std::string& name, const Json
   type.name = name;
   if (!t.contains("model")) r.fail(joinField(field, "model"), "missing (the model file is required)");
   type.model = r.resolve(r.nonEmptyString(t["model"], joinField(field, "model")));
+  if (isGltfPath(type.model)) {  // glTF's own frame (its specification, section 3.4): +y up, front towards +z
+    type.up = ModelUp::Y;
+    type.forward = ModelForward::MinusY;  // +z turned up to z becomes -y
+  }
   if (t.contains("units")) {
     const Json& u = t["units"];
     const std::string f = joinField(field, "units");

@@ -10,13 +10,16 @@
 //      "gauge":   {"model": "gauge.stl", "units": "mm", "kind": "station", "scale": 1},
 //      "barrier": {"model": "barrier.osgt", "kind": "barrier", "piece_length": 3.0, "max_gap": 0.3}}}
 // Relative model paths are relative to the catalog's (or scene's) folder. Fields:
-//   model        the model file, any format OpenSceneGraph reads (required)
+//   model        the model file, any format OpenSceneGraph reads, or glTF 2.0 (.gltf, .glb)
+//                (required)
 //   units        "mm", "cm", "m", "in", "ft", or a positive number of metres per file unit ("m")
-//   up           the file's up axis: "z", "y", "-y" or "-z" ("z"); a y-up file is turned +90 degrees
-//                about x (its -z becomes forward, +y), a -y-up file -90 degrees (its +z becomes
-//                forward), a -z-up file 180 degrees (upside down: its -y becomes forward)
-//   forward      the model's forward axis once z is up: "+y", "-y", "+x" or "-x" ("+y"); headings
-//                turn the forward axis (heading 0 points it north)
+//   up           the file's up axis: "z", "y", "-y" or "-z" ("z"; "y" for glTF); a y-up file is
+//                turned +90 degrees about x (its -z becomes forward, +y), a -y-up file -90 degrees
+//                (its +z becomes forward), a -z-up file 180 degrees (upside down: its -y becomes
+//                forward)
+//   forward      the model's forward axis once z is up: "+y", "-y", "+x" or "-x" ("+y"; "-y" for
+//                glTF, whose specification puts an asset's front towards +z, which is -y once +y
+//                is turned up); headings turn the forward axis (heading 0 points it north)
 //   origin       where the model's reference point is: "base" (the bottom centre of its bounding
 //                box: it stands on the ground), "centre" (the box's centre) or "file" (the file's
 //                own origin) ("base")

@@ -1,11 +1,14 @@
 // The guarded model read (model_file.h).
 #include "nestwalk/scene/model_file.h"
 
+#include "nestwalk/scene/gltf_model.h"
 #include "nestwalk/scene/model_cache.h"
 
 #include <osgDB/FileUtils>
 #include <osgDB/Registry>
+#include <osg/Notify>
 
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,8 +34,19 @@ osgDB::ReaderWriter& nativeBinary() {
   return *rw;
 }
 
-/// The plain read; throws std::runtime_error with the reason when there is no node.
+/// What a reader skipped travels with the graph it hands back (and with its cache entry) as
+/// descriptions of the root node with this prefix; readModelFile prints them.
+constexpr const char* kNotePrefix = "nestwalk note: ";
+
+/// The plain read; throws std::runtime_error with the reason when there is no node. glTF files
+/// go to nestwalk's own reader (gltf_model.h: OSG 3.6 has no glTF plugin), the rest to OSG's.
 osg::ref_ptr<osg::Node> readNode(const std::string& path) {
+  if (isGltfPath(path)) {
+    GltfModel gltf = readGltfModel(path);
+    if (!gltf.node) throw std::runtime_error(gltf.problem);
+    for (const std::string& note : gltf.notes) gltf.node->addDescription(kNotePrefix + note);
+    return gltf.node;
+  }
   osgDB::Registry* registry = osgDB::Registry::instance();
   osgDB::ReaderWriter::ReadResult rr = registry->readNode(path, registry->getOptions());
   osg::ref_ptr<osg::Node> node = rr.getNode();
@@ -68,6 +82,12 @@ osg::ref_ptr<osg::Node> fromHandBack(osgDB::ReaderWriter& binary, const std::str
   return node;
 }
 
+/// Prints the notes a reader left on the graph (see kNotePrefix), naming the file.
+void printNotes(const osg::Node& node, const std::string& path) {
+  for (const std::string& d : node.getDescriptions())
+    if (d.rfind(kNotePrefix, 0) == 0) OSG_WARN << path << ": " << d.substr(std::strlen(kNotePrefix)) << std::endl;
+}
+
 }  // namespace
 
 ModelFile readModelFile(const std::string& path) { return readModelFile(path, modelReadLimitsFromEnvironment()); }
@@ -81,6 +101,7 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
   if (std::optional<std::string> cached = cachedModel(path)) {
     out.node = fromHandBack(binary, *cached, out.problem);
     if (out.node) {
+      printNotes(*out.node, path);
       out.osgb = std::move(*cached);
       return out;
     }
@@ -102,6 +123,7 @@ ModelFile readModelFile(const std::string& path, const ProcessLimits& limits) {
   }
   out.node = fromHandBack(binary, child.bytes, out.problem);
   if (!out.node) return out;
+  printNotes(*out.node, path);
   if (before) storeCachedModel(path, *before, child.bytes);
   out.osgb = std::move(child.bytes);
   return out;
@@ -113,6 +135,7 @@ ModelFile readModelFileUnguarded(const std::string& path) {
   if (!out.problem.empty()) return out;
   try {
     out.node = readNode(path);
+    printNotes(*out.node, path);
   } catch (const std::runtime_error& e) {
     out.problem = e.what();
   }

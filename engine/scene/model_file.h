@@ -30,7 +30,9 @@
 
 namespace nestwalk {
 
-/// A model file read with osgDB (any format a plugin reads): the node, or why there is none:
+/// A model file read with osgDB (any format a plugin reads) or, for .gltf and .glb, with
+/// nestwalk's glTF reader (gltf_model.h; what it skips is printed as a warning naming the file):
+/// the node, or why there is none:
 /// "no such file", "is a folder, not a model file", "no OpenSceneGraph plugin reads it", or the
 /// reason the read failed (the plugin's message, "took longer than 10 s", "used more than
 /// 2048 MiB of memory", "crashed (...)", with the reader's last words).

@@ -14,6 +14,8 @@
 #include "nestwalk/geometry/obb_fit.h"
 #include "tests/geometry/test_shapes.h"
 #include "nestwalk/scene/model_geometry.h"
+#include "tests/common/gltf_copy.h"
+#include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
 
 #include <CGAL/Aff_transformation_3.h>
@@ -22,6 +24,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -118,16 +121,69 @@ TEST_P(ObbFitCgalModels, HullSearchIsWithinTenPercentOfCgal) {
   compareWithCgal(model.filename().string(), g.vertices);
 }
 
+std::string modelTestName(const testing::TestParamInfo<const char*>& info) {
+  std::string s = std::filesystem::path(info.param).stem().string();
+  for (char& ch : s) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  }
+  return s;
+}
+
 INSTANTIATE_TEST_SUITE_P(SharedModels, ObbFitCgalModels,
                          testing::Values("models/dumptruck.osgt", "models/excavator_chassis.obj",
                                          "models/jeep1/jeep1.3ds", "models/street_lamp.osgb"),
-                         [](const testing::TestParamInfo<const char*>& info) {
-                           std::string s = std::filesystem::path(info.param).stem().string();
-                           for (char& ch : s) {
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           }
-                           return s;
-                         });
+                         modelTestName);
+
+// The shared models as glTF, written by assimp (tests/common/gltf_copy.h) and read by nestwalk's
+// glTF reader (scene/gltf_model.h): the same triangle count as the original read by OSG's plugin,
+// the same axis-aligned box and fitted OBB volume within kGltfCopyRel, and the fitted box within
+// ten percent of CGAL's, as for the originals.
+constexpr double kGltfCopyRel = 1e-6;  // relative: both sides hold the file's float32 coordinates
+
+class ObbFitCgalGltfCopies : public testing::TestWithParam<const char*> {};
+
+TEST_P(ObbFitCgalGltfCopies, SameTrianglesAndVolumesAsTheOriginal) {
+  const std::filesystem::path dir = test::sharedData();
+  if (dir.empty()) GTEST_SKIP() << "shared data folder absent (set NESTWALK_SHARED_DATA to its path)";
+  const std::filesystem::path model = dir / GetParam();
+  ASSERT_TRUE(std::filesystem::exists(model)) << "model missing from the shared data folder: " << model.string();
+  const test::TempFolder work;
+  const std::filesystem::path copy = test::gltfCopy(model, work.path());
+  ASSERT_FALSE(copy.empty());
+  const TriangleMesh original = loadModelGeometry(model.string());
+  const TriangleMesh gltf = loadModelGeometry(copy.string());
+  EXPECT_EQ(gltf.triangles.size(), original.triangles.size());
+  Aabb<double> a, b;
+  for (const V3& p : original.vertices) a.extend(p);
+  for (const V3& p : gltf.vertices) b.extend(p);
+  const double diagonal = (a.max - a.min).norm();
+  // The readers' axis conventions differ (gltf_copy.h): the copy's box is the original's under the
+  // signed permutation of axes that fits it best, within kGltfCopyRel of the diagonal.
+  double best = std::numeric_limits<double>::infinity();
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& perm : perms)
+    for (int signs = 0; signs < 8; ++signs) {
+      double error = 0;
+      for (int k = 0; k < 3; ++k) {
+        const bool flip = signs >> k & 1;
+        const double lo = flip ? -a.max[perm[k]] : a.min[perm[k]], hi = flip ? -a.min[perm[k]] : a.max[perm[k]];
+        error = std::max({error, std::abs(lo - b.min[k]), std::abs(hi - b.max[k])});
+      }
+      best = std::min(best, error);
+    }
+  EXPECT_LE(best, kGltfCopyRel * diagonal);
+  const double va = fitObb(original.vertices, ObbFitter::HullSearch).volume();
+  const double vb = fitObb(gltf.vertices, ObbFitter::HullSearch).volume();
+  EXPECT_NEAR(vb, va, kGltfCopyRel * va);
+  std::printf("%-24s triangles %zu / %zu (glTF / original), OBB volume %.9g / %.9g\n", copy.filename().c_str(),
+              gltf.triangles.size(), original.triangles.size(), vb, va);
+  compareWithCgal(copy.filename().string() + " (glTF)", gltf.vertices);
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedModels, ObbFitCgalGltfCopies,
+                         testing::Values("models/dumptruck.osgt", "models/excavator_chassis.obj",
+                                         "models/jeep1/jeep1.3ds", "models/street_lamp.osgb"),
+                         modelTestName);
 
 using testshapes::randomRotation;
 
