@@ -7,14 +7,14 @@
 # other than InputError) is copied into the committed corpus as regression-<name>, so that the
 # normal test run replays it; the script then exits non-zero. Prints executions and corpus sizes.
 # Usage: tools/fuzz.sh [SECONDS] [TARGET...]  (targets: scene_json script animation_path
-# points_csv pairs_csv catalog dem pyramid; default all).
+# points_csv pairs_csv catalog dem pyramid gltf; default all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene_json script animation_path points_csv pairs_csv catalog dem pyramid)
+  targets=(scene_json script animation_path points_csv pairs_csv catalog dem pyramid gltf)
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNESTWALK_FUZZ=ON >/dev/null

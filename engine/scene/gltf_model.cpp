@@ -315,8 +315,14 @@ class GraphBuilder {
                                   idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
         throw GltfProblem(where + ": indices: accessor " + std::to_string(prim.indices) +
                           " is not one unsigned byte, short or int per element");
-      osg::ref_ptr<osg::DrawElementsUInt> e = new osg::DrawElementsUInt(mode, static_cast<unsigned>(idx.count));
-      for (std::size_t i = 0; i < idx.count; ++i) {
+      std::size_t count = idx.count;
+      if (mode == GL_TRIANGLES && count % 3 != 0) {  // whole triangles only (OSG's functors read past a partial one)
+        notes_.push_back(where + ": " + std::to_string(count) + " indices, not whole triangles; the last " +
+                         std::to_string(count % 3) + " ignored");
+        count -= count % 3;
+      }
+      osg::ref_ptr<osg::DrawElementsUInt> e = new osg::DrawElementsUInt(mode, static_cast<unsigned>(count));
+      for (std::size_t i = 0; i < count; ++i) {
         const std::uint32_t k = idx.index(i);
         if (k >= positions.count)
           throw GltfProblem(where + ": index " + std::to_string(k) + " (element " + std::to_string(i) + " of accessor " +

@@ -75,7 +75,17 @@ class GeometryCollector : public osg::NodeVisitor {
     osg::TriangleIndexFunctor<TriangleCollector> triangles;
     std::vector<std::array<std::uint32_t, 3>> local;
     triangles.out = &local;
-    geometry.accept(triangles);
+    for (unsigned p = 0; p < geometry.getNumPrimitiveSets(); ++p) {
+      const osg::PrimitiveSet& set = *geometry.getPrimitiveSet(p);
+      if (set.getMode() == GL_TRIANGLES && set.getDrawElements()) {
+        // OSG's functor reads past the end of an index list whose length is not a multiple of
+        // three (osg/TriangleIndexFunctor, 3.6.5; a fuzzed glTF found it): whole triangles only.
+        const unsigned whole = set.getNumIndices() / 3 * 3;
+        for (unsigned k = 0; k < whole; k += 3) triangles(set.index(k), set.index(k + 1), set.index(k + 2));
+      } else {
+        set.accept(triangles);
+      }
+    }
     for (const auto& t : local) {
       std::array<std::uint32_t, 3> m;
       if (modelIndex(t[0], m[0]) && modelIndex(t[1], m[1]) && modelIndex(t[2], m[2])) out_.triangles.push_back(m);

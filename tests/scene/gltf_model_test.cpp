@@ -158,6 +158,21 @@ TEST(GltfModel, IndexedStripsFansAndPlainTrianglesAllBecomeTriangles) {
   EXPECT_NE(said.find(file + ": meshes[0].primitives[5]: LINES skipped"), std::string::npos) << said;
 }
 
+TEST(GltfModel, APartialTriangleIsDroppedWithANote) {
+  GltfWriter w;
+  const int pos = w.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+  const int idx = w.addAccessor(std::vector<std::uint32_t>{0, 1, 2, 1, 3}, kUInt, "SCALAR", 5);
+  w.setScene({w.addNode({{"mesh", w.addMesh(Json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}))}})});
+  const test::TempFolder dir;
+  const std::string file = (dir / "partial.glb").string();
+  test::writeFile(file, w.glb());
+  testing::internal::CaptureStderr();
+  const TriangleMesh got = loadModelGeometry(file);
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(trianglesOf(got), std::multiset<Corners>{corners({0, 0, 0}, {1, 0, 0}, {0, 1, 0})});
+  EXPECT_NE(said.find("meshes[0].primitives[0]: 5 indices, not whole triangles; the last 2 ignored"), std::string::npos) << said;
+}
+
 TEST(GltfModel, ExternalBufferAndEmbeddedFormsReadTheSame) {
   GltfWriter w = oneTriangle();
   const test::TempFolder dir;

@@ -109,6 +109,15 @@ TEST(ModelGeometry, DegenerateTrianglesAreDropped) {
   EXPECT_EQ(m.triangles.size(), 1u);
 }
 
+TEST(ModelGeometry, APartialTriangleAtTheEndOfAnIndexListIsLeftOut) {
+  // Five indices: one whole triangle and two left over (OSG's own functor reads past them).
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(quadGeometry(elements(GL_TRIANGLES, {0, 1, 2, 2, 3}), unitSquarePlusUnused()));
+  const TriangleMesh m = collectModelGeometry(*geode, "partial");
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(asSet(m.vertices), (std::set<std::array<double, 3>>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}));
+}
+
 TEST(ModelGeometry, EmptyModelAndMissingFileAreInputErrors) {
   osg::ref_ptr<osg::Group> empty = new osg::Group;
   try {
