@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every package nestwalk needs on Debian 12 (bookworm), with apt-get.
+# Installs every package nestwalk needs on Debian 12 (bookworm), with apt-get, and its pinned npm
+# packages (tools/web) with npm ci.
 # Idempotent and quiet: when everything is already installed it prints one line and
 # touches nothing. Run as root, or as a user with sudo.
 set -euo pipefail
@@ -27,6 +28,10 @@ packages=(
   clang libclang-rt-14-dev                       # libFuzzer and its sanitizers (tools/fuzz.sh)
 )
 
+# Node.js and npm run the npm packages below; a machine that already has them (Debian's or
+# NodeSource's) keeps its own: Debian's npm package conflicts with NodeSource's nodejs.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
@@ -36,13 +41,22 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "nestwalk: all ${#packages[@]} dependencies are installed."
-  exit 0
+else
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  echo "nestwalk: installing ${#missing[@]} package(s): ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "nestwalk: dependencies installed."
 fi
 
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "nestwalk: installing ${#missing[@]} package(s): ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-echo "nestwalk: dependencies installed."
+# The npm packages, pinned by tools/web/package-lock.json (the Khronos glTF Validator), into
+# tools/web/node_modules; installed again only when the lock file has changed since.
+web="$(dirname "$0")/web"
+if ! cmp -s "$web/package-lock.json" "$web/node_modules/.nestwalk-installed-lock"; then
+  echo "nestwalk: installing the npm packages of $web/package-lock.json"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error >/dev/null
+  cp "$web/package-lock.json" "$web/node_modules/.nestwalk-installed-lock"
+  echo "nestwalk: npm packages installed."
+fi

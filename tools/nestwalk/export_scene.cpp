@@ -2,14 +2,19 @@
 // loads a scene and writes its OpenSceneGraph graph (render/scene_graph.h: the terrain as one cut of
 // the chunk quadtree the renderer draws, within M metres of the DEM's surface, render/terrain_cut.h)
 // in any format OSG writes, chosen by OUT's extension (.osgb, .osgt, .ive, ...), for viewing in
-// osgviewer or other tools. The file is written under a temporary name in OUT's folder and renamed
+// osgviewer or other tools, or as glTF 2.0 (.glb, .gltf: render/gltf_scene_writer.h, the terrain
+// with the scene's imagery as textures, the map origin in the asset's extras). The file is written under a temporary name in OUT's folder and renamed
 // at the end; an existing OUT is replaced only with --overwrite. Prints one summary line.
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/core/output_file.h"
+#include "nestwalk/version.h"
 #include "nestwalk/scene/scene.h"
+#include "nestwalk/render/gltf_scene_writer.h"
 #include "nestwalk/render/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_imagery.h"
 #include "tools/nestwalk/commands.h"
 
 #include <osgDB/FileNameUtils>
@@ -33,13 +38,15 @@ struct ExportArgs {
   TerrainCutOptions terrain;
 };
 
+bool isGltf(const std::string& ext) { return ext == "glb" || ext == "gltf"; }
+
 /// Checks OUT before anything is loaded: a known format, a folder that exists, not a folder itself,
 /// not an existing file unless --overwrite.
 std::string checkOutput(const ExportArgs& a) {
   const std::string ext = osgDB::getLowerCaseFileExtension(a.out);
-  if (ext.empty()) throw InputError(a.out + ": no file extension: name the format (.osgb, .osgt, .ive, ...)");
-  if (!osgDB::Registry::instance()->getReaderWriterForExtension(ext))
-    throw InputError(a.out + ": OpenSceneGraph has no plugin for '." + ext + "' files (try .osgb, .osgt or .ive)");
+  if (ext.empty()) throw InputError(a.out + ": no file extension: name the format (.glb, .gltf, .osgb, .osgt, .ive, ...)");
+  if (!isGltf(ext) && !osgDB::Registry::instance()->getReaderWriterForExtension(ext))
+    throw InputError(a.out + ": OpenSceneGraph has no plugin for '." + ext + "' files (try .glb, .gltf, .osgb, .osgt or .ive)");
   const fs::path out(a.out);
   const fs::path folder = out.parent_path().empty() ? fs::path(".") : out.parent_path();
   if (!fs::is_directory(folder)) throw InputError(a.out + ": the folder " + folder.string() + " does not exist");
@@ -51,6 +58,8 @@ std::string checkOutput(const ExportArgs& a) {
   return ext;
 }
 
+void printSummary(const ExportArgs& a, const Scene& scene, const SceneGraphOptions& go, const SceneGraphParts& parts);
+
 void runExport(const ExportArgs& a) {
   const std::string ext = checkOutput(a);
   const Scene scene = loadScene(a.scene);
@@ -58,10 +67,41 @@ void runExport(const ExportArgs& a) {
   go.terrain = !a.noTerrain;
   go.volumes = a.volumes;
   go.terrainCut = a.terrain;
+  if (isGltf(ext) && scene.spec.imagery) {  // glTF carries the terrain's imagery as textures, as drawn
+    auto imagery = std::make_shared<terrain::TerrainImagery>(*scene.spec.imagery, scene.terrain->crsWkt());
+    go.terrainCut.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) { return imagery->read(x0, y0, sx, sy, w, h); };
+  }
   SceneGraphParts parts;
   const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go, &parts);
 
   OutputFile file(a.out, "." + ext);
+  GltfWriteStats gltf;
+  if (isGltf(ext)) {
+    // The local frame's parts (glTF is local metres; the map origin goes into the asset's extras).
+    osg::ref_ptr<osg::Group> local = new osg::Group;
+    local->setName("scene");
+    for (osg::Node* part : {static_cast<osg::Node*>(parts.terrain.get()), static_cast<osg::Node*>(parts.equipment.get()),
+                            static_cast<osg::Node*>(parts.volumes.get())})
+      if (part) local->addChild(part);
+    // The terrain's colours carry its shading (hillshade or imagery): drawn unlit, as the renderer does.
+    if (parts.terrain) parts.terrain->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    GltfSceneInfo info;
+    info.mapOrigin = scene.origin;
+    info.crsWkt = scene.terrain->crsWkt();
+    info.crsName = info.crsWkt.empty() ? "" : terrain::crsName(info.crsWkt);
+    info.generator = std::string("nestwalk ") + kVersion;
+    try {
+      gltf = writeGltfScene(*local, info, file.tempPath(), ext == "glb");
+    } catch (const std::runtime_error& e) {
+      throw InputError(a.out + ": " + e.what());
+    }
+    file.commit();
+    printSummary(a, scene, go, parts);
+    std::printf("  glTF: %zu nodes, %zu meshes, %zu materials, %zu images, %s MB\n", gltf.nodes, gltf.meshes,
+                gltf.materials, gltf.images, shortText(double(gltf.bytes) / 1e6).c_str());
+    for (const std::string& note : gltf.notes) std::fprintf(stderr, "nestwalk: export: %s\n", note.c_str());
+    return;
+  }
   osgDB::Registry* registry = osgDB::Registry::instance();
   osg::ref_ptr<osgDB::Options> options =
       registry->getOptions() ? static_cast<osgDB::Options*>(registry->getOptions()->clone(osg::CopyOp::SHALLOW_COPY))
@@ -73,7 +113,10 @@ void runExport(const ExportArgs& a) {
   if (!wr.success() || !fs::exists(file.tempPath()))
     throw InputError(a.out + ": OpenSceneGraph could not write the file" + (wr.message().empty() ? "" : ": " + wr.message()));
   file.commit();
+  printSummary(a, scene, go, parts);
+}
 
+void printSummary(const ExportArgs& a, const Scene& scene, const SceneGraphOptions& go, const SceneGraphParts& parts) {
   std::size_t triangles = 0;
   for (const auto& inst : scene.instances) triangles += scene.models[inst.model].mesh.triangles.size();
   std::printf("wrote %s: %zu instances, %zu models, %zu equipment triangles, %zu units", a.out.c_str(),
@@ -95,7 +138,9 @@ void registerExport(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "export", "Write a scene's OpenSceneGraph graph (terrain, equipment, optional volume wireframes) to a file");
   cmd->add_option("SCENE", args->scene, "Scene file (.json)")->required();
-  cmd->add_option("OUT", args->out, "Output file; the extension picks the format (.osgb, .osgt, .ive, ...)")->required();
+  cmd->add_option("OUT", args->out,
+                  "Output file; the extension picks the format (.glb, .gltf: glTF 2.0; .osgb, .osgt, .ive, ...: OpenSceneGraph)")
+      ->required();
   cmd->add_flag("--volumes", args->volumes, "Add the units' outer AABBs and inner OBBs as wireframes");
   cmd->add_flag("--no-terrain", args->noTerrain, "Leave the terrain out");
   cmd->add_option("--max-error", args->terrain.maxErrorM,
