@@ -189,8 +189,8 @@ TEST(Export, BadInputNamesTheFileAndWritesNothing) {
   writeText(dir / "bad.json", R"({"terrain": "terrain.asc", "equipment": [{"model": "gone.obj", "position": [1, 2]}]})");
   const std::vector<Case> cases = {
       {quoted(scene) + " " + quoted(dir / "out.xyzzy"),
-       (dir / "out.xyzzy").string() + ": OpenSceneGraph has no plugin for '.xyzzy' files (try .osgb, .osgt or .ive)"},
-      {quoted(scene) + " " + quoted(dir / "out"), (dir / "out").string() + ": no file extension: name the format (.osgb, .osgt, .ive, ...)"},
+       (dir / "out.xyzzy").string() + ": OpenSceneGraph has no plugin for '.xyzzy' files (try .glb, .gltf, .osgb, .osgt or .ive)"},
+      {quoted(scene) + " " + quoted(dir / "out"), (dir / "out").string() + ": no file extension: name the format (.glb, .gltf, .osgb, .osgt, .ive, ...)"},
       {quoted(scene) + " " + quoted(dir / "none" / "out.osgb"),
        (dir / "none" / "out.osgb").string() + ": the folder " + (dir / "none").string() + " does not exist"},
       {quoted(dir / "bad.json") + " " + quoted(dir / "out.osgb"),

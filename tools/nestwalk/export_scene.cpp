@@ -8,13 +8,10 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/number_text.h"
 #include "nestwalk/core/output_file.h"
-#include "nestwalk/version.h"
 #include "nestwalk/scene/scene.h"
-#include "nestwalk/render/gltf_scene_writer.h"
+#include "nestwalk/render/scene_gltf.h"
 #include "nestwalk/render/scene_graph.h"
 #include "nestwalk/scene/scene_loader.h"
-#include "nestwalk/terrain/dem_reader.h"
-#include "nestwalk/terrain/terrain_imagery.h"
 #include "tools/nestwalk/commands.h"
 
 #include <osgDB/FileNameUtils>
@@ -67,34 +64,17 @@ void runExport(const ExportArgs& a) {
   go.terrain = !a.noTerrain;
   go.volumes = a.volumes;
   go.terrainCut = a.terrain;
-  if (isGltf(ext) && scene.spec.imagery) {  // glTF carries the terrain's imagery as textures, as drawn
-    auto imagery = std::make_shared<terrain::TerrainImagery>(*scene.spec.imagery, scene.terrain->crsWkt());
-    go.terrainCut.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) { return imagery->read(x0, y0, sx, sy, w, h); };
-  }
-  SceneGraphParts parts;
-  const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go, &parts);
-
   OutputFile file(a.out, "." + ext);
-  GltfWriteStats gltf;
   if (isGltf(ext)) {
-    // The local frame's parts (glTF is local metres; the map origin goes into the asset's extras).
-    osg::ref_ptr<osg::Group> local = new osg::Group;
-    local->setName("scene");
-    for (osg::Node* part : {static_cast<osg::Node*>(parts.terrain.get()), static_cast<osg::Node*>(parts.equipment.get()),
-                            static_cast<osg::Node*>(parts.volumes.get())})
-      if (part) local->addChild(part);
-    // The terrain's colours carry its shading (hillshade or imagery): drawn unlit, as the renderer does.
-    if (parts.terrain) parts.terrain->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
-    GltfSceneInfo info;
-    info.mapOrigin = scene.origin;
-    info.crsWkt = scene.terrain->crsWkt();
-    info.crsName = info.crsWkt.empty() ? "" : terrain::crsName(info.crsWkt);
-    info.generator = std::string("nestwalk ") + kVersion;
+    SceneGltf written;
     try {
-      gltf = writeGltfScene(*local, info, file.tempPath(), ext == "glb");
+      written = writeSceneGltf(scene, go, file.tempPath(), ext == "glb");
     } catch (const std::runtime_error& e) {
+      if (dynamic_cast<const InputError*>(&e)) throw;
       throw InputError(a.out + ": " + e.what());
     }
+    const GltfWriteStats& gltf = written.gltf;
+    const SceneGraphParts& parts = written.parts;
     file.commit();
     printSummary(a, scene, go, parts);
     std::printf("  glTF: %zu nodes, %zu meshes, %zu materials, %zu images, %s MB\n", gltf.nodes, gltf.meshes,
@@ -102,6 +82,8 @@ void runExport(const ExportArgs& a) {
     for (const std::string& note : gltf.notes) std::fprintf(stderr, "nestwalk: export: %s\n", note.c_str());
     return;
   }
+  SceneGraphParts parts;
+  const osg::ref_ptr<osg::Group> graph = buildSceneGraph(scene, go, &parts);
   osgDB::Registry* registry = osgDB::Registry::instance();
   osg::ref_ptr<osgDB::Options> options =
       registry->getOptions() ? static_cast<osgDB::Options*>(registry->getOptions()->clone(osg::CopyOp::SHALLOW_COPY))
