@@ -26,6 +26,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev                # JSON, command-line parsing
   libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)
   clang libclang-rt-14-dev                       # libFuzzer and its sanitizers (tools/fuzz.sh)
+  chromium                                       # tests: the published walkthrough page, driven by playwright-core
 )
 
 # Node.js and npm run the npm packages below; a machine that already has them (Debian's or

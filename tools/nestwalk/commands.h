@@ -25,5 +25,6 @@ void registerBenchRender(CLI::App& bench);  // nestwalk bench render [--json]
 void registerBenchModels(CLI::App& bench);  // nestwalk bench models [--json]
 void registerBenchContact(CLI::App& bench);  // nestwalk bench contact [--json]
 void registerReport(CLI::App& app);          // nestwalk report [SCENE] --out DIR [--quick]
+void registerPublish(CLI::App& app);         // nestwalk publish RUN_DIR --out SITE
 
 }  // namespace nestwalk::tools

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   nestwalk::tools::registerRoute(app);
   nestwalk::tools::registerRun(app);
   nestwalk::tools::registerView(app);
+  nestwalk::tools::registerPublish(app);
   nestwalk::tools::registerReport(app);
   CLI::App* query = app.add_subcommand("query", "Answer one question about a model, terrain or boxes");
   query->require_subcommand(1);

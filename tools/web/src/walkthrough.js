@@ -74,8 +74,10 @@ async function main() {
   scene.background = SKY;
   const camera = new THREE.PerspectiveCamera(run.fov_y_deg, 16 / 9, NEAR_M, FAR_M);
   scene.add(camera);
-  scene.add(new THREE.AmbientLight(0xffffff, 0.45));
-  const headlight = new THREE.DirectionalLight(0xffffff, 0.75); // OSG's headlight: from the eye
+  // OSG's fixed-function light, roughly: a headlight of diffuse 0.8 and some ambient (three.js's
+  // lights are physical: a Lambert surface takes intensity / pi, hence the factors of pi).
+  scene.add(new THREE.AmbientLight(0xffffff, 0.3 * Math.PI));
+  const headlight = new THREE.DirectionalLight(0xffffff, 0.8 * Math.PI);
   camera.add(headlight);
   headlight.position.set(0, 0, 1);
 

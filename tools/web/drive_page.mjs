@@ -1,0 +1,84 @@
+// Drives a published walkthrough page (`nestwalk publish`) in Debian's Chromium with playwright-core,
+// for the tests: serves the site folder on a loopback port (no server of the project's needed),
+// opens the page headless with software WebGL (SwiftShader), and prints one JSON object:
+//   {"console_errors": [...], "load_seconds", "at_time": {"t", "walker", "pose"} (with --time),
+//    "contact": {"info", "pose"} (after clicking contact button --contact N),
+//    "fps" (frames drawn per second while playing, over --fps-ms), "screenshot" (with --screenshot)}.
+// Exit status 0 when it could drive the page (the checks are the caller's), 2 otherwise.
+// Usage: node drive_page.mjs SITE [--time T] [--contact N] [--fps-ms MS] [--screenshot FILE]
+//        [--size WxH] [--chromium PATH]
+import { createServer } from 'node:http';
+import { readFile } from 'node:fs/promises';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const args = process.argv.slice(2);
+const site = args[0];
+const option = (name, fallback) => {
+  const i = args.indexOf(name);
+  return i >= 0 ? args[i + 1] : fallback;
+};
+const [width, height] = option('--size', '1280x720').split('x').map(Number);
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.json': 'application/json', '.glb': 'model/gltf-binary', '.png': 'image/png' };
+
+const server = createServer(async (req, res) => {
+  const name = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
+  const file = path.join(site, name === '/' ? 'index.html' : name);
+  if (!file.startsWith(path.resolve(site))) { res.writeHead(403).end(); return; }
+  try {
+    const body = await readFile(file);
+    res.writeHead(200, { 'Content-Type': types[path.extname(file)] ?? 'application/octet-stream' }).end(body);
+  } catch {
+    res.writeHead(404).end();
+  }
+});
+await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
+const url = `http://127.0.0.1:${server.address().port}/`;
+
+let browser;
+const out = { console_errors: [] };
+try {
+  browser = await chromium.launch({
+    executablePath: option('--chromium', '/usr/bin/chromium'),
+    headless: true,
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
+           '--disable-quic'],
+  });
+  const page = await browser.newPage({ viewport: { width: width + 360, height } }); // the side panel is 360 px
+  page.on('console', (m) => { if (m.type() === 'error') out.console_errors.push(m.text()); });
+  page.on('pageerror', (e) => out.console_errors.push(String(e)));
+  const start = Date.now();
+  await page.goto(url);
+  await page.evaluate(() => window.nestwalk.ready);
+  out.load_seconds = (Date.now() - start) / 1000;
+  const t = option('--time');
+  if (t !== undefined) {
+    out.at_time = await page.evaluate((value) => {
+      window.nestwalk.setTime(value);
+      return { t: window.nestwalk.time(), walker: window.nestwalk.walker(), pose: window.nestwalk.pose() };
+    }, Number(t));
+  }
+  const contact = option('--contact');
+  if (contact !== undefined) {
+    await page.locator('.contact').nth(Number(contact)).click();
+    out.contact = { info: await page.locator('#info').textContent(), pose: await page.evaluate(() => window.nestwalk.pose()) };
+  }
+  const shot = option('--screenshot');
+  if (shot) {
+    await page.locator('#view canvas').screenshot({ path: shot });
+    out.screenshot = shot;
+  }
+  const fpsMs = option('--fps-ms');
+  if (fpsMs !== undefined) {
+    await page.locator('#play').click();
+    out.fps = await page.evaluate((ms) => window.nestwalk.framesPerSecond(ms), Number(fpsMs));
+  }
+} catch (e) {
+  console.error(String(e));
+  process.exitCode = 2;
+} finally {
+  if (browser) await browser.close();
+  server.close();
+}
+console.log(JSON.stringify(out, null, 1));
