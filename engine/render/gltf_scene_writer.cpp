@@ -29,6 +29,10 @@ namespace gl = tinygltf;
 
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;  // bufferView targets
 constexpr const char* kUnlit = "KHR_materials_unlit";
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+/// An instance transform written as translation, rotation and scale must give back its matrix to
+/// this fraction of its largest entry (a shear or a non-uniform scale after a rotation does not).
+constexpr double kTrsTolerance = 1e-9;
 
 /// The drawing state that decides a glTF material, inherited down the graph (a child's attribute
 /// replaces its parent's).
@@ -94,7 +98,7 @@ Primitives primitivesOf(const osg::Geometry& g) {
 
 class Writer {
  public:
-  Writer(const GltfSceneInfo& info, GltfWriteStats& stats) : stats_(stats) {
+  Writer(const GltfSceneInfo& info, GltfWriteStats& stats) : stats_(stats), instancing_(info.instancing) {
     doc_.asset.version = "2.0";
     doc_.asset.generator = info.generator;
     gl::Value::Object extras;
@@ -125,6 +129,10 @@ class Writer {
     doc_.defaultScene = 0;
     doc_.buffers[0].data = std::move(bin_);
     if (usesUnlit_) doc_.extensionsUsed.push_back(kUnlit);
+    if (usesInstancing_) {  // no fallback is written: a reader without it would draw each mesh once
+      doc_.extensionsUsed.push_back(kInstancing);
+      doc_.extensionsRequired.push_back(kInstancing);
+    }
     std::ofstream out(path, std::ios::binary);
     if (!out) throw std::runtime_error(path + ": could not be opened for writing");
     gl::TinyGLTF writer;
@@ -159,7 +167,10 @@ class Writer {
     } else if (const osg::Geometry* g = n.asGeometry()) {
       out.mesh = mesh(*g, state);
     } else if (const osg::Group* group = n.asGroup()) {
+      std::vector<bool> instanced(group->getNumChildren(), false);
+      if (instancing_) children = instancedChildren(*group, state, instanced);
       for (unsigned i = 0; i < group->getNumChildren(); ++i) {
+        if (instanced[i]) continue;
         const osg::Node& c = *group->getChild(i);
         const int k = node(c, state.under(c.getStateSet()));
         if (k >= 0) children.push_back(k);
@@ -169,6 +180,115 @@ class Writer {
     const int index = addNode(std::move(out));
     doc_.nodes[static_cast<std::size_t>(index)].children = std::move(children);
     countDrawn(doc_.nodes[static_cast<std::size_t>(index)].mesh);
+    return index;
+  }
+
+  /// EXT_mesh_gpu_instancing: the children of `group` that are transforms over one shared node
+  /// (a model's instances), at least kMinGltfInstances of them, become one node per mesh of the
+  /// shared node, drawn at every instance's transform. Marks the children it wrote; falls back to
+  /// plain nodes for a shared node whose transforms are not translation, rotation and scale.
+  std::vector<int> instancedChildren(const osg::Group& group, const DrawState& state, std::vector<bool>& written) {
+    std::map<const osg::Node*, std::vector<unsigned>> byShared;
+    for (unsigned i = 0; i < group.getNumChildren(); ++i) {
+      const osg::Transform* t = group.getChild(i)->asTransform();
+      if (t && t->getNumChildren() == 1 && sameDrawing(state, state.under(t->getStateSet())))
+        byShared[t->getChild(0)].push_back(i);
+    }
+    std::vector<int> out;
+    for (const auto& [shared, members] : byShared) {
+      if (members.size() < kMinGltfInstances) continue;
+      std::vector<osg::Matrixd> instances;
+      for (unsigned i : members) {
+        osg::Matrixd m;
+        group.getChild(i)->asTransform()->computeLocalToWorldMatrix(m, nullptr);
+        instances.push_back(m);
+      }
+      std::vector<Leaf> leaves;
+      collectLeaves(*shared, osg::Matrixd::identity(), state.under(shared->getStateSet()), leaves);
+      std::vector<InstanceTrs> trs;
+      for (const Leaf& leaf : leaves) {
+        std::optional<InstanceTrs> t = instanceTrs(leaf, instances);
+        if (!t) break;
+        trs.push_back(std::move(*t));
+      }
+      if (trs.size() != leaves.size()) continue;  // the plain nodes below draw them
+      for (std::size_t k = 0; k < leaves.size(); ++k) out.push_back(instancedNode(leaves[k].mesh, trs[k]));
+      for (unsigned i : members) written[i] = true;
+    }
+    return out;
+  }
+
+  static bool sameDrawing(const DrawState& a, const DrawState& b) {
+    return a.material == b.material && a.texture == b.texture && a.blend == b.blend && a.unlit == b.unlit;
+  }
+
+  struct Leaf {
+    int mesh = -1;
+    osg::Matrixd toShared;  // the leaf's frame in the shared node's (row-vector order, as OSG's)
+  };
+
+  void collectLeaves(const osg::Node& n, const osg::Matrixd& above, const DrawState& state, std::vector<Leaf>& out) {
+    osg::Matrixd here = above;
+    if (const osg::Transform* t = n.asTransform()) {
+      osg::Matrixd m;
+      t->computeLocalToWorldMatrix(m, nullptr);
+      here = m * above;
+    }
+    int m = -1;
+    if (const osg::Geode* geode = n.asGeode()) m = mesh(*geode, state);
+    else if (const osg::Geometry* g = n.asGeometry()) m = mesh(*g, state);
+    else if (const osg::Group* group = n.asGroup())
+      for (unsigned i = 0; i < group->getNumChildren(); ++i)
+        collectLeaves(*group->getChild(i), here, state.under(group->getChild(i)->getStateSet()), out);
+    if (m >= 0) out.push_back({m, here});
+  }
+
+  struct InstanceTrs {
+    std::vector<float> translation, rotation, scale;  // per instance: 3, 4 (x, y, z, w), 3
+    std::size_t count = 0;
+  };
+
+  /// Every instance's transform after the leaf's own as translation, rotation and scale, or nothing
+  /// when one of them is not exactly that (within kTrsTolerance).
+  static std::optional<InstanceTrs> instanceTrs(const Leaf& leaf, const std::vector<osg::Matrixd>& instances) {
+    InstanceTrs out;
+    for (const osg::Matrixd& instance : instances) {
+      const osg::Matrixd m = leaf.toShared * instance;
+      osg::Vec3d t, s;
+      osg::Quat r, so;
+      m.decompose(t, r, s, so);
+      r /= r.length();
+      const osg::Matrixd back = osg::Matrixd::scale(s) * osg::Matrixd::rotate(r) * osg::Matrixd::translate(t);
+      double error = 0, size = 1;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          error = std::max(error, std::abs(back(i, j) - m(i, j)));
+          size = std::max(size, std::abs(m(i, j)));
+        }
+      if (error > kTrsTolerance * size) return std::nullopt;
+      out.translation.insert(out.translation.end(), {float(t.x()), float(t.y()), float(t.z())});
+      out.rotation.insert(out.rotation.end(), {float(r.x()), float(r.y()), float(r.z()), float(r.w())});
+      out.scale.insert(out.scale.end(), {float(s.x()), float(s.y()), float(s.z())});
+      ++out.count;
+    }
+    return out;
+  }
+
+  /// A node drawing `mesh` at every instance of `trs`.
+  int instancedNode(int mesh, const InstanceTrs& trs) {
+    gl::Value::Object attributes;
+    const std::size_t n = trs.count;
+    attributes["TRANSLATION"] = gl::Value(addAccessor(trs.translation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
+    attributes["ROTATION"] = gl::Value(addAccessor(trs.rotation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16, 0));
+    attributes["SCALE"] = gl::Value(addAccessor(trs.scale.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
+    gl::Value::Object extension;
+    extension["attributes"] = gl::Value(attributes);
+    gl::Node node;
+    node.mesh = mesh;
+    node.extensions[kInstancing] = gl::Value(extension);
+    usesInstancing_ = true;
+    const int index = addNode(std::move(node));
+    for (std::size_t i = 0; i < n; ++i) countDrawn(mesh);
     return index;
   }
 
@@ -442,7 +562,8 @@ class Writer {
   gl::Model doc_;
   std::vector<unsigned char> bin_;
   GltfWriteStats& stats_;
-  bool usesUnlit_ = false;
+  bool usesUnlit_ = false, usesInstancing_ = false;
+  bool instancing_ = false;
   std::map<MeshKey, int> meshes_;
   std::map<int, Counts> meshCounts_;
   std::map<std::pair<const osg::Geometry*, bool>, Attributes> attributes_;

@@ -16,7 +16,11 @@
 //     material's diffuse), the unit-0 texture with its wrap modes, alpha blending, and
 //     KHR_materials_unlit where OSG draws without lighting (the terrain's baked shading, the
 //     wireframes); metallic 0, roughness 1, double-sided (OSG culls no face by default);
-//   - images as JPEG where opaque, PNG where not, encoded by OSG's own image plugins, in the buffer.
+//   - images as JPEG where opaque, PNG where not, encoded by OSG's own image plugins, in the buffer;
+//   - with GltfSceneInfo::instancing, a group's transforms over one shared node (the equipment's
+//     instances of a model) as one node per mesh of that node with EXT_mesh_gpu_instancing
+//     (translation, rotation, scale per instance; required by the file), when every instance's
+//     transform is exactly those three.
 // Frames: the graph is in the scene's local frame (metres, z up, x east, y north, the map origin
 // subtracted); glTF is +y up. One root node, "nestwalk_local_frame", turns z up into y up
 // (glTF = (x, z, -y) of local), and the asset's extras say how to go back to the map:
@@ -40,7 +44,13 @@ struct GltfSceneInfo {
   Eigen::Vector3d mapOrigin = Eigen::Vector3d::Zero();  // the map point of the local origin (Scene::origin)
   std::string crsWkt, crsName;                          // the terrain's CRS ("" when unknown)
   std::string generator = "nestwalk";
+  /// Instances as EXT_mesh_gpu_instancing (see below) rather than a node each: far fewer draw
+  /// calls for a browser (three.js reads it), but readers without the extension refuse the file.
+  bool instancing = false;
 };
+
+/// The fewest transforms over one shared node that are written as instances (instancing).
+inline constexpr std::size_t kMinGltfInstances = 2;
 
 /// JPEG quality of opaque images (OSG's jpeg plugin, 0-100): 90 keeps a draped orthophoto's detail
 /// at about a fifth of PNG's size.

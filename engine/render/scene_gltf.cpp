@@ -9,7 +9,8 @@
 
 namespace nestwalk {
 
-SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const std::string& path, bool binary) {
+SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const std::string& path, bool binary,
+                         bool instancing) {
   if (scene.spec.imagery && options.terrain) {
     auto imagery = std::make_shared<terrain::TerrainImagery>(*scene.spec.imagery, scene.terrain->crsWkt());
     options.terrainCut.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {
@@ -30,6 +31,7 @@ SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const st
   info.crsWkt = scene.terrain->crsWkt();
   info.crsName = info.crsWkt.empty() ? "" : terrain::crsName(info.crsWkt);
   info.generator = std::string("nestwalk ") + kVersion;
+  info.instancing = instancing;
   out.gltf = writeGltfScene(*local, info, path, binary);
   return out;
 }

@@ -20,9 +20,11 @@ struct SceneGltf {
 };
 
 /// Writes `scene` drawn with `options` (terrain, equipment, volumes, the cut's error) to `path`, a
-/// .glb (`binary`) or a .gltf with its buffer embedded, directly (callers write to a temporary name).
+/// .glb (`binary`) or a .gltf with its buffer embedded, directly (callers write to a temporary name);
+/// with `instancing`, each model's instances as EXT_mesh_gpu_instancing (gltf_scene_writer.h).
 /// Throws what buildSceneGraph throws, InputError for imagery that cannot be read, and
 /// std::runtime_error when the file cannot be written.
-SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const std::string& path, bool binary);
+SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const std::string& path, bool binary,
+                         bool instancing = false);
 
 }  // namespace nestwalk

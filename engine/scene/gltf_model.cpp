@@ -31,7 +31,9 @@ using Document = tinygltf::Model;
 constexpr char kGlbMagic[4] = {'g', 'l', 'T', 'F'};
 /// Extensions a file may require that this reader honours: quantized attributes are read as the
 /// normalized or plain integers they are; unlit materials draw as lit ones with their base colour.
-const std::set<std::string> kReadableRequiredExtensions = {"KHR_mesh_quantization", "KHR_materials_unlit"};
+const std::set<std::string> kReadableRequiredExtensions = {"KHR_mesh_quantization", "KHR_materials_unlit",
+                                                            "EXT_mesh_gpu_instancing"};
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
 
 /// A bad file: the message names the glTF object and the problem.
 struct GltfProblem : std::runtime_error {
@@ -179,7 +181,7 @@ class GraphBuilder {
       const tinygltf::Node& node = doc_.nodes[n];
       if (node.mesh >= 0) {
         checkIndex(node.mesh, doc_.meshes.size(), item("nodes", n), "mesh");
-        vertices += meshVertexClaim(static_cast<std::size_t>(node.mesh));
+        vertices += meshVertexClaim(static_cast<std::size_t>(node.mesh)) * instanceClaim(node);
         if (vertices > kMaxInstancedGltfVertices)
           throw GltfProblem("the nodes instance more than " + std::to_string(kMaxInstancedGltfVertices) +
                             " vertices, more than one model may draw");
@@ -194,6 +196,23 @@ class GraphBuilder {
         stack.push_back(c);
       }
     }
+  }
+
+  /// The instances a node's EXT_mesh_gpu_instancing claims (its TRANSLATION, ROTATION or SCALE
+  /// count, unchecked), 1 without it.
+  std::uint64_t instanceClaim(const tinygltf::Node& node) const {
+    const auto ext = node.extensions.find(kInstancing);
+    if (ext == node.extensions.end() || !ext->second.Get("attributes").IsObject()) return 1;
+    const tinygltf::Value& attributes = ext->second.Get("attributes");
+    std::uint64_t count = 1;
+    for (const char* name : {"TRANSLATION", "ROTATION", "SCALE"}) {
+      const tinygltf::Value& a = attributes.Get(name);
+      if (!a.IsInt()) continue;
+      const int k = a.GetNumberAsInt();
+      if (k >= 0 && static_cast<std::size_t>(k) < doc_.accessors.size())
+        count = std::max<std::uint64_t>(count, doc_.accessors[static_cast<std::size_t>(k)].count);
+    }
+    return count;
   }
 
   /// The vertices a mesh's triangle primitives claim (their POSITION counts), unchecked.
@@ -218,10 +237,51 @@ class GraphBuilder {
       group = new osg::Group;
     }
     group->setName(node.name);
-    if (node.mesh >= 0) group->addChild(meshGeode(static_cast<std::size_t>(node.mesh)).get());
+    if (node.mesh >= 0) {
+      osg::ref_ptr<osg::Geode> mesh = meshGeode(static_cast<std::size_t>(node.mesh));
+      if (node.extensions.count(kInstancing)) {
+        for (const osg::Matrixd& m : instances(node, where)) {
+          osg::ref_ptr<osg::MatrixTransform> instance = new osg::MatrixTransform(m);
+          instance->addChild(mesh.get());
+          group->addChild(instance.get());
+        }
+      } else {
+        group->addChild(mesh.get());
+      }
+    }
     for (int c : node.children) group->addChild(nodeGraph(c).get());
     if (node.camera >= 0) notes_.push_back(where + ": camera skipped");
     return group;
+  }
+
+  /// EXT_mesh_gpu_instancing's transforms of a node's mesh (in the node's frame): translation,
+  /// rotation and scale accessors of one count, each optional, as floats (rotations also as
+  /// normalized integers).
+  std::vector<osg::Matrixd> instances(const tinygltf::Node& node, const std::string& where) const {
+    const std::string at = where + ": " + kInstancing;
+    const tinygltf::Value& attributes = node.extensions.at(kInstancing).Get("attributes");
+    if (!attributes.IsObject()) throw GltfProblem(at + ": no attributes");
+    std::optional<AccessorView> views[3];
+    const char* names[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+    std::optional<std::size_t> count;
+    for (int k = 0; k < 3; ++k) {
+      const tinygltf::Value& a = attributes.Get(names[k]);
+      if (!a.IsInt()) continue;
+      views[k] = accessorView(a.GetNumberAsInt(), at, names[k]);
+      if (views[k]->components != (k == 1 ? 4 : 3) || (k != 1 && views[k]->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT))
+        throw GltfProblem(at + ": " + names[k] + " is not of " + (k == 1 ? "4" : "3") + "-component floats");
+      if (count && *count != views[k]->count) throw GltfProblem(at + ": its attributes differ in count");
+      count = views[k]->count;
+    }
+    std::vector<osg::Matrixd> out(count.value_or(0));
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      osg::Matrixd m;
+      if (views[2]) m.postMultScale(osg::Vec3d(views[2]->value(i, 0), views[2]->value(i, 1), views[2]->value(i, 2)));
+      if (views[1]) m.postMultRotate(osg::Quat(views[1]->value(i, 0), views[1]->value(i, 1), views[1]->value(i, 2), views[1]->value(i, 3)));
+      if (views[0]) m.postMultTranslate(osg::Vec3d(views[0]->value(i, 0), views[0]->value(i, 1), views[0]->value(i, 2)));
+      out[i] = m;
+    }
+    return out;
   }
 
   /// The node's local transform, or nothing when it is the identity by omission.

@@ -14,7 +14,9 @@
 //     or int) or not; POSITION, NORMAL, TEXCOORD_n and COLOR_0, as floats or normalized integers
 //     (KHR_mesh_quantization);
 //   - materials: the base colour factor (times the vertex colours where both are present), the base
-//     colour texture with its sampler's wrap modes, and alpha blending for alphaMode BLEND.
+//     colour texture with its sampler's wrap modes, and alpha blending for alphaMode BLEND;
+//   - EXT_mesh_gpu_instancing: a node's mesh drawn at each of its instances' translation, rotation
+//     and scale (as `nestwalk export --instancing` writes the equipment).
 // Skipped with a note (notes, below): points and lines, and a file's unused or unsupported parts
 // (animations, skins, morph targets, cameras, lights). Refused: a file that requires an extension
 // not read here (Draco or meshopt compression, for instance: decompress it first).

@@ -4,7 +4,9 @@
 //   index.html, walkthrough.js  the page and its script (three.js bundled in at build time:
 //                               tools/web; found in WalkthroughSiteOptions::pageFolder);
 //   scene.glb                   the run's scene as glTF (render/scene_gltf.h: the terrain's cut at
-//                               maxErrorM with its imagery, the equipment), without volumes;
+//                               maxErrorM with its imagery, the equipment instanced with
+//                               EXT_mesh_gpu_instancing, which three.js draws in one call per
+//                               model mesh), without volumes;
 //   run.json                    what the page plays (below);
 //   *.png                       the run's figures (top-down map, frame times) and, with a report
 //                               folder, the report's (speed against error, ...).

@@ -220,5 +220,34 @@ TEST(GltfSceneWriter, TextFormHoldsTheSameScene) {
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"graph.glb", "graph.gltf"}));
 }
 
+TEST(GltfSceneWriter, InstancedFormDrawsTheSameTriangles) {
+  // The shared strip's two transforms become one node with EXT_mesh_gpu_instancing (two instances);
+  // read back, every instance is drawn where its transform puts it.
+  TestGraph graph = makeGraph();
+  const test::TempFolder dir;
+  const std::string plain = (dir / "plain.glb").string(), instanced = (dir / "instanced.glb").string();
+  writeGltfScene(*graph.root, {}, plain, true);
+  GltfSceneInfo info;
+  info.instancing = true;
+  const GltfWriteStats stats = writeGltfScene(*graph.root, info, instanced, true);
+  EXPECT_EQ(stats.triangles, 2u + 3u + 3u);
+  const nlohmann::json report = test::validateGltf(instanced);
+  ASSERT_FALSE(report.is_null());
+  EXPECT_EQ(report["errors"], 0) << report.dump(1);
+  const nlohmann::json doc = test::glbJson(readAll(instanced));
+  EXPECT_EQ(doc["extensionsRequired"], nlohmann::json({"EXT_mesh_gpu_instancing"}));
+  int instancedNodes = 0;
+  for (const auto& n : doc["nodes"])
+    if (n.contains("extensions") && n["extensions"].contains("EXT_mesh_gpu_instancing")) {
+      ++instancedNodes;
+      const int translations = n["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"];
+      EXPECT_EQ(doc["accessors"][translations]["count"], 2);
+    }
+  EXPECT_EQ(instancedNodes, 1);
+  const GltfModel a = readGltfModel(plain), b = readGltfModel(instanced);
+  ASSERT_TRUE(a.node && b.node) << a.problem << b.problem;
+  EXPECT_EQ(trianglesOf(collectModelGeometry(*b.node, instanced)), trianglesOf(collectModelGeometry(*a.node, plain)));
+}
+
 }  // namespace
 }  // namespace nestwalk

@@ -31,7 +31,7 @@ constexpr const char* kPrecisionOption = "precision 17";
 
 struct ExportArgs {
   std::string scene, out;
-  bool volumes = false, noTerrain = false, overwrite = false;
+  bool volumes = false, noTerrain = false, overwrite = false, instancing = false;
   TerrainCutOptions terrain;
 };
 
@@ -68,7 +68,7 @@ void runExport(const ExportArgs& a) {
   if (isGltf(ext)) {
     SceneGltf written;
     try {
-      written = writeSceneGltf(scene, go, file.tempPath(), ext == "glb");
+      written = writeSceneGltf(scene, go, file.tempPath(), ext == "glb", a.instancing);
     } catch (const std::runtime_error& e) {
       if (dynamic_cast<const InputError*>(&e)) throw;
       throw InputError(a.out + ": " + e.what());
@@ -131,6 +131,8 @@ void registerExport(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--chunk-cells", args->terrain.chunkCells, "Terrain chunk side in cells, a power of two")
       ->capture_default_str();
+  cmd->add_flag("--instancing", args->instancing,
+                "glTF: each model's instances as EXT_mesh_gpu_instancing (fewer draw calls; readers must support it)");
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT");
   cmd->callback([args] { runExport(*args); });
 }

@@ -1,7 +1,9 @@
 // Drives a published walkthrough page (`nestwalk publish`) in Debian's Chromium with playwright-core,
 // for the tests: serves the site folder on a loopback port (no server of the project's needed),
-// opens the page headless with software WebGL (SwiftShader), and prints one JSON object:
-//   {"console_errors": [...], "load_seconds", "at_time": {"t", "walker", "pose"} (with --time),
+// opens the page headless with software WebGL (Mesa's llvmpipe through ANGLE's EGL back end, the
+// software GL the offscreen renderer uses; NESTWALK_CHROMIUM_GL replaces those flags, e.g.
+// "--use-angle=swiftshader --enable-unsafe-swiftshader"), and prints one JSON object:
+//   {"console_errors": [...], "load_seconds", "webgl_renderer", "at_time": {"t", "walker", "pose"} (with --time),
 //    "contact": {"info", "pose"} (after clicking contact button --contact N),
 //    "fps" (frames drawn per second while playing, over --fps-ms), "screenshot" (with --screenshot)}.
 // Exit status 0 when it could drive the page (the checks are the caller's), 2 otherwise.
@@ -41,7 +43,7 @@ try {
   browser = await chromium.launch({
     executablePath: option('--chromium', '/usr/bin/chromium'),
     headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+    args: [...(process.env.NESTWALK_CHROMIUM_GL ?? '--use-angle=gl-egl').split(' '), '--no-sandbox', '--ignore-gpu-blocklist',
            '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
            '--disable-quic'],
   });
@@ -52,6 +54,11 @@ try {
   await page.goto(url);
   await page.evaluate(() => window.nestwalk.ready);
   out.load_seconds = (Date.now() - start) / 1000;
+  out.webgl_renderer = await page.evaluate(() => {
+    const gl = document.querySelector('#view canvas').getContext('webgl2');
+    const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : (gl ? gl.getParameter(gl.RENDERER) : 'none');
+  });
   const t = option('--time');
   if (t !== undefined) {
     out.at_time = await page.evaluate((value) => {

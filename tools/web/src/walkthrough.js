@@ -15,6 +15,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const SKY = new THREE.Color(0.78, 0.85, 0.93); // the offscreen renderer's horizon colour
 const NEAR_M = 0.1, FAR_M = 20000;
+const kTextIntervalMs = 200;
 
 const toGltf = (x, y, z) => new THREE.Vector3(x, z, -y);
 const $ = (id) => document.getElementById(id);
@@ -66,7 +67,7 @@ async function main() {
   $('summary').textContent = `${run.summary}`;
 
   const view = $('view');
-  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+  const renderer = new THREE.WebGLRenderer({ antialias: false });
   renderer.outputColorSpace = THREE.LinearSRGBColorSpace; // colours as the offscreen renderer draws them
   renderer.setPixelRatio(1);
   view.prepend(renderer.domElement);
@@ -82,10 +83,17 @@ async function main() {
   headlight.position.set(0, 0, 1);
 
   const gltf = await new GLTFLoader().loadAsync(run.scene);
+  // As OSG's fixed-function pipeline draws them: raw texels, and Lambert shading (per vertex, as
+  // Gouraud) for the lit materials, which also costs a software rasterizer far less than PBR.
   gltf.scene.traverse((o) => {
     if (!o.isMesh) return;
-    const mats = Array.isArray(o.material) ? o.material : [o.material];
-    for (const m of mats) if (m.map) m.map.colorSpace = THREE.NoColorSpace; // raw texels, as OSG draws them
+    const lambert = (m) => {
+      if (m.map) m.map.colorSpace = THREE.NoColorSpace;
+      if (!m.isMeshStandardMaterial) return m;
+      return new THREE.MeshLambertMaterial({ color: m.color, map: m.map, vertexColors: m.vertexColors,
+        transparent: m.transparent, opacity: m.opacity, side: m.side, name: m.name });
+    };
+    o.material = Array.isArray(o.material) ? o.material.map(lambert) : lambert(o.material);
   });
   scene.add(gltf.scene);
 
@@ -100,7 +108,7 @@ async function main() {
 
   const orbit = new OrbitControls(camera, renderer.domElement);
   orbit.enabled = false;
-  let t = 0, playing = false, last = performance.now(), selected = null;
+  let t = 0, playing = false, last = performance.now(), selected = null, lastText = 0;
   const slider = $('time');
   slider.max = String(duration);
 
@@ -113,6 +121,10 @@ async function main() {
       camera.position.copy(eye);
       camera.lookAt(eye.clone().add(lookDirection(p.heading, p.pitch)));
     }
+    // The text at most every kTextIntervalMs while playing: a page relayout per frame costs frames.
+    const now = performance.now();
+    if (playing && now - lastText < kTextIntervalMs) return p;
+    lastText = now;
     slider.value = String(t);
     $('clock').textContent = `${t.toFixed(2)} s / ${duration.toFixed(1)} s`;
     const blocked = f.blocked[p.frame] ? ' (blocked)' : '';
