@@ -39,7 +39,7 @@ constexpr double kTrsTolerance = 1e-9;
 struct DrawState {
   const osg::Material* material = nullptr;
   const osg::Texture2D* texture = nullptr;
-  bool blend = false, unlit = false;
+  bool blend = false, unlit = false, cullBack = false;
 
   DrawState under(const osg::StateSet* s) const {
     DrawState out = *this;
@@ -49,6 +49,8 @@ struct DrawState {
     if (s->getAttribute(osg::StateAttribute::BLENDFUNC) || s->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN) out.blend = true;
     const osg::StateAttribute::GLModeValue lighting = s->getMode(GL_LIGHTING);
     if (lighting != osg::StateAttribute::INHERIT) out.unlit = !(lighting & osg::StateAttribute::ON);
+    const osg::StateAttribute::GLModeValue cull = s->getMode(GL_CULL_FACE);
+    if (cull != osg::StateAttribute::INHERIT) out.cullBack = (cull & osg::StateAttribute::ON) != 0;
     return out;
   }
 };
@@ -219,7 +221,8 @@ class Writer {
   }
 
   static bool sameDrawing(const DrawState& a, const DrawState& b) {
-    return a.material == b.material && a.texture == b.texture && a.blend == b.blend && a.unlit == b.unlit;
+    return a.material == b.material && a.texture == b.texture && a.blend == b.blend && a.unlit == b.unlit &&
+           a.cullBack == b.cullBack;
   }
 
   struct Leaf {
@@ -301,7 +304,8 @@ class Writer {
   }
 
   int mesh(const osg::Geode& geode, const DrawState& state) {
-    const auto key = std::make_tuple(static_cast<const void*>(&geode), state.material, state.texture, state.blend, state.unlit);
+    const auto key = std::make_tuple(static_cast<const void*>(&geode), state.material, state.texture, state.blend, state.unlit,
+                                     state.cullBack);
     if (auto found = meshes_.find(key); found != meshes_.end()) return found->second;
     gl::Mesh m;
     m.name = geode.getName();
@@ -314,7 +318,8 @@ class Writer {
   }
 
   int mesh(const osg::Geometry& g, const DrawState& state) {
-    const auto key = std::make_tuple(static_cast<const void*>(&g), state.material, state.texture, state.blend, state.unlit);
+    const auto key = std::make_tuple(static_cast<const void*>(&g), state.material, state.texture, state.blend, state.unlit,
+                                     state.cullBack);
     if (auto found = meshes_.find(key); found != meshes_.end()) return found->second;
     gl::Mesh m;
     m.name = g.getName();
@@ -326,7 +331,7 @@ class Writer {
   struct Counts {
     std::size_t triangles = 0, lines = 0, points = 0;
   };
-  using MeshKey = std::tuple<const void*, const osg::Material*, const osg::Texture2D*, bool, bool>;
+  using MeshKey = std::tuple<const void*, const osg::Material*, const osg::Texture2D*, bool, bool, bool>;
 
   int finishMesh(const MeshKey& key, gl::Mesh m, const Counts& counts) {
     int index = -1;
@@ -476,13 +481,14 @@ class Writer {
     if (overall) colour = *overall;
     else if (state.material) colour = state.material->getDiffuse(osg::Material::FRONT);
     const osg::Texture2D* texture = textured ? state.texture : nullptr;
-    const auto key = std::make_tuple(colour.r(), colour.g(), colour.b(), colour.a(), texture, state.blend, state.unlit);
+    const auto key =
+        std::make_tuple(colour.r(), colour.g(), colour.b(), colour.a(), texture, state.blend, state.unlit, state.cullBack);
     if (auto found = materials_.find(key); found != materials_.end()) return found->second;
     gl::Material m;
     m.pbrMetallicRoughness.baseColorFactor = {colour.r(), colour.g(), colour.b(), colour.a()};
     m.pbrMetallicRoughness.metallicFactor = 0.0;
     m.pbrMetallicRoughness.roughnessFactor = 1.0;
-    m.doubleSided = true;
+    m.doubleSided = !state.cullBack;  // OSG culls no face unless told (the terrain's back faces are)
     if (state.blend || colour.a() < 1.0f) m.alphaMode = "BLEND";
     if (texture) m.pbrMetallicRoughness.baseColorTexture.index = this->texture(*texture);
     if (state.unlit) {
@@ -567,7 +573,7 @@ class Writer {
   std::map<MeshKey, int> meshes_;
   std::map<int, Counts> meshCounts_;
   std::map<std::pair<const osg::Geometry*, bool>, Attributes> attributes_;
-  std::map<std::tuple<float, float, float, float, const osg::Texture2D*, bool, bool>, int> materials_;
+  std::map<std::tuple<float, float, float, float, const osg::Texture2D*, bool, bool, bool>, int> materials_;
   std::map<const osg::Texture2D*, int> textures_;
   std::map<const osg::Image*, int> images_;
 };

@@ -15,7 +15,8 @@
 //   - a material per distinct drawing state: the base colour (an overall colour, else the OSG
 //     material's diffuse), the unit-0 texture with its wrap modes, alpha blending, and
 //     KHR_materials_unlit where OSG draws without lighting (the terrain's baked shading, the
-//     wireframes); metallic 0, roughness 1, double-sided (OSG culls no face by default);
+//     wireframes); metallic 0, roughness 1, double-sided unless OSG culls back faces there (it
+//     culls none by default; the renderer culls the terrain's);
 //   - images as JPEG where opaque, PNG where not, encoded by OSG's own image plugins, in the buffer;
 //   - with GltfSceneInfo::instancing, a group's transforms over one shared node (the equipment's
 //     instances of a model) as one node per mesh of that node with EXT_mesh_gpu_instancing

@@ -25,7 +25,13 @@ SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const st
   for (osg::Node* part : {static_cast<osg::Node*>(out.parts.terrain.get()), static_cast<osg::Node*>(out.parts.equipment.get()),
                           static_cast<osg::Node*>(out.parts.volumes.get())})
     if (part) local->addChild(part);
-  if (out.parts.terrain) out.parts.terrain->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+  // As the renderer draws the terrain (view_graph.cpp): unlit (its colours carry the shading), and
+  // only from above (back faces culled: the slopes turned away, the skirts' inner sides).
+  if (out.parts.terrain) {
+    osg::StateSet* terrain = out.parts.terrain->getOrCreateStateSet();
+    terrain->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    terrain->setMode(GL_CULL_FACE, osg::StateAttribute::ON);
+  }
   GltfSceneInfo info;
   info.mapOrigin = scene.origin;
   info.crsWkt = scene.terrain->crsWkt();

@@ -1,7 +1,8 @@
 // A loaded scene written as glTF 2.0, as `nestwalk export` and `nestwalk publish` write it: the
 // scene graph the renderer draws (scene_graph.h) with the scene's imagery draped on the terrain's
 // cut as textures (terrain/terrain_imagery.h, as the renderer drapes it), the terrain unlit (its
-// colours carry their shading), the parts in the local frame, and the map origin and CRS in the
+// colours carry their shading) and single-sided (the renderer culls its back faces), the parts in
+// the local frame, and the map origin and CRS in the
 // asset's extras (gltf_scene_writer.h).
 // Thread safety: builds and writes on the calling thread (OSG's image plugins, GDAL for imagery).
 #pragma once

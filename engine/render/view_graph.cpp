@@ -4,6 +4,7 @@
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/ui_font.h"
+#include "nestwalk/render/view_depth.h"
 #include "nestwalk/terrain/lod_rule.h"
 #include "nestwalk/terrain/terrain_imagery.h"
 
@@ -28,8 +29,8 @@ constexpr double kDegree = kRadiansPerDegree;
 
 // Colours: sky from the horizon haze up to the zenith; the fog takes the horizon's colour so far
 // terrain fades into the sky.
-const osg::Vec4 kSkyHorizon(0.78f, 0.85f, 0.93f, 1.0f);
-const osg::Vec4 kSkyZenith(0.30f, 0.50f, 0.82f, 1.0f);
+const osg::Vec4 kSkyHorizon(kSkyHorizonRgb[0], kSkyHorizonRgb[1], kSkyHorizonRgb[2], 1.0f);
+const osg::Vec4 kSkyZenith(kSkyZenithRgb[0], kSkyZenithRgb[1], kSkyZenithRgb[2], 1.0f);
 const osg::Vec4 kBlockedRed(0.90f, 0.10f, 0.10f, 1.0f);
 const osg::Vec4 kBlockedTextHalo(1.0f, 1.0f, 1.0f, 0.85f);
 // The sun: from the north-west, about 45 degrees up (the hillshade convention), as a direction
@@ -96,14 +97,12 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
   if (options_.width < 16 || options_.height < 16)
     throw std::invalid_argument("render size must be at least 16 x 16 pixels");
   if (!scene_.terrain) throw std::invalid_argument("the scene has no terrain to render");
-  // Near: nothing the walker may come to is nearer to the eye than the body's horizontal half
-  // extent; half of the smaller one leaves the near plane's corners clear of it too. Far: past the
-  // terrain's farthest corner from anywhere above it.
-  const Eigen::Vector3d& body = scene_.spec.viewer.bodyHalfExtents;
-  near_ = std::clamp(0.5 * std::min(body.x(), body.y()), 0.05, 0.5);
+  const ViewDepth depth = viewDepth(scene_);  // view_depth.h: near, far and haze
+  near_ = depth.nearM;
+  far_ = depth.farM;
+  hazeStart_ = depth.hazeStartM;
+  hazeEnd_ = depth.hazeEndM;
   const terrain::Heightfield& hf = *scene_.terrain;
-  const double width = hf.cols() * hf.dx(), height = hf.rows() * hf.dy();
-  far_ = 1.5 * std::hypot(width, height) + 1000.0;
   const double aspect = double(options_.width) / double(options_.height);
   projection_ = osg::Matrixd::perspective(options_.fovYDegrees, aspect, near_, far_);
   localToMap_ = osg::Matrixd::translate(scene_.origin.x(), scene_.origin.y(), scene_.origin.z());
@@ -237,8 +236,8 @@ void ViewGraph::setUpStates() {
   osg::ref_ptr<osg::Fog> fog = new osg::Fog;
   fog->setMode(osg::Fog::LINEAR);
   fog->setColor(kSkyHorizon);
-  fog->setStart(float(std::min(1500.0, 0.3 * far_)));
-  fog->setEnd(float(far_));
+  fog->setStart(float(hazeStart_));
+  fog->setEnd(float(hazeEnd_));
   ss->setAttributeAndModes(fog.get(), osg::StateAttribute::ON);
   // The terrain is only ever seen from above: its back faces (slopes turned away, and the skirts'
   // inner sides) are skipped before they are rasterised (measured: a quarter of the frame time on

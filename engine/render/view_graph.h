@@ -133,7 +133,7 @@ class ViewGraph {
   osg::Matrixd projection_, view_;
   osg::Matrixd localToMap_;  // translation by the scene's origin
   double pixelsPerRadian_ = 0;
-  double near_ = 0.1, far_ = 10000;
+  double near_ = 0.1, far_ = 10000, hazeStart_ = 1500, hazeEnd_ = 10000;
 };
 
 }  // namespace nestwalk

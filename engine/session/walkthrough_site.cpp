@@ -5,6 +5,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/render/scene_gltf.h"
+#include "nestwalk/render/view_depth.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
 
@@ -140,6 +141,11 @@ WalkthroughSite writeWalkthroughSite(const WalkthroughSiteOptions& o, const std:
   doc["title"] = fs::path(summary.value("script", std::string("run"))).stem().string() + " on " +
                  fs::path(site.sceneFile).parent_path().filename().string();
   doc["fov_y_deg"] = o.fovYDegrees;
+  const ViewDepth depth = viewDepth(scene);  // the renderer's camera range and haze
+  doc["near_m"] = depth.nearM;
+  doc["far_m"] = depth.farM;
+  doc["haze_m"] = {depth.hazeStartM, depth.hazeEndM};
+  doc["sky_horizon_rgb"] = kSkyHorizonRgb;
   doc["scene"] = "scene.glb";
   doc["map_origin"] = {scene.origin.x(), scene.origin.y(), scene.origin.z()};
   const std::string& wkt = scene.terrain->crsWkt();

@@ -10,7 +10,9 @@
 //   run.json                    what the page plays (below);
 //   *.png                       the run's figures (top-down map, frame times) and, with a report
 //                               folder, the report's (speed against error, ...).
-// run.json: {"title", "summary", "fov_y_deg", "scene": "scene.glb", "map_origin": [x, y, z],
+// run.json: {"title", "summary", "fov_y_deg", "near_m", "far_m", "haze_m": [start, end],
+//   "sky_horizon_rgb" (the renderer's camera and haze, render/view_depth.h), "scene": "scene.glb",
+//   "map_origin": [x, y, z],
 //   "crs_name", "frames": {"t", "x", "y", "z", "heading", "pitch", "blocked"} (arrays, one entry
 //   per frames.csv row; positions in the local frame: map minus map_origin, metres),
 //   "contacts": [{"unit", "kind", "time_s", "frame", "stop_gap_m", "approach_deg", "x", "y", "z"}]

@@ -7,6 +7,7 @@
 // site is kept unless --overwrite.
 #include "tests/common/build_paths.h"
 #include "tests/common/gltf_validator.h"
+#include "tests/common/png_readback.h"
 #include "tests/common/run_command.h"
 #include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -23,8 +25,16 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-constexpr double kPositionToleranceM = 0.01;
-constexpr const char* kAxes[] = {"x", "y", "z"};  // the page's float32 scene against frames.csv's 4 decimals
+constexpr double kPositionToleranceM = 0.01;  // the page's float32 scene against frames.csv's 4 decimals
+constexpr const char* kAxes[] = {"x", "y", "z"};
+// The page's picture against the offscreen renderer's frame of the same pose: the sky line (per
+// column, the first row from the top that is not sky) within kSkyLinePx on at least
+// kSkyLineColumns of the columns, and sky / not sky disagreeing on at most kSkyMaskPixels of the
+// pixels. The two differ in the terrain's level of detail (the page draws one static cut, the
+// renderer refines by view), in the sky's gradient and in the equipment's shading; outlines and the
+// terrain's silhouette against the sky are what must agree.
+constexpr int kSkyLinePx = 3;
+constexpr double kSkyLineColumns = 0.99, kSkyMaskPixels = 0.005;
 
 std::string readAll(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -114,6 +124,82 @@ TEST(Publish, SiteHoldsTheRunAndThePagePlaysItInChromium) {
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(p["contact"]["pose"][kAxes[c]].get<double>(),
                 rows[row][1 + c] - origin[c].get<double>(), kPositionToleranceM) << "axis " << c;
+}
+
+/// Sky: bluish and bright (the renderer's gradient from the horizon colour to the zenith's, the
+/// page's horizon colour), which neither the terrain's ochres and greys nor the equipment are.
+bool isSky(const testing::Colour& c) { return c.b - c.r >= 26 && c.b >= 140; }
+
+struct PictureAgreement {
+  double skyLineColumns = 0, skyMaskDisagreement = 0;
+};
+
+PictureAgreement compareSky(const osg::Image& a, const osg::Image& b) {
+  PictureAgreement out;
+  if (a.s() != b.s() || a.t() != b.t()) return out;
+  const int w = a.s(), h = a.t();
+  std::size_t within = 0, disagree = 0;
+  for (int x = 0; x < w; ++x) {
+    int lineA = -1, lineB = -1;  // rows from the top
+    for (int row = 0; row < h; ++row) {
+      const bool sa = isSky(testing::pixelAt(a, x, h - 1 - row)), sb = isSky(testing::pixelAt(b, x, h - 1 - row));
+      if (!sa && lineA < 0) lineA = row;
+      if (!sb && lineB < 0) lineB = row;
+      if (sa != sb) ++disagree;
+    }
+    if (lineA < 0) lineA = h;
+    if (lineB < 0) lineB = h;
+    if (std::abs(lineA - lineB) <= kSkyLinePx) ++within;
+  }
+  out.skyLineColumns = double(within) / w;
+  out.skyMaskDisagreement = double(disagree) / (double(w) * h);
+  return out;
+}
+
+TEST(Publish, ThePageDrawsTheRenderersViewAtRecordedPoses) {
+  if (!fs::exists(bundledSceneFile())) GTEST_SKIP() << "build the bundled_scene target";
+  const TempFolder dir;
+  const fs::path run = dir / "run", site = dir / "site";
+  // Four frames rendered offscreen at 1280 x 720 (steps 1, 901, 1801, 2701).
+  const CommandResult r = runNestwalk("run " + quoted(bundledSceneFile()) + " --script " +
+                                      quoted(bundledScript("bench_patrol.txt")) + " --out " + quoted(run) +
+                                      " --render --every 900 --size 1280x720");
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  ASSERT_EQ(runNestwalk("publish " + quoted(run) + " --out " + quoted(site)).exitCode, 0);
+  std::ifstream csv(run / "frames.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::vector<std::string> header;
+  for (std::stringstream s(line); std::getline(s, line, ',');) header.push_back(line);
+  const auto column = [&](const char* name) { return std::find(header.begin(), header.end(), name) - header.begin(); };
+  const long frameCol = column("frame"), timeCol = column("time"), renderedCol = column("rendered");
+  std::string shots;
+  std::vector<std::pair<fs::path, fs::path>> pairs;  // (renderer's frame, page's picture)
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    for (std::stringstream s(line); std::getline(s, line, ',');) f.push_back(line);
+    if (f[std::size_t(renderedCol)] != "1") continue;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06ld.png", std::stol(f[std::size_t(frameCol)]));
+    pairs.emplace_back(run / "frames" / name, dir / ("page_" + std::string(name)));
+    shots += " --shot " + f[std::size_t(timeCol)] + " " + quoted(pairs.back().second);
+  }
+  ASSERT_EQ(pairs.size(), 4u);
+  const fs::path web = fs::path(build::sourceDir()) / "tools" / "web";
+  const CommandResult page = runCommand("node " + quoted(web / "drive_page.mjs") + " " + quoted(site) + shots);
+  ASSERT_EQ(page.exitCode, 0) << page.out << page.err;
+  for (const auto& [renderer, picture] : pairs) {
+    SCOPED_TRACE(renderer.filename().string());
+    const osg::ref_ptr<osg::Image> a = testing::readPng(renderer.string()), b = testing::readPng(picture.string());
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ(a->s(), b->s());
+    ASSERT_EQ(a->t(), b->t());
+    const PictureAgreement agree = compareSky(*a, *b);
+    std::printf("%s: sky line within %d px on %.1f %% of columns, sky mask differs on %.2f %% of pixels\n",
+                renderer.filename().c_str(), kSkyLinePx, 100 * agree.skyLineColumns, 100 * agree.skyMaskDisagreement);
+    EXPECT_GE(agree.skyLineColumns, kSkyLineColumns);
+    EXPECT_LE(agree.skyMaskDisagreement, kSkyMaskPixels);
+  }
 }
 
 TEST(Publish, ANonRunFolderIsRefusedAndAnExistingSiteKept) {

@@ -4,10 +4,12 @@
 // software GL the offscreen renderer uses; NESTWALK_CHROMIUM_GL replaces those flags, e.g.
 // "--use-angle=swiftshader --enable-unsafe-swiftshader"), and prints one JSON object:
 //   {"console_errors": [...], "load_seconds", "webgl_renderer", "at_time": {"t", "walker", "pose"} (with --time),
+//    "shots": [{"t", "file"}] (with --shot T FILE, repeatable: the view alone, the page's overlays and
+//    contact markers hidden),
 //    "contact": {"info", "pose"} (after clicking contact button --contact N),
 //    "fps" (frames drawn per second while playing, over --fps-ms), "screenshot" (with --screenshot)}.
 // Exit status 0 when it could drive the page (the checks are the caller's), 2 otherwise.
-// Usage: node drive_page.mjs SITE [--time T] [--contact N] [--fps-ms MS] [--screenshot FILE]
+// Usage: node drive_page.mjs SITE [--time T] [--contact N] [--fps-ms MS] [--screenshot FILE] [--shot T FILE]...
 //        [--size WxH] [--chromium PATH]
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
@@ -76,6 +78,22 @@ try {
     await page.locator('#view canvas').screenshot({ path: shot });
     out.screenshot = shot;
   }
+  // --shot T FILE (repeatable): the view alone at time T, the page's overlays hidden.
+  out.shots = [];
+  for (let i = args.indexOf('--shot'); i >= 0; i = args.indexOf('--shot', i + 1)) {
+    const [time, file] = [Number(args[i + 1]), args[i + 2]];
+    await page.evaluate((value) => {
+      for (const id of ['info', 'controls']) document.getElementById(id).style.visibility = 'hidden';
+      window.nestwalk.showMarkers(false);
+      window.nestwalk.setTime(value);
+    }, time);
+    await page.locator('#view canvas').screenshot({ path: file });
+    out.shots.push({ t: time, file });
+  }
+  await page.evaluate(() => {
+    for (const id of ['info', 'controls']) document.getElementById(id).style.visibility = '';
+    window.nestwalk.showMarkers(true);
+  });
   const fpsMs = option('--fps-ms');
   if (fpsMs !== undefined) {
     await page.locator('#play').click();

@@ -8,13 +8,11 @@
 // y north, z up); the GLB is in glTF's frame, +y up, a local point (x, y, z) at (x, z, -y)
 // (render/gltf_scene_writer.h). Headings are degrees clockwise from north, pitch degrees up.
 // For tests: window.nestwalk = {ready, setTime(t), time(), pose(), walker(), selectContact(i),
-// framesPerSecond(ms)}; pose() and walker() answer in the local frame.
+// showMarkers(on), framesPerSecond(ms)}; pose() and walker() answer in the local frame.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-const SKY = new THREE.Color(0.78, 0.85, 0.93); // the offscreen renderer's horizon colour
-const NEAR_M = 0.1, FAR_M = 20000;
 const kTextIntervalMs = 200;
 
 const toGltf = (x, y, z) => new THREE.Vector3(x, z, -y);
@@ -71,9 +69,12 @@ async function main() {
   renderer.outputColorSpace = THREE.LinearSRGBColorSpace; // colours as the offscreen renderer draws them
   renderer.setPixelRatio(1);
   view.prepend(renderer.domElement);
+  // The offscreen renderer's camera range, sky (its horizon colour) and haze (render/view_depth.h).
   const scene = new THREE.Scene();
-  scene.background = SKY;
-  const camera = new THREE.PerspectiveCamera(run.fov_y_deg, 16 / 9, NEAR_M, FAR_M);
+  const sky = new THREE.Color(...run.sky_horizon_rgb);
+  scene.background = sky;
+  scene.fog = new THREE.Fog(sky, run.haze_m[0], run.haze_m[1]);
+  const camera = new THREE.PerspectiveCamera(run.fov_y_deg, 16 / 9, run.near_m, run.far_m);
   scene.add(camera);
   // OSG's fixed-function light, roughly: a headlight of diffuse 0.8 and some ambient (three.js's
   // lights are physical: a Lambert surface takes intensity / pi, hence the factors of pi).
@@ -99,12 +100,14 @@ async function main() {
 
   const walker = new THREE.Mesh(new THREE.SphereGeometry(0.6, 16, 12), new THREE.MeshBasicMaterial({ color: 0xff3b30 }));
   scene.add(walker);
+  const markers = new THREE.Group(); // the page's own additions to the scene: contact markers
   for (const c of run.contacts) {
     const marker = new THREE.Mesh(new THREE.ConeGeometry(0.8, 2.0, 12), new THREE.MeshBasicMaterial({ color: 0xffcc00 }));
     marker.position.copy(toGltf(c.x, c.y, c.z + 3.0));
     marker.rotation.x = Math.PI;
-    scene.add(marker);
+    markers.add(marker);
   }
+  scene.add(markers);
 
   const orbit = new OrbitControls(camera, renderer.domElement);
   orbit.enabled = false;
@@ -212,6 +215,7 @@ async function main() {
   window.nestwalk.pose = () => poseAt(f, t);
   window.nestwalk.walker = () => ({ x: walker.position.x, y: -walker.position.z, z: walker.position.y });
   window.nestwalk.selectContact = selectContact;
+  window.nestwalk.showMarkers = (on) => { markers.visible = on; renderer.render(scene, camera); };
   window.nestwalk.framesPerSecond = (ms) => new Promise((resolve) => {
     let frames = 0;
     const start = performance.now();
