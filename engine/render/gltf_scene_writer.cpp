@@ -511,13 +511,27 @@ class Writer {
     }
   }
 
+  /// OSG's minification filter as glTF's (a filter without mipmaps keeps a viewer from making them:
+  /// the renderer draws the terrain's textures so, since mipmapping costs software GL dearly).
+  static int minFilter(osg::Texture::FilterMode f) {
+    switch (f) {
+      case osg::Texture::NEAREST: return TINYGLTF_TEXTURE_FILTER_NEAREST;
+      case osg::Texture::LINEAR: return TINYGLTF_TEXTURE_FILTER_LINEAR;
+      case osg::Texture::NEAREST_MIPMAP_NEAREST: return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST;
+      case osg::Texture::LINEAR_MIPMAP_NEAREST: return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST;
+      case osg::Texture::NEAREST_MIPMAP_LINEAR: return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
+      default: return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+    }
+  }
+
   int texture(const osg::Texture2D& t) {
     if (auto found = textures_.find(&t); found != textures_.end()) return found->second;
     gl::Sampler s;
     s.wrapS = wrap(t.getWrap(osg::Texture::WRAP_S));
     s.wrapT = wrap(t.getWrap(osg::Texture::WRAP_T));
-    s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+    s.magFilter = t.getFilter(osg::Texture::MAG_FILTER) == osg::Texture::NEAREST ? TINYGLTF_TEXTURE_FILTER_NEAREST
+                                                                                  : TINYGLTF_TEXTURE_FILTER_LINEAR;
+    s.minFilter = minFilter(t.getFilter(osg::Texture::MIN_FILTER));
     doc_.samplers.push_back(s);
     gl::Texture tex;
     tex.sampler = static_cast<int>(doc_.samplers.size()) - 1;

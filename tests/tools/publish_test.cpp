@@ -3,8 +3,10 @@
 // contacts; then the page in Debian's Chromium (tools/web/drive_page.mjs, playwright-core,
 // software WebGL): it loads with no console error, the time slider at t puts the walker where
 // frames.csv has it at t, and clicking the first contact moves the camera to the contact's frame and
-// shows its unit's name. A folder that is not a run's is refused naming what is missing; an existing
-// site is kept unless --overwrite.
+// shows its unit's name; at the poses the offscreen renderer drew, the page's picture has the same
+// sky line. Opened as a file, the page loads where the browser allows it and says what to do where
+// it does not. A folder that is not a run's is refused naming what is missing; an existing site is
+// kept unless --overwrite.
 #include "tests/common/build_paths.h"
 #include "tests/common/gltf_validator.h"
 #include "tests/common/png_readback.h"
@@ -200,6 +202,26 @@ TEST(Publish, ThePageDrawsTheRenderersViewAtRecordedPoses) {
     EXPECT_GE(agree.skyLineColumns, kSkyLineColumns);
     EXPECT_LE(agree.skyMaskDisagreement, kSkyMaskPixels);
   }
+}
+
+TEST(Publish, OpenedAsAFileThePageLoadsWhereAllowedAndSaysWhatToDoWhereNot) {
+  if (!fs::exists(bundledSceneFile())) GTEST_SKIP() << "build the bundled_scene target";
+  const TempFolder dir;
+  const fs::path run = recordRun(dir), site = dir / "site";
+  ASSERT_EQ(runNestwalk("publish " + quoted(run) + " --out " + quoted(site)).exitCode, 0);
+  const std::string drive = "node " + quoted(fs::path(build::sourceDir()) / "tools" / "web" / "drive_page.mjs") + " " +
+                            quoted(site) + " --file";
+  const CommandResult refused = runCommand(drive);  // Chromium's default: no reading beside a file
+  ASSERT_EQ(refused.exitCode, 0) << refused.err;
+  const Json a = Json::parse(refused.out);
+  EXPECT_FALSE(a["file_loaded"].get<bool>());
+  EXPECT_NE(a["problem"].get<std::string>().find("python3 -m http.server"), std::string::npos) << a.dump(1);
+  const CommandResult allowed =
+      runCommand("NESTWALK_CHROMIUM_GL='--use-angle=gl-egl --allow-file-access-from-files' " + drive);
+  ASSERT_EQ(allowed.exitCode, 0) << allowed.err;
+  const Json b = Json::parse(allowed.out);
+  EXPECT_TRUE(b["file_loaded"].get<bool>()) << b.dump(1);
+  EXPECT_TRUE(b["console_errors"].empty()) << b.dump(1);
 }
 
 TEST(Publish, ANonRunFolderIsRefusedAndAnExistingSiteKept) {

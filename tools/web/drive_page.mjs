@@ -9,7 +9,9 @@
 //    "contact": {"info", "pose"} (after clicking contact button --contact N),
 //    "fps" (frames drawn per second while playing, over --fps-ms), "screenshot" (with --screenshot)}.
 // Exit status 0 when it could drive the page (the checks are the caller's), 2 otherwise.
-// Usage: node drive_page.mjs SITE [--time T] [--contact N] [--fps-ms MS] [--screenshot FILE] [--shot T FILE]...
+//    "file_loaded", "problem" (with --file: the page opened as file://: whether it loaded, and what it
+//    says to do when it could not).
+// Usage: node drive_page.mjs SITE [--file] [--time T] [--contact N] [--fps-ms MS] [--screenshot FILE] [--shot T FILE]...
 //        [--size WxH] [--chromium PATH]
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
@@ -53,6 +55,15 @@ try {
   page.on('console', (m) => { if (m.type() === 'error') out.console_errors.push(m.text()); });
   page.on('pageerror', (e) => out.console_errors.push(String(e)));
   const start = Date.now();
+  if (args.includes('--file')) {
+    // Opened as a plain file: Chromium does not let the page read run.json beside it; the page
+    // must say what to do instead.
+    await page.goto(`file://${path.resolve(site, 'index.html')}`);
+    out.file_loaded = await page.evaluate(() => window.nestwalk.ready.then(() => true, () => false));
+    out.problem = await page.locator('#problem').textContent();
+    if (!out.file_loaded) out.console_errors = [];  // the refused reads are the point there
+    throw new Error('opened from a file');
+  }
   await page.goto(url);
   await page.evaluate(() => window.nestwalk.ready);
   out.load_seconds = (Date.now() - start) / 1000;
@@ -100,8 +111,10 @@ try {
     out.fps = await page.evaluate((ms) => window.nestwalk.framesPerSecond(ms), Number(fpsMs));
   }
 } catch (e) {
-  console.error(String(e));
-  process.exitCode = 2;
+  if (out.problem === undefined) {
+    console.error(String(e));
+    process.exitCode = 2;
+  }
 } finally {
   if (browser) await browser.close();
   server.close();
