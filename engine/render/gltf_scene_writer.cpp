@@ -304,27 +304,27 @@ class Writer {
   }
 
   int mesh(const osg::Geode& geode, const DrawState& state) {
-    const auto key = std::make_tuple(static_cast<const void*>(&geode), state.material, state.texture, state.blend, state.unlit,
-                                     state.cullBack);
-    if (auto found = meshes_.find(key); found != meshes_.end()) return found->second;
-    gl::Mesh m;
-    m.name = geode.getName();
-    Counts counts;
-    for (unsigned i = 0; i < geode.getNumDrawables(); ++i) {
-      const osg::Drawable& d = *geode.getDrawable(i);
-      if (const osg::Geometry* g = d.asGeometry()) addPrimitives(m, *g, state.under(d.getStateSet()), counts);
-    }
-    return finishMesh(key, std::move(m), counts);
+    return meshOf(&geode, geode.getName(), state, [&](gl::Mesh& m, Counts& counts) {
+      for (unsigned i = 0; i < geode.getNumDrawables(); ++i) {
+        const osg::Drawable& d = *geode.getDrawable(i);
+        if (const osg::Geometry* g = d.asGeometry()) addPrimitives(m, *g, state.under(d.getStateSet()), counts);
+      }
+    });
   }
 
   int mesh(const osg::Geometry& g, const DrawState& state) {
-    const auto key = std::make_tuple(static_cast<const void*>(&g), state.material, state.texture, state.blend, state.unlit,
-                                     state.cullBack);
+    return meshOf(&g, g.getName(), state, [&](gl::Mesh& m, Counts& counts) { addPrimitives(m, g, state, counts); });
+  }
+
+  /// The glTF mesh of a geode or geometry drawn in `state`: made once by `fill`, then reused.
+  template <class Fill>
+  int meshOf(const void* source, const std::string& name, const DrawState& state, const Fill& fill) {
+    const MeshKey key{source, state.material, state.texture, state.blend, state.unlit, state.cullBack};
     if (auto found = meshes_.find(key); found != meshes_.end()) return found->second;
     gl::Mesh m;
-    m.name = g.getName();
+    m.name = name;
     Counts counts;
-    addPrimitives(m, g, state, counts);
+    fill(m, counts);
     return finishMesh(key, std::move(m), counts);
   }
 

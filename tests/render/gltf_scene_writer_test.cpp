@@ -8,6 +8,7 @@
 #include "nestwalk/scene/gltf_model.h"
 #include "nestwalk/scene/node_geometry.h"
 #include "tests/common/gltf_validator.h"
+#include "tests/common/osg_geometries.h"
 #include "tests/common/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -39,19 +40,6 @@ std::multiset<Corners> trianglesOf(const TriangleMesh& m) {
     out.insert(t);
   }
   return out;
-}
-
-std::vector<const osg::Geometry*> geometries(osg::Node& node) {
-  struct Collect : osg::NodeVisitor {
-    Collect() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
-    void apply(osg::Geode& g) override {
-      for (unsigned i = 0; i < g.getNumDrawables(); ++i)
-        if (const osg::Geometry* geo = g.getDrawable(i)->asGeometry()) found.push_back(geo);
-    }
-    std::vector<const osg::Geometry*> found;
-  } c;
-  node.accept(c);
-  return c.found;
 }
 
 /// An OSG array of the given elements (OSG 3.6's arrays take no initializer list).
@@ -182,7 +170,7 @@ TEST(GltfSceneWriter, ReadsBackAsTheGraphItWasWrittenFrom) {
   EXPECT_EQ(back.notes, std::vector<std::string>{"meshes[1].primitives[0]: LINES skipped (nestwalk reads triangles)"});
 
   // The quad: its material's colour, and its texture showing the same texel at each corner.
-  std::vector<const osg::Geometry*> g = geometries(*back.node);
+  std::vector<const osg::Geometry*> g = test::geometriesUnder(*back.node);
   const auto quad = std::find_if(g.begin(), g.end(), [](const osg::Geometry* x) { return x->getTexCoordArray(0); });
   ASSERT_NE(quad, g.end());
   const auto* colour = dynamic_cast<const osg::Vec4Array*>((*quad)->getColorArray());
@@ -194,7 +182,7 @@ TEST(GltfSceneWriter, ReadsBackAsTheGraphItWasWrittenFrom) {
   const auto* uvBack = dynamic_cast<const osg::Vec2Array*>((*quad)->getTexCoordArray(0));
   const auto* vBack = dynamic_cast<const osg::Vec3Array*>((*quad)->getVertexArray());
   ASSERT_TRUE(uvBack && vBack);
-  const auto* vOriginal = dynamic_cast<const osg::Vec3Array*>(geometries(*graph.root)[0]->getVertexArray());
+  const auto* vOriginal = dynamic_cast<const osg::Vec3Array*>(test::geometriesUnder(*graph.root)[0]->getVertexArray());
   for (std::size_t i = 0; i < vBack->size(); ++i) {
     // The original vertex at the same place, and its texture coordinate.
     std::size_t j = 0;  // (a geometry's own vertices: the frame turn is the root node's)

@@ -9,6 +9,7 @@
 #include "nestwalk/scene/model_file.h"
 #include "nestwalk/scene/model_geometry.h"
 #include "nestwalk/scene/node_geometry.h"
+#include "tests/common/osg_geometries.h"
 #include "tests/common/temp_folder.h"
 #include "tests/scene/gltf_writer.h"
 
@@ -53,20 +54,6 @@ std::multiset<Corners> trianglesOf(const TriangleMesh& m) {
     out.insert(corners(t[0], t[1], t[2]));
   }
   return out;
-}
-
-/// Every geometry under a node, in traversal order.
-std::vector<const osg::Geometry*> geometries(osg::Node& node) {
-  struct Collect : osg::NodeVisitor {
-    Collect() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
-    void apply(osg::Geode& g) override {
-      for (unsigned i = 0; i < g.getNumDrawables(); ++i)
-        if (const osg::Geometry* geo = g.getDrawable(i)->asGeometry()) found.push_back(geo);
-    }
-    std::vector<const osg::Geometry*> found;
-  } c;
-  node.accept(c);
-  return c.found;
 }
 
 GltfWriter oneTriangle() {
@@ -227,7 +214,7 @@ TEST(GltfModel, ColoursAndTexturesAreTheFilesOwn) {
 
   const ModelFile read = readModelFile(file);
   ASSERT_TRUE(read.node) << read.problem;
-  const std::vector<const osg::Geometry*> g = geometries(*read.node);
+  const std::vector<const osg::Geometry*> g = test::geometriesUnder(*read.node);
   ASSERT_EQ(g.size(), 3u);
   // Vertex colours times the base colour factor.
   const auto* c0 = dynamic_cast<const osg::Vec4Array*>(g[0]->getColorArray());
