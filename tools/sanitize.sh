@@ -39,7 +39,7 @@ flags_asan="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fra
 flags_tsan="-fsanitize=thread"
 module_tests=(core_tests geometry_tests geometry_cgal_tests terrain_tests hierarchy_tests scene_tests gis_tests
               walker_tests render_tests viewer_tests session_tests hard_case_tests plot_tests report_tests assets_tests)
-fuzz_replays=(fuzz_scene_json fuzz_script fuzz_animation_path fuzz_points_csv fuzz_pairs_csv fuzz_catalog fuzz_dem fuzz_pyramid)
+fuzz_replays=(fuzz_scene_json fuzz_script fuzz_animation_path fuzz_points_csv fuzz_pairs_csv fuzz_catalog fuzz_dem fuzz_pyramid fuzz_gltf)
 
 # The release build's program generates the scenes the tests read (built here if missing).
 generator="$root/build/tools/nestwalk"

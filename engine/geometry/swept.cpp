@@ -9,8 +9,6 @@
 namespace nestwalk {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 /// The 15 slabs of the moving box A (frame: columns of Aax, half extents a) against B, given
 /// t0 = A^T (cB - cA), dv = A^T d, R = A^T B. Mirrors satInFrameOfA (sat.h), with t replaced by
 /// t0 - t dv on every axis. Fills the world axis of the entering slab through the callback data.

@@ -28,7 +28,6 @@ using testing::sampleRecords;
 using testing::TempDir;
 
 // The colours frame_time_plot.h documents.
-constexpr Colour kBackground{255, 255, 255};
 constexpr std::array<Colour, 4> kParts = {Colour{44, 160, 44}, Colour{31, 119, 180}, Colour{255, 127, 14},
                                           Colour{214, 39, 40}};
 constexpr Colour kP50{148, 103, 189}, kP99{140, 86, 75}, kRender{227, 119, 194};
