@@ -5,6 +5,7 @@
 // is needed here.
 #include "nestwalk/terrain/terrain_pyramid_format.h"
 #include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <algorithm>
 #include <cmath>
@@ -256,6 +257,27 @@ TEST(ImportTerrain, RotatedIsWarpedNorthUpAndUngeoreferencedWarns) {
   writeText(dir / "p.csv", "x,y\n3.5,-5.5\n");
   const auto pq = runNestwalk("query ground " + quoted(dir / "p.tif") + " --points " + quoted(dir / "p.csv"));
   EXPECT_EQ(pq.out, "x,y,z\n3.5,-5.5,113\n");
+}
+
+TEST(ImportTerrain, ImageryIsImportedBesideTheTerrainAndKeptWithoutOverwrite) {
+  if (!fs::exists(bundledSceneFile())) GTEST_SKIP() << "build the bundled_scene target";
+  const TempFolder folder;
+  const fs::path dem = bundledSceneFolder() / "terrain.tif", ortho = bundledSceneFolder() / "ortho.tif";
+  const fs::path out = folder / "dump.tif", imagery = folder / "dump_imagery.tif";
+  const auto r = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("imagery:      " + imagery.string() + ": 1000 x 1000 pixels of 1, RGB, JPEG COG with 1 overviews"),
+            std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(imagery));
+  // Run again: the imagery (and the terrain) exist; refused before anything is written.
+  const auto terrainBefore = snapshot(out), imageryBefore = snapshot(imagery);
+  const auto again = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
+  EXPECT_EQ(again.exitCode, 1);
+  EXPECT_NE(again.err.find(imagery.string() + ": exists; pass --overwrite to replace it"), std::string::npos) << again.err;
+  EXPECT_EQ(snapshot(out).mtime, terrainBefore.mtime);
+  EXPECT_EQ(snapshot(imagery).mtime, imageryBefore.mtime);
+  EXPECT_EQ(runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho) +
+                        " --overwrite").exitCode, 0);
 }
 
 }  // namespace

@@ -1,10 +1,16 @@
-// nestwalk import-terrain IN OUT: any raster GDAL reads becomes the engine's terrain format, a
-// Cloud-Optimized GeoTIFF of Float32 heights in metres (see terrain/terrain_import.h). Prints a
+// nestwalk import-terrain IN OUT [--imagery ORTHO]: any raster GDAL reads becomes the engine's
+// terrain format, a Cloud-Optimized GeoTIFF of Float32 heights in metres (see
+// terrain/terrain_import.h); with --imagery, the orthophoto becomes OUT_imagery.tif beside it, an
+// 8-bit JPEG COG with overviews in the terrain's CRS (terrain/imagery_import.h). Prints a
 // summary on stdout; a progress bar on stderr when it is a terminal.
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/imagery_import.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "tools/nestwalk/commands.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <unistd.h>
 
@@ -17,6 +23,7 @@ struct ImportArgs {
   std::vector<double> window;
   double resolution = 0.0;
   std::string nodata = "keep";
+  std::string imagery;  // an orthophoto to import beside the terrain (imagery_import.h)
 };
 
 void runImportTerrain(ImportArgs& args) {
@@ -25,6 +32,9 @@ void runImportTerrain(ImportArgs& args) {
   if (args.resolution != 0.0) o.resolution = args.resolution;
   o.fillNoData = args.nodata == "fill";
   o.progress = ::isatty(2) != 0;
+  const std::string imageryOut = terrain::imageryPathOf(args.out);
+  if (!args.imagery.empty() && std::filesystem::exists(imageryOut) && !o.overwrite)
+    throw InputError(imageryOut + ": exists; pass --overwrite to replace it");
   const terrain::ImportSummary s = terrain::importTerrain(args.in, args.out, o);
   for (const auto& w : s.warnings) std::fprintf(stderr, "nestwalk: warning: %s\n", w.c_str());
   std::printf("imported %s -> %s\n", args.in.c_str(), args.out.c_str());
@@ -35,6 +45,14 @@ void runImportTerrain(ImportArgs& args) {
   std::printf("  nodata:       %.4f %%\n", 100.0 * s.noDataFraction);
   if (!s.pyramidPath.empty())
     std::printf("  pyramid:      %s (%d levels)\n", s.pyramidPath.c_str(), s.pyramidLevels);
+  if (args.imagery.empty()) return;
+  // The orthophoto, in the CRS the terrain was written in.
+  const std::string terrainWkt = terrain::crsWkt(terrain::openRaster(args.out).get());
+  const terrain::ImageryImportSummary im = terrain::importImagery(args.imagery, imageryOut, terrainWkt, o.overwrite, o.progress);
+  for (const auto& w : im.warnings) std::fprintf(stderr, "nestwalk: warning: %s\n", w.c_str());
+  std::printf("  imagery:      %s: %d x %d pixels of %.4g, %s%s, JPEG COG with %d overviews%s\n", imageryOut.c_str(),
+              im.cols, im.rows, im.pixelSize, im.bands == 1 ? "grey" : "RGB", im.masked ? " with a mask" : "",
+              im.overviews, im.reprojected ? ", warped to the terrain's CRS" : "");
 }
 
 }  // namespace
@@ -58,7 +76,10 @@ void registerImportTerrain(CLI::App& app) {
       ->default_val(100.0);
   cmd->add_option("--vertical-scale", args->options.verticalScale, "Multiply heights by this (0.3048 for feet)")
       ->default_val(1.0);
-  cmd->add_flag("--overwrite", args->options.overwrite, "Replace an existing OUT");
+  cmd->add_option("--imagery", args->imagery,
+                  "An orthophoto to import beside OUT (as OUT_imagery.tif): an 8-bit JPEG COG with overviews in the "
+                  "terrain's CRS");
+  cmd->add_flag("--overwrite", args->options.overwrite, "Replace an existing OUT (and its imagery)");
   cmd->callback([args] { runImportTerrain(*args); });
 }
 

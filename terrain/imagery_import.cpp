@@ -1,0 +1,124 @@
+// The imagery import (imagery_import.h).
+#include "nestwalk/terrain/imagery_import.h"
+
+#include "nestwalk/core/input_error.h"
+#include "nestwalk/core/output_file.h"
+#include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/terrain_imagery.h"
+
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_utils.h>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace nestwalk::terrain {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A NULL-terminated argv for GDAL's utility option parsers.
+struct Args {
+  std::vector<std::string> args;
+  std::vector<char*> ptrs;
+  char** get() {
+    ptrs.clear();
+    for (auto& a : args) ptrs.push_back(a.data());
+    ptrs.push_back(nullptr);
+    return ptrs.data();
+  }
+};
+
+std::string number(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+}  // namespace
+
+std::string imageryPathOf(const std::string& terrainOut) {
+  fs::path p(terrainOut);
+  return (p.parent_path() / (p.stem().string() + "_imagery.tif")).string();
+}
+
+ImageryImportSummary importImagery(const std::string& in, const std::string& out, const std::string& terrainCrsWkt,
+                                   bool overwrite, bool progress) {
+  if (fs::exists(out) && !overwrite) throw InputError(out + ": exists; pass --overwrite to replace it");
+  ImageryImportSummary s;
+  // 1. Opened as a drape opens it: the same refusals, the same reprojection decision and pixel size.
+  const TerrainImagery imagery(in, terrainCrsWkt);
+  s.warnings = imagery.warnings();
+  s.reprojected = imagery.reprojected();
+  s.pixelSize = imagery.pixelSize();
+  s.bands = imagery.colourBands();
+  GdalDataset source = openRaster(in);
+  GDALDatasetH chain = static_cast<GDALDatasetH>(source.get());
+
+  // 2. The virtual chain: warped to the terrain's CRS where they differ, then 8-bit colour bands.
+  GdalDataset warped, translated;
+  int usageError = 0;
+  if (s.reprojected) {
+    Args w;
+    w.args = {"-of", "VRT", "-t_srs", terrainCrsWkt, "-r", "bilinear", "-tr", number(s.pixelSize), number(s.pixelSize),
+              "-dstalpha"};
+    GDALWarpAppOptions* options = GDALWarpAppOptionsNew(w.get(), nullptr);
+    GDALDatasetH sources[1] = {chain};
+    CPLErrorReset();
+    warped.reset(GDALWarp("", nullptr, 1, sources, options, &usageError));
+    GDALWarpAppOptionsFree(options);
+    if (!warped) throw InputError(in + ": cannot warp the imagery to the terrain's CRS: " + lastGdalError());
+    chain = static_cast<GDALDatasetH>(warped.get());
+  }
+  const int bandCount = GDALGetRasterCount(chain);
+  int alphaBand = 0;
+  for (int b = 1; b <= bandCount; ++b)
+    if (GDALGetRasterColorInterpretation(GDALGetRasterBand(chain, b)) == GCI_AlphaBand) alphaBand = b;
+  Args t;
+  t.args = {"-of", "VRT", "-ot", "Byte"};
+  for (int b = 1; b <= s.bands; ++b) t.args.insert(t.args.end(), {"-b", std::to_string(b)});
+  if (alphaBand) t.args.insert(t.args.end(), {"-b", std::to_string(alphaBand)});
+  if (GDALGetRasterDataType(GDALGetRasterBand(chain, 1)) != GDT_Byte) {
+    for (int b = 1; b <= s.bands; ++b) {  // each colour band from its own range to 0-255
+      double range[2] = {0, 255};
+      if (GDALComputeRasterMinMax(GDALGetRasterBand(chain, b), FALSE, range) != CE_None)
+        throw InputError(in + ": band " + std::to_string(b) + " cannot be read: " + lastGdalError());
+      t.args.insert(t.args.end(), {"-scale_" + std::to_string(b), number(range[0]), number(range[1]), "0", "255"});
+    }
+  }
+  if (alphaBand) t.args.insert(t.args.end(), {"-colorinterp_" + std::to_string(s.bands + 1), "alpha"});
+  GDALTranslateOptions* options = GDALTranslateOptionsNew(t.get(), nullptr);
+  CPLErrorReset();
+  translated.reset(GDALTranslate("", chain, options, &usageError));
+  GDALTranslateOptionsFree(options);
+  if (!translated) throw InputError(in + ": cannot convert the imagery to 8-bit colour: " + lastGdalError());
+  s.masked = alphaBand != 0;
+
+  // 3. The COG, written beside OUT and renamed.
+  GDALDriverH cog = GDALGetDriverByName("COG");
+  if (!cog) throw InputError(out + ": this GDAL has no COG driver");
+  OutputFile file(out, ".tif");
+  CPLStringList co;
+  co.SetNameValue("COMPRESS", "JPEG");
+  co.SetNameValue("QUALITY", std::to_string(kImageryJpegQuality).c_str());
+  co.SetNameValue("BLOCKSIZE", std::to_string(kImageryTileSize).c_str());
+  co.SetNameValue("OVERVIEWS", "IGNORE_EXISTING");
+  co.SetNameValue("OVERVIEW_RESAMPLING", "AVERAGE");
+  CPLErrorReset();
+  GdalDataset written(GDALCreateCopy(cog, file.tempPath().c_str(), static_cast<GDALDatasetH>(translated.get()), FALSE,
+                                     co.List(), progress ? GDALTermProgress : nullptr, nullptr));
+  if (!written) throw InputError(out + ": the imagery could not be written: " + lastGdalError());
+  auto* w = static_cast<GDALDatasetH>(written.get());
+  s.cols = GDALGetRasterXSize(w);
+  s.rows = GDALGetRasterYSize(w);
+  s.overviews = GDALGetOverviewCount(GDALGetRasterBand(w, 1));
+  const std::string wkt = crsWkt(w);
+  s.crsName = wkt.empty() ? "none" : crsName(wkt);
+  written.reset();
+  file.commit();
+  return s;
+}
+
+}  // namespace nestwalk::terrain

@@ -1,0 +1,46 @@
+// The imagery import behind `nestwalk import-terrain ... --imagery ORTHO`: an orthophoto (any
+// raster GDAL reads: RGB, RGBA, grey, 8- or 16-bit) becomes a Cloud-Optimized GeoTIFF in the
+// terrain's CRS, ready for draping (terrain_imagery.h) and for the imagery levels of the survey
+// pipeline: 8-bit RGB (or grey), tiled kImageryTileSize, JPEG at kImageryJpegQuality with the
+// imagery's holes as a mask (GDAL's COG driver turns an alpha band into one), and overviews down to
+// one tile, averaged (the COG driver's).
+//
+// Stages: the orthophoto is opened as a drape would open it (TerrainImagery: its CRS checked
+// against the terrain's, what is refused there is refused here); a virtual chain then warps it to
+// the terrain's CRS at its own resolution where the two CRSs differ (bilinear, holes as alpha) and
+// scales other than 8-bit colours to 0-255 from each band's range; the COG driver writes it to a
+// temporary file beside OUT, renamed at the end. ORTHO is never written to; OUT is replaced only
+// with `overwrite`. Every problem is an InputError naming the file.
+// Thread safety: as terrain_import.h (GDAL's progress bar keeps static state).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace nestwalk::terrain {
+
+/// Pixels per side of the COG's tiles.
+inline constexpr int kImageryTileSize = 512;
+/// JPEG quality (0-100) of the imported imagery: 90 keeps a drone orthophoto's texture (tyre
+/// tracks, gravel) at about a fifth of its lossless size.
+inline constexpr int kImageryJpegQuality = 90;
+
+struct ImageryImportSummary {
+  int cols = 0, rows = 0, bands = 0;  // bands: 3 (RGB) or 1 (grey), plus the mask
+  double pixelSize = 0;               // metres (terrain CRS units) per pixel
+  bool reprojected = false;           // warped from the orthophoto's CRS to the terrain's
+  bool masked = false;                // holes kept as a mask
+  int overviews = 0;
+  std::string crsName;
+  std::vector<std::string> warnings;  // what was assumed (a missing CRS), naming the file
+};
+
+/// Writes `in` as the imagery COG `out` in the CRS `terrainCrsWkt` (WKT; empty: the terrain has
+/// none, and the imagery is taken as it is, as a drape would).
+ImageryImportSummary importImagery(const std::string& in, const std::string& out, const std::string& terrainCrsWkt,
+                                   bool overwrite = false, bool progress = false);
+
+/// Where import-terrain writes OUT's imagery: OUT without its extension, then "_imagery.tif".
+std::string imageryPathOf(const std::string& terrainOut);
+
+}  // namespace nestwalk::terrain
