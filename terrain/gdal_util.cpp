@@ -5,6 +5,8 @@
 
 #include <cpl_error.h>
 
+#include <cstdio>
+
 namespace nestwalk::terrain {
 
 BandNoData bandNoData(GDALRasterBandH band) {
@@ -22,6 +24,12 @@ void readRowsFloat64(GDALRasterBandH band, int r0, int cols, int n, std::vector<
   CPLErrorReset();
   if (GDALRasterIO(band, GF_Read, 0, r0, cols, n, strip.data(), cols, n, GDT_Float64, 0, 0) != CE_None)
     throw InputError(name + ": cannot read the samples (truncated or corrupt file?): " + lastGdalError());
+}
+
+std::string gdalNumber(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
 }
 
 }  // namespace nestwalk::terrain

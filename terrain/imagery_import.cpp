@@ -4,6 +4,7 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/gdal_util.h"
 #include "nestwalk/terrain/terrain_imagery.h"
 
 #include <cpl_error.h>
@@ -18,24 +19,6 @@ namespace nestwalk::terrain {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A NULL-terminated argv for GDAL's utility option parsers.
-struct Args {
-  std::vector<std::string> args;
-  std::vector<char*> ptrs;
-  char** get() {
-    ptrs.clear();
-    for (auto& a : args) ptrs.push_back(a.data());
-    ptrs.push_back(nullptr);
-    return ptrs.data();
-  }
-};
-
-std::string number(double v) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
-}
 
 }  // namespace
 
@@ -61,8 +44,16 @@ ImageryImportSummary importImagery(const std::string& in, const std::string& out
   GdalDataset warped, translated;
   int usageError = 0;
   if (s.reprojected) {
-    Args w;
-    w.args = {"-of", "VRT", "-t_srs", terrainCrsWkt, "-r", "bilinear", "-tr", number(s.pixelSize), number(s.pixelSize),
+    GdalArgv w;
+    w.args = {"-of",
+              "VRT",
+              "-t_srs",
+              terrainCrsWkt,
+              "-r",
+              "bilinear",
+              "-tr",
+              gdalNumber(s.pixelSize),
+              gdalNumber(s.pixelSize),
               "-dstalpha"};
     GDALWarpAppOptions* options = GDALWarpAppOptionsNew(w.get(), nullptr);
     GDALDatasetH sources[1] = {chain};
@@ -76,7 +67,7 @@ ImageryImportSummary importImagery(const std::string& in, const std::string& out
   int alphaBand = 0;
   for (int b = 1; b <= bandCount; ++b)
     if (GDALGetRasterColorInterpretation(GDALGetRasterBand(chain, b)) == GCI_AlphaBand) alphaBand = b;
-  Args t;
+  GdalArgv t;
   t.args = {"-of", "VRT", "-ot", "Byte"};
   for (int b = 1; b <= s.bands; ++b) t.args.insert(t.args.end(), {"-b", std::to_string(b)});
   if (alphaBand) t.args.insert(t.args.end(), {"-b", std::to_string(alphaBand)});
@@ -85,7 +76,8 @@ ImageryImportSummary importImagery(const std::string& in, const std::string& out
       double range[2] = {0, 255};
       if (GDALComputeRasterMinMax(GDALGetRasterBand(chain, b), FALSE, range) != CE_None)
         throw InputError(in + ": band " + std::to_string(b) + " cannot be read: " + lastGdalError());
-      t.args.insert(t.args.end(), {"-scale_" + std::to_string(b), number(range[0]), number(range[1]), "0", "255"});
+      t.args.insert(t.args.end(),
+                    {"-scale_" + std::to_string(b), gdalNumber(range[0]), gdalNumber(range[1]), "0", "255"});
     }
   }
   if (alphaBand) t.args.insert(t.args.end(), {"-colorinterp_" + std::to_string(s.bands + 1), "alpha"});

@@ -26,25 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A file removed when it goes unless released.
-/// A NULL-terminated argv for GDAL's utility option parsers.
-struct Argv {
-  std::vector<std::string> args;
-  std::vector<char*> ptrs;
-  char** get() {
-    ptrs.clear();
-    for (auto& a : args) ptrs.push_back(a.data());
-    ptrs.push_back(nullptr);
-    return ptrs.data();
-  }
-};
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 /// Scaled progress for one stage of the pipeline (nullptr when progress is off).
 struct StageProgress {
   void* data = nullptr;
@@ -231,11 +212,12 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
   }
 
   // 2. The virtual chain: band (and crop) through gdal_translate, then the warper when needed.
-  Argv tArgs;
+  GdalArgv tArgs;
   tArgs.args = {"-of", "VRT", "-b", std::to_string(options.band)};
   if (options.window && !warp) {
     const auto& w = *options.window;
-    tArgs.args.insert(tArgs.args.end(), {"-projwin", num(w[0]), num(w[3]), num(w[2]), num(w[1])});
+    tArgs.args.insert(tArgs.args.end(),
+                      {"-projwin", gdalNumber(w[0]), gdalNumber(w[3]), gdalNumber(w[2]), gdalNumber(w[1])});
   }
   GDALTranslateOptions* tOpts = GDALTranslateOptionsNew(tArgs.get(), nullptr);
   CPLErrorReset();
@@ -243,17 +225,18 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
   GdalDataset translated(GDALTranslate("", src, tOpts, &usageError));
   GDALTranslateOptionsFree(tOpts);
   if (!translated) {
-    if (options.window)
-      throw InputError(in + ": the crop window does not fit the raster (" + lastGdalError() + ")");
+    if (options.window) throw InputError(in + ": the crop window does not fit the raster (" + lastGdalError() + ")");
     throw InputError(in + ": cannot build the import chain: " + lastGdalError());
   }
   GdalDataset warped;
   GDALDatasetH chain = static_cast<GDALDatasetH>(translated.get());
   if (warp) {
-    Argv wArgs;
-    wArgs.args = {"-of", "VRT", "-r", resample ? "bilinear" : "near", "-ot", "Float32", "-dstnodata", num(kTerrainNoData)};
+    GdalArgv wArgs;
+    wArgs.args = {"-of", "VRT",     "-r",         resample ? "bilinear" : "near",
+                  "-ot", "Float32", "-dstnodata", gdalNumber(kTerrainNoData)};
     if (!options.targetCrs.empty()) wArgs.args.insert(wArgs.args.end(), {"-t_srs", options.targetCrs});
-    if (options.resolution) wArgs.args.insert(wArgs.args.end(), {"-tr", num(*options.resolution), num(*options.resolution)});
+    if (options.resolution)
+      wArgs.args.insert(wArgs.args.end(), {"-tr", gdalNumber(*options.resolution), gdalNumber(*options.resolution)});
     if (!resample) {
       // Only reordering: the same grid, north-up (the window snapped outward to whole samples).
       const double* g = frame.geoTransform;
@@ -269,10 +252,12 @@ ImportSummary importTerrain(const std::string& in, const std::string& out, const
         if (!(x1 - x0 >= 0.5 * dx && y1 - y0 >= 0.5 * dy))
           throw InputError(in + ": the crop window does not overlap the raster");
       }
-      wArgs.args.insert(wArgs.args.end(), {"-tr", num(dx), num(dy), "-te", num(x0), num(y0), num(x1), num(y1)});
+      wArgs.args.insert(wArgs.args.end(), {"-tr", gdalNumber(dx), gdalNumber(dy), "-te", gdalNumber(x0), gdalNumber(y0),
+                                           gdalNumber(x1), gdalNumber(y1)});
     } else if (options.window) {
       const auto& w = *options.window;
-      wArgs.args.insert(wArgs.args.end(), {"-te", num(w[0]), num(w[1]), num(w[2]), num(w[3])});
+      wArgs.args.insert(wArgs.args.end(),
+                        {"-te", gdalNumber(w[0]), gdalNumber(w[1]), gdalNumber(w[2]), gdalNumber(w[3])});
     }
     GDALWarpAppOptions* wOpts = GDALWarpAppOptionsNew(wArgs.get(), nullptr);
     GDALDatasetH srcs[1] = {chain};

@@ -45,8 +45,10 @@ struct DrawState {
     DrawState out = *this;
     if (!s) return out;
     if (auto* m = dynamic_cast<const osg::Material*>(s->getAttribute(osg::StateAttribute::MATERIAL))) out.material = m;
-    if (auto* t = dynamic_cast<const osg::Texture2D*>(s->getTextureAttribute(0, osg::StateAttribute::TEXTURE))) out.texture = t;
-    if (s->getAttribute(osg::StateAttribute::BLENDFUNC) || s->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN) out.blend = true;
+    if (auto* t = dynamic_cast<const osg::Texture2D*>(s->getTextureAttribute(0, osg::StateAttribute::TEXTURE)))
+      out.texture = t;
+    if (s->getAttribute(osg::StateAttribute::BLENDFUNC) || s->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN)
+      out.blend = true;
     const osg::StateAttribute::GLModeValue lighting = s->getMode(GL_LIGHTING);
     if (lighting != osg::StateAttribute::INHERIT) out.unlit = !(lighting & osg::StateAttribute::ON);
     const osg::StateAttribute::GLModeValue cull = s->getMode(GL_CULL_FACE);
@@ -92,7 +94,8 @@ Primitives primitivesOf(const osg::Geometry& g) {
         }
         set.accept(tri);
         break;
-      default: set.accept(tri);  // strips, fans, quads, polygons
+      default:
+        set.accept(tri);  // strips, fans, quads, polygons
     }
   }
   return p;
@@ -104,13 +107,13 @@ class Writer {
     doc_.asset.version = "2.0";
     doc_.asset.generator = info.generator;
     gl::Value::Object extras;
-    extras["map_origin"] = gl::Value(gl::Value::Array{gl::Value(info.mapOrigin.x()), gl::Value(info.mapOrigin.y()),
-                                                      gl::Value(info.mapOrigin.z())});
+    extras["map_origin"] = gl::Value(
+        gl::Value::Array{gl::Value(info.mapOrigin.x()), gl::Value(info.mapOrigin.y()), gl::Value(info.mapOrigin.z())});
     extras["crs"] = gl::Value(info.crsWkt);
     extras["crs_name"] = gl::Value(info.crsName);
-    extras["frame"] = gl::Value(std::string(
-        "glTF metres, +y up; a glTF point (x, y, z) is the map point (x, -z, y) + map_origin in the CRS "
-        "(x east, y north, z up)"));
+    extras["frame"] = gl::Value(
+        std::string("glTF metres, +y up; a glTF point (x, y, z) is the map point (x, -z, y) + map_origin in the CRS "
+                    "(x east, y north, z up)"));
     gl::Value::Object root;
     root["nestwalk"] = gl::Value(extras);
     doc_.asset.extras = gl::Value(root);
@@ -238,8 +241,10 @@ class Writer {
       here = m * above;
     }
     int m = -1;
-    if (const osg::Geode* geode = n.asGeode()) m = mesh(*geode, state);
-    else if (const osg::Geometry* g = n.asGeometry()) m = mesh(*g, state);
+    if (const osg::Geode* geode = n.asGeode())
+      m = mesh(*geode, state);
+    else if (const osg::Geometry* g = n.asGeometry())
+      m = mesh(*g, state);
     else if (const osg::Group* group = n.asGroup())
       for (unsigned i = 0; i < group->getNumChildren(); ++i)
         collectLeaves(*group->getChild(i), here, state.under(group->getChild(i)->getStateSet()), out);
@@ -281,9 +286,12 @@ class Writer {
   int instancedNode(int mesh, const InstanceTrs& trs) {
     gl::Value::Object attributes;
     const std::size_t n = trs.count;
-    attributes["TRANSLATION"] = gl::Value(addAccessor(trs.translation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
-    attributes["ROTATION"] = gl::Value(addAccessor(trs.rotation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16, 0));
-    attributes["SCALE"] = gl::Value(addAccessor(trs.scale.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
+    attributes["TRANSLATION"] =
+        gl::Value(addAccessor(trs.translation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
+    attributes["ROTATION"] =
+        gl::Value(addAccessor(trs.rotation.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16, 0));
+    attributes["SCALE"] =
+        gl::Value(addAccessor(trs.scale.data(), n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, 0));
     gl::Value::Object extension;
     extension["attributes"] = gl::Value(attributes);
     gl::Node node;
@@ -395,7 +403,8 @@ class Writer {
     }
     a.vertices = xyz.size() / 3;
     if (a.vertices == 0) return a;
-    const int pos = addAccessor(xyz.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, kArrayBuffer);
+    const int pos =
+        addAccessor(xyz.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, kArrayBuffer);
     gl::Accessor& acc = doc_.accessors[static_cast<std::size_t>(pos)];
     acc.minValues = {xyz[0], xyz[1], xyz[2]};
     acc.maxValues = acc.minValues;
@@ -414,29 +423,36 @@ class Writer {
       unit.reserve(3 * a.vertices);
       for (osg::Vec3 v : *n) {
         const float length = v.length();
-        if (!(length > 0) || !std::isfinite(length)) v.set(0, 0, 1);  // glTF normals are unit vectors
-        else v /= length;
+        if (!(length > 0) || !std::isfinite(length))
+          v.set(0, 0, 1);  // glTF normals are unit vectors
+        else
+          v /= length;
         unit.insert(unit.end(), {v.x(), v.y(), v.z()});
       }
-      a.accessors["NORMAL"] = addAccessor(unit.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, kArrayBuffer);
+      a.accessors["NORMAL"] =
+          addAccessor(unit.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12, kArrayBuffer);
     }
     const osg::Array* colours = g.getColorArray();
     if (colours && colours->getBinding() == osg::Array::BIND_OVERALL && colours->getNumElements() >= 1) {
       if (auto* c = dynamic_cast<const osg::Vec4Array*>(colours)) a.overallColour = (*c)[0];
       if (auto* c = dynamic_cast<const osg::Vec4ubArray*>(colours))
-        a.overallColour = osg::Vec4((*c)[0].r() / 255.0f, (*c)[0].g() / 255.0f, (*c)[0].b() / 255.0f, (*c)[0].a() / 255.0f);
+        a.overallColour =
+            osg::Vec4((*c)[0].r() / 255.0f, (*c)[0].g() / 255.0f, (*c)[0].b() / 255.0f, (*c)[0].a() / 255.0f);
     } else if (perVertex(colours)) {
       if (auto* c = dynamic_cast<const osg::Vec4Array*>(colours))
-        a.accessors["COLOR_0"] = addAccessor(c->getDataPointer(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16, kArrayBuffer);
+        a.accessors["COLOR_0"] = addAccessor(c->getDataPointer(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                             TINYGLTF_TYPE_VEC4, 16, kArrayBuffer);
       if (auto* c = dynamic_cast<const osg::Vec4ubArray*>(colours))
-        a.accessors["COLOR_0"] =
-            addAccessor(c->getDataPointer(), a.vertices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 4, kArrayBuffer, true);
+        a.accessors["COLOR_0"] = addAccessor(c->getDataPointer(), a.vertices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                             TINYGLTF_TYPE_VEC4, 4, kArrayBuffer, true);
     }
-    if (auto* t = dynamic_cast<const osg::Vec2Array*>(g.getTexCoordArray(0)); textured && t && t->size() == a.vertices) {
+    if (auto* t = dynamic_cast<const osg::Vec2Array*>(g.getTexCoordArray(0));
+        textured && t && t->size() == a.vertices) {
       std::vector<float> uv;
       uv.reserve(2 * a.vertices);
       for (const osg::Vec2& p : *t) uv.insert(uv.end(), {p.x(), 1.0f - p.y()});  // glTF's v runs from the top
-      a.accessors["TEXCOORD_0"] = addAccessor(uv.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 8, kArrayBuffer);
+      a.accessors["TEXCOORD_0"] =
+          addAccessor(uv.data(), a.vertices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 8, kArrayBuffer);
     }
     return a;
   }
@@ -453,7 +469,9 @@ class Writer {
       for (std::size_t i = 0; i + perElement <= indices.size(); i += perElement) {
         bool inside = true;
         for (std::size_t k = 0; k < perElement; ++k) inside = inside && indices[i + k] < a.vertices;
-        if (inside) kept.insert(kept.end(), indices.begin() + std::ptrdiff_t(i), indices.begin() + std::ptrdiff_t(i + perElement));
+        if (inside)
+          kept.insert(kept.end(), indices.begin() + std::ptrdiff_t(i),
+                      indices.begin() + std::ptrdiff_t(i + perElement));
       }
       if (kept.empty()) return std::size_t(0);
       gl::Primitive prim;
@@ -462,11 +480,11 @@ class Writer {
       prim.material = material;
       if (a.vertices <= 0xFFFF) {
         const std::vector<std::uint16_t> shorts(kept.begin(), kept.end());
-        prim.indices = addAccessor(shorts.data(), shorts.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, 2,
-                                   kElementArrayBuffer);
+        prim.indices = addAccessor(shorts.data(), shorts.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                   TINYGLTF_TYPE_SCALAR, 2, kElementArrayBuffer);
       } else {
-        prim.indices = addAccessor(kept.data(), kept.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4,
-                                   kElementArrayBuffer);
+        prim.indices = addAccessor(kept.data(), kept.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                                   4, kElementArrayBuffer);
       }
       m.primitives.push_back(std::move(prim));
       return kept.size() / perElement;
@@ -478,11 +496,13 @@ class Writer {
 
   int material(const DrawState& state, const std::optional<osg::Vec4>& overall, bool textured) {
     osg::Vec4 colour(1, 1, 1, 1);
-    if (overall) colour = *overall;
-    else if (state.material) colour = state.material->getDiffuse(osg::Material::FRONT);
+    if (overall)
+      colour = *overall;
+    else if (state.material)
+      colour = state.material->getDiffuse(osg::Material::FRONT);
     const osg::Texture2D* texture = textured ? state.texture : nullptr;
-    const auto key =
-        std::make_tuple(colour.r(), colour.g(), colour.b(), colour.a(), texture, state.blend, state.unlit, state.cullBack);
+    const auto key = std::make_tuple(colour.r(), colour.g(), colour.b(), colour.a(), texture, state.blend, state.unlit,
+                                     state.cullBack);
     if (auto found = materials_.find(key); found != materials_.end()) return found->second;
     gl::Material m;
     m.pbrMetallicRoughness.baseColorFactor = {colour.r(), colour.g(), colour.b(), colour.a()};
@@ -505,9 +525,12 @@ class Writer {
     switch (w) {
       case osg::Texture::CLAMP:
       case osg::Texture::CLAMP_TO_EDGE:
-      case osg::Texture::CLAMP_TO_BORDER: return TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
-      case osg::Texture::MIRROR: return TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
-      default: return TINYGLTF_TEXTURE_WRAP_REPEAT;
+      case osg::Texture::CLAMP_TO_BORDER:
+        return TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+      case osg::Texture::MIRROR:
+        return TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
+      default:
+        return TINYGLTF_TEXTURE_WRAP_REPEAT;
     }
   }
 
@@ -515,12 +538,18 @@ class Writer {
   /// the renderer draws the terrain's textures so, since mipmapping costs software GL dearly).
   static int minFilter(osg::Texture::FilterMode f) {
     switch (f) {
-      case osg::Texture::NEAREST: return TINYGLTF_TEXTURE_FILTER_NEAREST;
-      case osg::Texture::LINEAR: return TINYGLTF_TEXTURE_FILTER_LINEAR;
-      case osg::Texture::NEAREST_MIPMAP_NEAREST: return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST;
-      case osg::Texture::LINEAR_MIPMAP_NEAREST: return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST;
-      case osg::Texture::NEAREST_MIPMAP_LINEAR: return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
-      default: return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+      case osg::Texture::NEAREST:
+        return TINYGLTF_TEXTURE_FILTER_NEAREST;
+      case osg::Texture::LINEAR:
+        return TINYGLTF_TEXTURE_FILTER_LINEAR;
+      case osg::Texture::NEAREST_MIPMAP_NEAREST:
+        return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST;
+      case osg::Texture::LINEAR_MIPMAP_NEAREST:
+        return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST;
+      case osg::Texture::NEAREST_MIPMAP_LINEAR:
+        return TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
+      default:
+        return TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
     }
   }
 
@@ -530,7 +559,7 @@ class Writer {
     s.wrapS = wrap(t.getWrap(osg::Texture::WRAP_S));
     s.wrapT = wrap(t.getWrap(osg::Texture::WRAP_T));
     s.magFilter = t.getFilter(osg::Texture::MAG_FILTER) == osg::Texture::NEAREST ? TINYGLTF_TEXTURE_FILTER_NEAREST
-                                                                                  : TINYGLTF_TEXTURE_FILTER_LINEAR;
+                                                                                 : TINYGLTF_TEXTURE_FILTER_LINEAR;
     s.minFilter = minFilter(t.getFilter(osg::Texture::MIN_FILTER));
     doc_.samplers.push_back(s);
     gl::Texture tex;
@@ -556,7 +585,8 @@ class Writer {
         for (int x = 0; x < image->s(); ++x) {
           const osg::Vec4 c = image->getColor(x, y);
           unsigned char* p = rgb->data(x, y);
-          for (int k = 0; k < 3; ++k) p[k] = static_cast<unsigned char>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+          for (int k = 0; k < 3; ++k)
+            p[k] = static_cast<unsigned char>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
         }
       image = rgb;
     }
@@ -566,7 +596,8 @@ class Writer {
     std::ostringstream bytes(std::ios::binary);
     osg::ref_ptr<osgDB::Options> options = new osgDB::Options("JPEG_QUALITY " + std::to_string(kGltfJpegQuality));
     const osgDB::ReaderWriter::WriteResult w = rw->writeImage(*image, bytes, options.get());
-    if (!w.success()) throw std::runtime_error("an image could not be encoded as " + std::string(ext) + ": " + w.message());
+    if (!w.success())
+      throw std::runtime_error("an image could not be encoded as " + std::string(ext) + ": " + w.message());
     const std::string data = bytes.str();
     gl::Image out;
     out.name = source.getFileName();

@@ -22,8 +22,9 @@ SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const st
   // The local frame's parts: glTF is local metres, the map origin goes into the asset's extras.
   osg::ref_ptr<osg::Group> local = new osg::Group;
   local->setName("scene");
-  for (osg::Node* part : {static_cast<osg::Node*>(out.parts.terrain.get()), static_cast<osg::Node*>(out.parts.equipment.get()),
-                          static_cast<osg::Node*>(out.parts.volumes.get())})
+  for (osg::Node* part :
+       {static_cast<osg::Node*>(out.parts.terrain.get()), static_cast<osg::Node*>(out.parts.equipment.get()),
+        static_cast<osg::Node*>(out.parts.volumes.get())})
     if (part) local->addChild(part);
   // As the renderer draws the terrain (view_graph.cpp): unlit (its colours carry the shading), and
   // only from above (back faces culled: the slopes turned away, the skirts' inner sides).

@@ -32,7 +32,7 @@ constexpr char kGlbMagic[4] = {'g', 'l', 'T', 'F'};
 /// Extensions a file may require that this reader honours: quantized attributes are read as the
 /// normalized or plain integers they are; unlit materials draw as lit ones with their base colour.
 const std::set<std::string> kReadableRequiredExtensions = {"KHR_mesh_quantization", "KHR_materials_unlit",
-                                                            "EXT_mesh_gpu_instancing"};
+                                                           "EXT_mesh_gpu_instancing"};
 constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
 
 /// A bad file: the message names the glTF object and the problem.
@@ -40,7 +40,9 @@ struct GltfProblem : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string item(const char* array, std::size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }
+std::string item(const char* array, std::size_t index) {
+  return std::string(array) + "[" + std::to_string(index) + "]";
+}
 
 // tinygltf's file access, without its path expansion (wordexp on POSIX: a path from the file is
 // never given to a shell's expansion) and without writing.
@@ -82,21 +84,30 @@ struct AccessorView {
   float value(std::size_t i, int c) const {
     const unsigned char* p = data + i * stride;
     switch (componentType) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(p, c);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return scaled(load<std::uint8_t>(p, c), 255.0f);
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return signedScaled(load<std::int8_t>(p, c), 127.0f);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return scaled(load<std::uint16_t>(p, c), 65535.0f);
-      case TINYGLTF_COMPONENT_TYPE_SHORT: return signedScaled(load<std::int16_t>(p, c), 32767.0f);
-      default: return static_cast<float>(load<std::uint32_t>(p, c));
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return load<float>(p, c);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return scaled(load<std::uint8_t>(p, c), 255.0f);
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return signedScaled(load<std::int8_t>(p, c), 127.0f);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return scaled(load<std::uint16_t>(p, c), 65535.0f);
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
+        return signedScaled(load<std::int16_t>(p, c), 32767.0f);
+      default:
+        return static_cast<float>(load<std::uint32_t>(p, c));
     }
   }
   /// Element i as an index (unsigned integer component types only).
   std::uint32_t index(std::size_t i) const {
     const unsigned char* p = data + i * stride;
     switch (componentType) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load<std::uint8_t>(p, 0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load<std::uint16_t>(p, 0);
-      default: return load<std::uint32_t>(p, 0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return load<std::uint8_t>(p, 0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return load<std::uint16_t>(p, 0);
+      default:
+        return load<std::uint32_t>(p, 0);
     }
   }
 
@@ -220,7 +231,8 @@ class GraphBuilder {
     std::uint64_t sum = 0;
     for (const tinygltf::Primitive& p : doc_.meshes[m].primitives) {
       const auto pos = p.attributes.find("POSITION");
-      if (pos != p.attributes.end() && pos->second >= 0 && static_cast<std::size_t>(pos->second) < doc_.accessors.size())
+      if (pos != p.attributes.end() && pos->second >= 0 &&
+          static_cast<std::size_t>(pos->second) < doc_.accessors.size())
         sum += doc_.accessors[static_cast<std::size_t>(pos->second)].count;
     }
     return sum;
@@ -268,7 +280,8 @@ class GraphBuilder {
       const tinygltf::Value& a = attributes.Get(names[k]);
       if (!a.IsInt()) continue;
       views[k] = accessorView(a.GetNumberAsInt(), at, names[k]);
-      if (views[k]->components != (k == 1 ? 4 : 3) || (k != 1 && views[k]->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT))
+      if (views[k]->components != (k == 1 ? 4 : 3) ||
+          (k != 1 && views[k]->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT))
         throw GltfProblem(at + ": " + names[k] + " is not of " + (k == 1 ? "4" : "3") + "-component floats");
       if (count && *count != views[k]->count) throw GltfProblem(at + ": its attributes differ in count");
       count = views[k]->count;
@@ -277,8 +290,11 @@ class GraphBuilder {
     for (std::size_t i = 0; i < out.size(); ++i) {
       osg::Matrixd m;
       if (views[2]) m.postMultScale(osg::Vec3d(views[2]->value(i, 0), views[2]->value(i, 1), views[2]->value(i, 2)));
-      if (views[1]) m.postMultRotate(osg::Quat(views[1]->value(i, 0), views[1]->value(i, 1), views[1]->value(i, 2), views[1]->value(i, 3)));
-      if (views[0]) m.postMultTranslate(osg::Vec3d(views[0]->value(i, 0), views[0]->value(i, 1), views[0]->value(i, 2)));
+      if (views[1])
+        m.postMultRotate(
+            osg::Quat(views[1]->value(i, 0), views[1]->value(i, 1), views[1]->value(i, 2), views[1]->value(i, 3)));
+      if (views[0])
+        m.postMultTranslate(osg::Vec3d(views[0]->value(i, 0), views[0]->value(i, 1), views[0]->value(i, 2)));
       out[i] = m;
     }
     return out;
@@ -287,14 +303,16 @@ class GraphBuilder {
   /// The node's local transform, or nothing when it is the identity by omission.
   static std::optional<osg::Matrixd> nodeMatrix(const tinygltf::Node& node, const std::string& where) {
     if (!node.matrix.empty()) {
-      if (node.matrix.size() != 16) throw GltfProblem(where + ": matrix has " + std::to_string(node.matrix.size()) + " numbers, not 16");
+      if (node.matrix.size() != 16)
+        throw GltfProblem(where + ": matrix has " + std::to_string(node.matrix.size()) + " numbers, not 16");
       // glTF's column-major array is OSG's row-vector matrix as stored (OSG multiplies v * M).
       return osg::Matrixd(node.matrix.data());
     }
     if (node.translation.empty() && node.rotation.empty() && node.scale.empty()) return std::nullopt;
     auto need = [&](const std::vector<double>& v, std::size_t size, const char* name) {
       if (!v.empty() && v.size() != size)
-        throw GltfProblem(where + ": " + name + " has " + std::to_string(v.size()) + " numbers, not " + std::to_string(size));
+        throw GltfProblem(where + ": " + name + " has " + std::to_string(v.size()) + " numbers, not " +
+                          std::to_string(size));
     };
     need(node.translation, 3, "translation");
     need(node.rotation, 4, "rotation");
@@ -325,12 +343,19 @@ class GraphBuilder {
   osg::ref_ptr<osg::Geometry> primitiveGeometry(const tinygltf::Primitive& prim, const std::string& where) {
     GLenum mode = 0;
     switch (prim.mode) {
-      case TINYGLTF_MODE_TRIANGLES: mode = GL_TRIANGLES; break;
-      case TINYGLTF_MODE_TRIANGLE_STRIP: mode = GL_TRIANGLE_STRIP; break;
-      case TINYGLTF_MODE_TRIANGLE_FAN: mode = GL_TRIANGLE_FAN; break;
+      case TINYGLTF_MODE_TRIANGLES:
+        mode = GL_TRIANGLES;
+        break;
+      case TINYGLTF_MODE_TRIANGLE_STRIP:
+        mode = GL_TRIANGLE_STRIP;
+        break;
+      case TINYGLTF_MODE_TRIANGLE_FAN:
+        mode = GL_TRIANGLE_FAN;
+        break;
       default: {
         const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
-        const std::string name = prim.mode >= 0 && prim.mode < 4 ? names[prim.mode] : "mode " + std::to_string(prim.mode);
+        const std::string name =
+            prim.mode >= 0 && prim.mode < 4 ? names[prim.mode] : "mode " + std::to_string(prim.mode);
         notes_.push_back(where + ": " + name + " skipped (nestwalk reads triangles)");
         return nullptr;
       }
@@ -340,7 +365,8 @@ class GraphBuilder {
     const AccessorView positions = attribute(pos->second, where, "POSITION", {3}, true);
     osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
     osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array(static_cast<unsigned>(positions.count));
-    for (std::size_t i = 0; i < positions.count; ++i) (*v)[i].set(positions.value(i, 0), positions.value(i, 1), positions.value(i, 2));
+    for (std::size_t i = 0; i < positions.count; ++i)
+      (*v)[i].set(positions.value(i, 0), positions.value(i, 1), positions.value(i, 2));
     g->setVertexArray(v.get());
     if (!prim.targets.empty()) notes_.push_back(where + ": morph targets skipped");
 
@@ -385,8 +411,9 @@ class GraphBuilder {
       for (std::size_t i = 0; i < count; ++i) {
         const std::uint32_t k = idx.index(i);
         if (k >= positions.count)
-          throw GltfProblem(where + ": index " + std::to_string(k) + " (element " + std::to_string(i) + " of accessor " +
-                            std::to_string(prim.indices) + ") is past the " + std::to_string(positions.count) + " vertices");
+          throw GltfProblem(where + ": index " + std::to_string(k) + " (element " + std::to_string(i) +
+                            " of accessor " + std::to_string(prim.indices) + ") is past the " +
+                            std::to_string(positions.count) + " vertices");
         (*e)[i] = k;
       }
       g->addPrimitiveSet(e.get());
@@ -401,15 +428,17 @@ class GraphBuilder {
 
   static unsigned texcoordSet(const std::string& name) {
     const std::string digits = name.substr(std::strlen("TEXCOORD_"));
-    if (digits.empty() || digits.size() > 2 || !std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+    if (digits.empty() || digits.size() > 2 ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
       return kMaxTexcoordSets + 1;
     return static_cast<unsigned>(std::stoi(digits));
   }
 
   /// A vertex attribute: its accessor checked, with `allowed` component counts, and (when
   /// `vertices` is given) one element per vertex.
-  AccessorView attribute(int accessor, const std::string& where, const std::string& name, std::initializer_list<int> allowed,
-                         bool allowIntegers, std::optional<std::size_t> vertices = std::nullopt) const {
+  AccessorView attribute(int accessor, const std::string& where, const std::string& name,
+                         std::initializer_list<int> allowed, bool allowIntegers,
+                         std::optional<std::size_t> vertices = std::nullopt) const {
     const AccessorView a = accessorView(accessor, where, name.c_str());
     if (std::find(allowed.begin(), allowed.end(), a.components) == allowed.end())
       throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " has " +
@@ -417,8 +446,8 @@ class GraphBuilder {
     if (!allowIntegers && a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
       throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " is not of floats");
     if (vertices && a.count != *vertices)
-      throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " has " + std::to_string(a.count) +
-                        " elements for " + std::to_string(*vertices) + " vertices");
+      throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " has " +
+                        std::to_string(a.count) + " elements for " + std::to_string(*vertices) + " vertices");
     return a;
   }
 
@@ -444,15 +473,17 @@ class GraphBuilder {
       throw GltfProblem(at + ": " + self + " has an unknown type or component type");
     const std::size_t element = static_cast<std::size_t>(components) * static_cast<std::size_t>(componentBytes);
     const std::size_t stride = view.byteStride > 0 ? view.byteStride : element;
-    if (stride < element) throw GltfProblem(at + ": " + viewName + "'s stride " + std::to_string(stride) + " is shorter than an element of " + self);
+    if (stride < element)
+      throw GltfProblem(at + ": " + viewName + "'s stride " + std::to_string(stride) +
+                        " is shorter than an element of " + self);
     // The last byte read: byteOffset + stride * (count - 1) + element, computed without overflow.
     if (a.count > 0) {
       const std::size_t room = view.byteLength;
       if (a.byteOffset > room || element > room - a.byteOffset ||
           (a.count - 1) > (room - a.byteOffset - element) / stride)
         throw GltfProblem(at + ": " + self + " reads past the end of " + viewName + " (" + std::to_string(a.count) +
-                          " elements of " + std::to_string(element) + " bytes from byte " + std::to_string(a.byteOffset) +
-                          ", the view has " + std::to_string(view.byteLength) + ")");
+                          " elements of " + std::to_string(element) + " bytes from byte " +
+                          std::to_string(a.byteOffset) + ", the view has " + std::to_string(view.byteLength) + ")");
     }
     AccessorView out;
     out.data = buffer.data() + view.byteOffset + a.byteOffset;
@@ -492,8 +523,10 @@ class GraphBuilder {
     MaterialState out;
     out.state = new osg::StateSet;
     const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
-    if (f.size() != 4) throw GltfProblem(where + ": baseColorFactor has " + std::to_string(f.size()) + " numbers, not 4");
-    out.baseColour.set(static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2]), static_cast<float>(f[3]));
+    if (f.size() != 4)
+      throw GltfProblem(where + ": baseColorFactor has " + std::to_string(f.size()) + " numbers, not 4");
+    out.baseColour.set(static_cast<float>(f[0]), static_cast<float>(f[1]), static_cast<float>(f[2]),
+                       static_cast<float>(f[3]));
     // The colour array carries the base colour (applyMaterial): the material follows it.
     osg::ref_ptr<osg::Material> material = new osg::Material;
     material->setColorMode(osg::Material::AMBIENT_AND_DIFFUSE);
@@ -505,7 +538,9 @@ class GraphBuilder {
     const tinygltf::TextureInfo& tex = mat.pbrMetallicRoughness.baseColorTexture;
     if (tex.index >= 0) {
       checkIndex(tex.index, doc_.textures.size(), where + ": baseColorTexture", "texture");
-      const unsigned unit = tex.texCoord >= 0 && tex.texCoord <= static_cast<int>(kMaxTexcoordSets) ? static_cast<unsigned>(tex.texCoord) : 0;
+      const unsigned unit = tex.texCoord >= 0 && tex.texCoord <= static_cast<int>(kMaxTexcoordSets)
+                                ? static_cast<unsigned>(tex.texCoord)
+                                : 0;
       if (osg::ref_ptr<osg::Texture2D> t = texture(static_cast<std::size_t>(tex.index)))
         out.state->setTextureAttributeAndModes(unit, t.get());
     }
@@ -524,13 +559,15 @@ class GraphBuilder {
     const std::string imageName = item("images", static_cast<std::size_t>(tex.source));
     if (img.image.empty() || img.width <= 0 || img.height <= 0) {
       if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)
-        throw GltfProblem(imageName + ": '" + img.uri + "' could not be read (missing beside the model, or not a PNG or JPEG)");
+        throw GltfProblem(imageName + ": '" + img.uri +
+                          "' could not be read (missing beside the model, or not a PNG or JPEG)");
       throw GltfProblem(imageName + ": holds no picture");
     }
     const GLenum type = img.bits == 16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE;
     const GLenum formats[] = {GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA};
     if (img.component < 1 || img.component > 4 || (img.bits != 8 && img.bits != 16))
-      throw GltfProblem(imageName + ": " + std::to_string(img.component) + " channels of " + std::to_string(img.bits) + " bits");
+      throw GltfProblem(imageName + ": " + std::to_string(img.component) + " channels of " + std::to_string(img.bits) +
+                        " bits");
     const std::size_t bytes = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height) *
                               static_cast<std::size_t>(img.component) * static_cast<std::size_t>(img.bits / 8);
     if (img.image.size() < bytes) throw GltfProblem(imageName + ": holds fewer pixels than its size");
@@ -556,9 +593,12 @@ class GraphBuilder {
 
   static osg::Texture::WrapMode wrap(int mode) {
     switch (mode) {
-      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return osg::Texture::CLAMP_TO_EDGE;
-      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return osg::Texture::MIRROR;
-      default: return osg::Texture::REPEAT;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return osg::Texture::CLAMP_TO_EDGE;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return osg::Texture::MIRROR;
+      default:
+        return osg::Texture::REPEAT;
     }
   }
 
@@ -583,16 +623,19 @@ std::string glbContainerProblem(std::string_view bytes) {
   const std::string size = std::to_string(bytes.size());
   if (littleEndian32(bytes, 4) != 2) return "a .glb of version " + std::to_string(littleEndian32(bytes, 4)) + ", not 2";
   if (littleEndian32(bytes, 8) != bytes.size())
-    return "the .glb header's length " + std::to_string(littleEndian32(bytes, 8)) + " is not the file's " + size + " bytes";
+    return "the .glb header's length " + std::to_string(littleEndian32(bytes, 8)) + " is not the file's " + size +
+           " bytes";
   const std::uint64_t jsonLength = littleEndian32(bytes, 12);
   if (littleEndian32(bytes, 16) != kJson) return "the .glb's first chunk is not its JSON chunk";
   if (kHeader + kChunkHeader + jsonLength > bytes.size())
-    return "the JSON chunk's length " + std::to_string(jsonLength) + " runs past the end of the file (" + size + " bytes)";
+    return "the JSON chunk's length " + std::to_string(jsonLength) + " runs past the end of the file (" + size +
+           " bytes)";
   const std::uint64_t bin = kHeader + kChunkHeader + jsonLength;
   if (bin + kChunkHeader <= bytes.size()) {
     const std::uint64_t binLength = littleEndian32(bytes, bin);
     if (littleEndian32(bytes, bin + 4) == kBin && bin + kChunkHeader + binLength > bytes.size())
-      return "the BIN chunk's length " + std::to_string(binLength) + " runs past the end of the file (" + size + " bytes)";
+      return "the BIN chunk's length " + std::to_string(binLength) + " runs past the end of the file (" + size +
+             " bytes)";
   }
   return "";
 }
@@ -616,10 +659,12 @@ GltfModel build(std::string_view bytes, const std::string& folder) {
     }
     const unsigned length = static_cast<unsigned>(bytes.size());
     const bool parsed =
-        binary ? parser.LoadBinaryFromMemory(&doc, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()), length, folder)
+        binary ? parser.LoadBinaryFromMemory(&doc, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                             length, folder)
                : parser.LoadASCIIFromString(&doc, &err, &warn, bytes.data(), length, folder);
     if (!parsed) {
-      out.problem = std::string(binary ? "not a valid .glb file" : "not a valid glTF file") + " (" + oneLine(err.empty() ? warn : err) + ")";
+      out.problem = std::string(binary ? "not a valid .glb file" : "not a valid glTF file") + " (" +
+                    oneLine(err.empty() ? warn : err) + ")";
       return out;
     }
     out.node = GraphBuilder(doc, out.notes).build();
@@ -637,7 +682,8 @@ GltfModel build(std::string_view bytes, const std::string& folder) {
 
 bool isGltfPath(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".gltf" || ext == ".glb";
 }
 

@@ -63,7 +63,8 @@ Frames readFrames(const fs::path& file, const Eigen::Vector3d& origin) {
   if (!in) throw InputError(file.string() + ": could not be opened");
   CsvReader csv(in, file.string());
   const int frame = csv.column("frame"), time = csv.column("time"), x = csv.column("x"), y = csv.column("y"),
-            z = csv.column("z"), heading = csv.column("heading"), pitch = csv.column("pitch"), blocked = csv.column("blocked");
+            z = csv.column("z"), heading = csv.column("heading"), pitch = csv.column("pitch"),
+            blocked = csv.column("blocked");
   std::vector<double> t, xs, ys, zs, hs, ps;
   std::vector<int> bs;
   Frames out;
@@ -95,11 +96,18 @@ Json readContacts(const fs::path& file, const Frames& frames) {
     const long frame = p.value("frame", -1L);
     const auto row = frames.rowOfFrame.find(frame);
     if (row == frames.rowOfFrame.end())
-      throw InputError(file.string() + ": a contact at frame " + std::to_string(frame) + ", which frames.csv does not hold");
+      throw InputError(file.string() + ": a contact at frame " + std::to_string(frame) +
+                       ", which frames.csv does not hold");
     const std::size_t r = row->second;
-    out.push_back({{"unit", p.value("unit", "")}, {"kind", p.value("kind", "")}, {"time_s", p.value("time_s", 0.0)},
-                   {"frame", frame}, {"stop_gap_m", p.value("stop_gap_m", 0.0)}, {"approach_deg", p.value("approach_deg", 0.0)},
-                   {"x", frames.json["x"][r]}, {"y", frames.json["y"][r]}, {"z", frames.json["z"][r]}});
+    out.push_back({{"unit", p.value("unit", "")},
+                   {"kind", p.value("kind", "")},
+                   {"time_s", p.value("time_s", 0.0)},
+                   {"frame", frame},
+                   {"stop_gap_m", p.value("stop_gap_m", 0.0)},
+                   {"approach_deg", p.value("approach_deg", 0.0)},
+                   {"x", frames.json["x"][r]},
+                   {"y", frames.json["y"][r]},
+                   {"z", frames.json["z"][r]}});
   }
   return out;
 }
@@ -120,7 +128,8 @@ WalkthroughSite writeWalkthroughSite(const WalkthroughSiteOptions& o, const std:
   if (!fs::is_directory(run)) throw InputError(o.runFolder + ": not a folder");
   for (const char* needed : {"summary.json", "frames.csv"})
     if (!fs::exists(run / needed))
-      throw InputError(o.runFolder + ": is not a run's folder: " + needed + " missing (write one with `nestwalk run --out`)");
+      throw InputError(o.runFolder + ": is not a run's folder: " + needed +
+                       " missing (write one with `nestwalk run --out`)");
   for (const char* page : {"index.html", "walkthrough.js"})
     if (!fs::exists(fs::path(o.pageFolder) / page))
       throw InputError(o.pageFolder + ": the walkthrough page's " + page + " is missing (build the web_page target)");
@@ -169,7 +178,8 @@ WalkthroughSite writeWalkthroughSite(const WalkthroughSiteOptions& o, const std:
   };
   for (const auto& [file, title] : kRunFigures) figure(run, file, title);
   if (!o.reportFolder.empty()) {
-    if (!fs::is_directory(o.reportFolder)) throw InputError(o.reportFolder + ": not a folder (a `nestwalk report --out` folder)");
+    if (!fs::is_directory(o.reportFolder))
+      throw InputError(o.reportFolder + ": not a folder (a `nestwalk report --out` folder)");
     for (const auto& [file, title] : kReportFigures) figure(o.reportFolder, file, title);
   }
   site.figures = doc["figures"].size();

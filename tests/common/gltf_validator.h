@@ -32,7 +32,8 @@ inline nlohmann::json validateGltf(const std::filesystem::path& file) {
 inline nlohmann::json glbJson(const std::string& bytes) {
   if (bytes.size() < 20) return {};
   std::uint32_t length = 0;
-  for (int i = 3; i >= 0; --i) length = (length << 8) | static_cast<unsigned char>(bytes[12 + static_cast<std::size_t>(i)]);
+  for (int i = 3; i >= 0; --i)
+    length = (length << 8) | static_cast<unsigned char>(bytes[12 + static_cast<std::size_t>(i)]);
   return nlohmann::json::parse(bytes.substr(20, length));
 }
 

@@ -87,7 +87,8 @@ TestGraph makeGraph() {
   // Lines with per-vertex colours, lighting off (wireframes).
   osg::ref_ptr<osg::Geometry> lines = new osg::Geometry;
   lines->setVertexArray(arrayOf<osg::Vec3Array>({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}));
-  osg::ref_ptr<osg::Vec4ubArray> colours = arrayOf<osg::Vec4ubArray>({{255, 255, 0, 255}, {0, 255, 255, 255}, {255, 0, 0, 255}});
+  osg::ref_ptr<osg::Vec4ubArray> colours =
+      arrayOf<osg::Vec4ubArray>({{255, 255, 0, 255}, {0, 255, 255, 255}, {255, 0, 0, 255}});
   colours->setNormalize(true);
   lines->setColorArray(colours.get(), osg::Array::BIND_PER_VERTEX);
   lines->addPrimitiveSet(new osg::DrawArrays(GL_LINE_STRIP, 0, 3));
@@ -99,7 +100,8 @@ TestGraph makeGraph() {
   // A strip geode shared by two transforms (instances of one model).
   osg::ref_ptr<osg::Geometry> strip = new osg::Geometry;
   strip->setVertexArray(arrayOf<osg::Vec3Array>({{0, 0, 0}, {1, 0, 0}, {0, 1, 0.5}, {1, 1, 0.25}, {0, 2, 1}}));
-  strip->setNormalArray(arrayOf<osg::Vec3Array>({{0, 0, 2}, {0, 0, 1}, {0, 0, 0}, {0, 1, 1}, {0, 0, 1}}), osg::Array::BIND_PER_VERTEX);
+  strip->setNormalArray(arrayOf<osg::Vec3Array>({{0, 0, 2}, {0, 0, 1}, {0, 0, 0}, {0, 1, 1}, {0, 0, 1}}),
+                        osg::Array::BIND_PER_VERTEX);
   strip->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLE_STRIP, 0, 5));
   osg::ref_ptr<osg::Geode> shared = new osg::Geode;
   shared->addDrawable(strip.get());

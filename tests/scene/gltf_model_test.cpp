@@ -72,13 +72,17 @@ TEST(GltfModel, NodeTransformsApplyDownTheTree) {
   const std::vector<double> childMatrix = {1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 1, 2, 3, 1};
   const int child = w.addNode({{"mesh", mesh}, {"matrix", childMatrix}});
   const double h = std::sqrt(0.5);
-  const int parent = w.addNode({{"translation", {10, 20, 30}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 3, 4}},
-                                {"children", {child}}, {"mesh", mesh}});
+  const int parent = w.addNode({{"translation", {10, 20, 30}},
+                                {"rotation", {0, 0, h, h}},
+                                {"scale", {2, 3, 4}},
+                                {"children", {child}},
+                                {"mesh", mesh}});
   w.setScene({parent});
   const test::TempFolder dir;
   test::writeFile((dir / "tree.glb").string(), w.glb());
 
-  Eigen::Affine3d parentT = Eigen::Translation3d(10, 20, 30) * Eigen::Quaterniond(h, 0, 0, h) * Eigen::Scaling(2.0, 3.0, 4.0);
+  Eigen::Affine3d parentT =
+      Eigen::Translation3d(10, 20, 30) * Eigen::Quaterniond(h, 0, 0, h) * Eigen::Scaling(2.0, 3.0, 4.0);
   Eigen::Matrix4d childM = Eigen::Map<const Eigen::Matrix4d>(childMatrix.data());  // column-major, as glTF
   const Eigen::Vector3d tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   std::multiset<Corners> expected;
@@ -149,7 +153,8 @@ TEST(GltfModel, APartialTriangleIsDroppedWithANote) {
   GltfWriter w;
   const int pos = w.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
   const int idx = w.addAccessor(std::vector<std::uint32_t>{0, 1, 2, 1, 3}, kUInt, "SCALAR", 5);
-  w.setScene({w.addNode({{"mesh", w.addMesh(Json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}))}})});
+  w.setScene(
+      {w.addNode({{"mesh", w.addMesh(Json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}))}})});
   const test::TempFolder dir;
   const std::string file = (dir / "partial.glb").string();
   test::writeFile(file, w.glb());
@@ -157,7 +162,8 @@ TEST(GltfModel, APartialTriangleIsDroppedWithANote) {
   const TriangleMesh got = loadModelGeometry(file);
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_EQ(trianglesOf(got), std::multiset<Corners>{corners({0, 0, 0}, {1, 0, 0}, {0, 1, 0})});
-  EXPECT_NE(said.find("meshes[0].primitives[0]: 5 indices, not whole triangles; the last 2 ignored"), std::string::npos) << said;
+  EXPECT_NE(said.find("meshes[0].primitives[0]: 5 indices, not whole triangles; the last 2 ignored"), std::string::npos)
+      << said;
 }
 
 TEST(GltfModel, ExternalBufferAndEmbeddedFormsReadTheSame) {
@@ -194,7 +200,8 @@ TEST(GltfModel, ColoursAndTexturesAreTheFilesOwn) {
   const std::string png = fourPixelPng(dir / "four.png");
   GltfWriter w;
   const int pos = w.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
-  const int colours = w.addAccessor(std::vector<std::uint8_t>{255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 51}, kUByte, "VEC4", 3, true);
+  const int colours =
+      w.addAccessor(std::vector<std::uint8_t>{255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 51}, kUByte, "VEC4", 3, true);
   const int uv = w.addAccessor(std::vector<float>{0, 0, 1, 0, 0, 1}, kFloat, "VEC2", 3);
   w.doc["materials"] = Json::array({
       {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1.0, 1.0, 1.0}}}}},
@@ -233,7 +240,8 @@ TEST(GltfModel, ColoursAndTexturesAreTheFilesOwn) {
   // wrap modes (the default sampler repeats).
   for (int k : {1, 2}) {
     SCOPED_TRACE(k);
-    const auto* t = dynamic_cast<const osg::Texture2D*>(g[k]->getStateSet()->getTextureAttribute(0, osg::StateAttribute::TEXTURE));
+    const auto* t =
+        dynamic_cast<const osg::Texture2D*>(g[k]->getStateSet()->getTextureAttribute(0, osg::StateAttribute::TEXTURE));
     ASSERT_TRUE(t);
     const osg::Image* image = t->getImage();
     ASSERT_TRUE(image);
@@ -243,7 +251,8 @@ TEST(GltfModel, ColoursAndTexturesAreTheFilesOwn) {
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 2; ++x) {
         const osg::Vec4 c = image->getColor(x, y);
-        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c[ch] * 255, rgb[y][x][ch], 0.5) << x << "," << y << " channel " << ch;
+        for (int ch = 0; ch < 3; ++ch)
+          EXPECT_NEAR(c[ch] * 255, rgb[y][x][ch], 0.5) << x << "," << y << " channel " << ch;
       }
     EXPECT_EQ(t->getWrap(osg::Texture::WRAP_S), k == 1 ? osg::Texture::CLAMP_TO_EDGE : osg::Texture::REPEAT);
     EXPECT_EQ(t->getWrap(osg::Texture::WRAP_T), k == 1 ? osg::Texture::MIRROR : osg::Texture::REPEAT);
@@ -256,7 +265,8 @@ TEST(GltfModel, ColoursAndTexturesAreTheFilesOwn) {
 
 TEST(GltfModel, CatalogDefaultsStandAGltfAssetUpright) {
   const std::map<std::string, ModelType> types = parseModelTypes(
-      Json::parse(R"({"a": {"model": "m.glb"}, "b": {"model": "m.GLTF"}, "c": {"model": "m.glb", "up": "z", "forward": "+x"}})"),
+      Json::parse(
+          R"({"a": {"model": "m.glb"}, "b": {"model": "m.GLTF"}, "c": {"model": "m.glb", "up": "z", "forward": "+x"}})"),
       "catalog.json", "/models", "types");
   for (const char* name : {"a", "b"}) {
     const ModelType& t = types.at(name);
@@ -306,7 +316,8 @@ TEST(GltfModel, BadFilesAreRefusedNamingTheObject) {
   {
     std::string glb = oneTriangle().glb();
     glb.resize(glb.size() - 8);  // cut short
-    cases.push_back({"cut.glb", glb, "the .glb header's length " + std::to_string(glb.size() + 8) + " is not the file's"});
+    cases.push_back(
+        {"cut.glb", glb, "the .glb header's length " + std::to_string(glb.size() + 8) + " is not the file's"});
   }
   {
     const std::string glb = oneTriangle().glb(1000);  // buffer 0 claims more than the BIN chunk holds
@@ -315,12 +326,14 @@ TEST(GltfModel, BadFilesAreRefusedNamingTheObject) {
   {
     GltfWriter w = oneTriangle();
     w.doc["accessors"][0]["count"] = 4;
-    cases.push_back({"past.glb", w.glb(), "meshes[0].primitives[0]: POSITION: accessor 0 reads past the end of buffer view 0"});
+    cases.push_back(
+        {"past.glb", w.glb(), "meshes[0].primitives[0]: POSITION: accessor 0 reads past the end of buffer view 0"});
   }
   {
     GltfWriter w = oneTriangle();
     w.doc["bufferViews"][0]["byteLength"] = 4000;
-    cases.push_back({"view.glb", w.glb(), "meshes[0].primitives[0]: POSITION: buffer view 0 reads past the end of buffer 0"});
+    cases.push_back(
+        {"view.glb", w.glb(), "meshes[0].primitives[0]: POSITION: buffer view 0 reads past the end of buffer 0"});
   }
   {
     GltfWriter w = oneTriangle();
@@ -329,8 +342,10 @@ TEST(GltfModel, BadFilesAreRefusedNamingTheObject) {
   }
   {
     GltfWriter w = oneTriangle();
-    w.doc["meshes"][0]["primitives"][0]["indices"] = w.addAccessor(std::vector<std::uint8_t>{0, 1, 9}, kUByte, "SCALAR", 3);
-    cases.push_back({"index.glb", w.glb(), "meshes[0].primitives[0]: index 9 (element 2 of accessor 1) is past the 3 vertices"});
+    w.doc["meshes"][0]["primitives"][0]["indices"] =
+        w.addAccessor(std::vector<std::uint8_t>{0, 1, 9}, kUByte, "SCALAR", 3);
+    cases.push_back(
+        {"index.glb", w.glb(), "meshes[0].primitives[0]: index 9 (element 2 of accessor 1) is past the 3 vertices"});
   }
   {
     GltfWriter w = oneTriangle();
@@ -353,7 +368,8 @@ TEST(GltfModel, BadFilesAreRefusedNamingTheObject) {
   }
   {
     GltfWriter w = oneTriangle();
-    cases.push_back({"base64.gltf", w.gltf("data:application/octet-stream;base64,@@not base64@@"), "not a valid glTF file"});
+    cases.push_back(
+        {"base64.gltf", w.gltf("data:application/octet-stream;base64,@@not base64@@"), "not a valid glTF file"});
   }
   {
     GltfWriter w = oneTriangle();

@@ -58,8 +58,8 @@ TEST(ExportGltf, BundledSceneIsValidSmallAndOnTheMap) {
   const nlohmann::json report = validateGltf(out);
   ASSERT_FALSE(report.is_null());
   EXPECT_EQ(report["errors"], 0) << report.dump(1);
-  std::printf("validator: %d errors, %d warnings, %d infos\n", report["errors"].get<int>(), report["warnings"].get<int>(),
-              report["infos"].get<int>());
+  std::printf("validator: %d errors, %d warnings, %d infos\n", report["errors"].get<int>(),
+              report["warnings"].get<int>(), report["infos"].get<int>());
 
   const Scene scene = loadScene(bundledSceneFile().string());
   const nlohmann::json doc = glbJson(readAll(out));

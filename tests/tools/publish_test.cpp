@@ -90,8 +90,7 @@ TEST(Publish, SiteHoldsTheRunAndThePagePlaysItInChromium) {
   for (std::size_t i = 0; i < rows.size(); i += 97) {
     EXPECT_DOUBLE_EQ(doc["frames"]["t"][i].get<double>(), rows[i][0]);
     for (int k = 0; k < 3; ++k)
-      EXPECT_NEAR(doc["frames"][kAxes[k]][i].get<double>(),
-                  rows[i][1 + k] - origin[k].get<double>(), 1e-9);
+      EXPECT_NEAR(doc["frames"][kAxes[k]][i].get<double>(), rows[i][1 + k] - origin[k].get<double>(), 1e-9);
   }
   const Json results = Json::parse(readAll(run / "results.geojson"));
   std::vector<Json> contacts;
@@ -115,8 +114,7 @@ TEST(Publish, SiteHoldsTheRunAndThePagePlaysItInChromium) {
   const double a = (t - rows[k][0]) / (rows[k + 1][0] - rows[k][0]);
   for (int c = 0; c < 3; ++c) {
     const double want = rows[k][1 + c] + a * (rows[k + 1][1 + c] - rows[k][1 + c]) - origin[c].get<double>();
-    EXPECT_NEAR(p["at_time"]["walker"][kAxes[c]].get<double>(), want,
-                kPositionToleranceM) << "axis " << c;
+    EXPECT_NEAR(p["at_time"]["walker"][kAxes[c]].get<double>(), want, kPositionToleranceM) << "axis " << c;
   }
   const std::string unit = contacts[0]["unit"];
   EXPECT_NE(p["contact"]["info"].get<std::string>().find(unit), std::string::npos) << p["contact"].dump(1);
@@ -124,8 +122,9 @@ TEST(Publish, SiteHoldsTheRunAndThePagePlaysItInChromium) {
   std::size_t row = 0;
   while (row + 1 < rows.size() && rows[row + 1][0] <= contactTime) ++row;
   for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(p["contact"]["pose"][kAxes[c]].get<double>(),
-                rows[row][1 + c] - origin[c].get<double>(), kPositionToleranceM) << "axis " << c;
+    EXPECT_NEAR(p["contact"]["pose"][kAxes[c]].get<double>(), rows[row][1 + c] - origin[c].get<double>(),
+                kPositionToleranceM)
+        << "axis " << c;
 }
 
 /// Sky: bluish and bright (the renderer's gradient from the horizon colour to the zenith's, the
@@ -163,9 +162,9 @@ TEST(Publish, ThePageDrawsTheRenderersViewAtRecordedPoses) {
   const TempFolder dir;
   const fs::path run = dir / "run", site = dir / "site";
   // Four frames rendered offscreen at 1280 x 720 (steps 1, 901, 1801, 2701).
-  const CommandResult r = runNestwalk("run " + quoted(bundledSceneFile()) + " --script " +
-                                      quoted(bundledScript("bench_patrol.txt")) + " --out " + quoted(run) +
-                                      " --render --every 900 --size 1280x720");
+  const CommandResult r =
+      runNestwalk("run " + quoted(bundledSceneFile()) + " --script " + quoted(bundledScript("bench_patrol.txt")) +
+                  " --out " + quoted(run) + " --render --every 900 --size 1280x720");
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   ASSERT_EQ(runNestwalk("publish " + quoted(run) + " --out " + quoted(site)).exitCode, 0);
   std::ifstream csv(run / "frames.csv");

@@ -49,19 +49,22 @@ void runPublish(const PublishArgs& a) {
   OutputFolder site(a.out);
   const WalkthroughSite w = writeWalkthroughSite(o, site.tempPath());
   site.commit();
-  std::printf("published %s as %s: %zu frames, %zu contacts, %zu expectations, %zu figures; scene.glb %s MB "
-              "(%s, terrain within %s m)\n",
-              a.run.c_str(), a.out.c_str(), w.frames, w.contacts, w.expectations, w.figures,
-              shortText(double(w.gltf.bytes) / 1e6).c_str(), w.sceneFile.c_str(), shortText(a.maxErrorM).c_str());
-  std::printf("  open it through any static file server: cd %s && python3 -m http.server, then http://localhost:8000/\n",
-              a.out.c_str());
+  std::printf(
+      "published %s as %s: %zu frames, %zu contacts, %zu expectations, %zu figures; scene.glb %s MB "
+      "(%s, terrain within %s m)\n",
+      a.run.c_str(), a.out.c_str(), w.frames, w.contacts, w.expectations, w.figures,
+      shortText(double(w.gltf.bytes) / 1e6).c_str(), w.sceneFile.c_str(), shortText(a.maxErrorM).c_str());
+  std::printf(
+      "  open it through any static file server: cd %s && python3 -m http.server, then http://localhost:8000/\n",
+      a.out.c_str());
 }
 
 }  // namespace
 
 void registerPublish(CLI::App& app) {
   auto args = std::make_shared<PublishArgs>();
-  CLI::App* cmd = app.add_subcommand("publish", "Publish a recorded run as a static web page (3-D walkthrough, contacts, figures)");
+  CLI::App* cmd =
+      app.add_subcommand("publish", "Publish a recorded run as a static web page (3-D walkthrough, contacts, figures)");
   cmd->add_option("RUN_DIR", args->run, "A run's folder (nestwalk run --out)")->required();
   cmd->add_option("--out", args->out, "The site's folder")->required();
   cmd->add_option("--scene", args->scene, "The run's scene (default: the one its summary.json names)");
