@@ -362,7 +362,7 @@ class GraphBuilder {
     }
     const auto pos = prim.attributes.find("POSITION");
     if (pos == prim.attributes.end()) throw GltfProblem(where + ": has no POSITION attribute");
-    const AccessorView positions = attribute(pos->second, where, "POSITION", {3}, true);
+    const AccessorView positions = attribute(pos->second, where, "POSITION", {3});
     osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
     osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array(static_cast<unsigned>(positions.count));
     for (std::size_t i = 0; i < positions.count; ++i)
@@ -372,21 +372,21 @@ class GraphBuilder {
 
     for (const auto& [name, accessor] : prim.attributes) {
       if (name == "NORMAL") {
-        const AccessorView a = attribute(accessor, where, name, {3}, true, positions.count);
+        const AccessorView a = attribute(accessor, where, name, {3}, positions.count);
         osg::ref_ptr<osg::Vec3Array> nrm = new osg::Vec3Array(static_cast<unsigned>(a.count));
         for (std::size_t i = 0; i < a.count; ++i) (*nrm)[i].set(a.value(i, 0), a.value(i, 1), a.value(i, 2));
         g->setNormalArray(nrm.get(), osg::Array::BIND_PER_VERTEX);
       } else if (name.rfind("TEXCOORD_", 0) == 0) {
         const unsigned unit = texcoordSet(name);
         if (unit > kMaxTexcoordSets) continue;
-        const AccessorView a = attribute(accessor, where, name, {2}, true, positions.count);
+        const AccessorView a = attribute(accessor, where, name, {2}, positions.count);
         osg::ref_ptr<osg::Vec2Array> t = new osg::Vec2Array(static_cast<unsigned>(a.count));
         // glTF's v runs down the image from its first row, as OpenGL's t runs from the first row
         // of the uploaded pixels (tinygltf decodes top row first): the coordinate is kept as is.
         for (std::size_t i = 0; i < a.count; ++i) (*t)[i].set(a.value(i, 0), a.value(i, 1));
         g->setTexCoordArray(unit, t.get(), osg::Array::BIND_PER_VERTEX);
       } else if (name == "COLOR_0") {
-        const AccessorView a = attribute(accessor, where, name, {3, 4}, true, positions.count);
+        const AccessorView a = attribute(accessor, where, name, {3, 4}, positions.count);
         osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array(static_cast<unsigned>(a.count));
         for (std::size_t i = 0; i < a.count; ++i)
           (*c)[i].set(a.value(i, 0), a.value(i, 1), a.value(i, 2), a.components == 4 ? a.value(i, 3) : 1.0f);
@@ -437,14 +437,12 @@ class GraphBuilder {
   /// A vertex attribute: its accessor checked, with `allowed` component counts, and (when
   /// `vertices` is given) one element per vertex.
   AccessorView attribute(int accessor, const std::string& where, const std::string& name,
-                         std::initializer_list<int> allowed, bool allowIntegers,
+                         std::initializer_list<int> allowed,
                          std::optional<std::size_t> vertices = std::nullopt) const {
     const AccessorView a = accessorView(accessor, where, name.c_str());
     if (std::find(allowed.begin(), allowed.end(), a.components) == allowed.end())
       throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " has " +
                         std::to_string(a.components) + " components per element");
-    if (!allowIntegers && a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-      throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " is not of floats");
     if (vertices && a.count != *vertices)
       throw GltfProblem(where + ": " + name + ": accessor " + std::to_string(accessor) + " has " +
                         std::to_string(a.count) + " elements for " + std::to_string(*vertices) + " vertices");

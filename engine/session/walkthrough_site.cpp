@@ -172,7 +172,7 @@ WalkthroughSite writeWalkthroughSite(const WalkthroughSiteOptions& o, const std:
   doc["figures"] = Json::array();
   auto figure = [&](const fs::path& from, const char* file, const char* title) {
     if (!fs::exists(from / file)) return;
-    const std::string name = doc["figures"].empty() || !fs::exists(out / file) ? file : std::string("report_") + file;
+    const std::string name = fs::exists(out / file) ? std::string("report_") + file : std::string(file);
     fs::copy_file(from / file, out / name);
     doc["figures"].push_back({{"file", name}, {"title", title}});
   };

@@ -69,9 +69,10 @@ void runExport(const ExportArgs& a) {
     SceneGltf written;
     try {
       written = writeSceneGltf(scene, go, file.tempPath(), ext == "glb", a.instancing);
+    } catch (const InputError&) {
+      throw;  // names its own file (the imagery, a model)
     } catch (const std::runtime_error& e) {
-      if (dynamic_cast<const InputError*>(&e)) throw;
-      throw InputError(a.out + ": " + e.what());
+      throw InputError(a.out + ": " + e.what());  // the glTF file could not be written
     }
     const GltfWriteStats& gltf = written.gltf;
     const SceneGraphParts& parts = written.parts;
