@@ -97,15 +97,19 @@ std::size_t ChunkMesh::bytes() const {
          texCoords.size() * sizeof(float);
 }
 
-namespace {
-
-/// Green valleys, brown slopes, white tops: the height ramp of the terrain's colours where no
-/// imagery is draped, RGB in [0, 1].
-Eigen::Vector3d heightColour(double h, double lo, double hi) {
+Eigen::Vector3d terrainRampColour(double h, double lo, double hi) {
   const double f = std::clamp((h - lo) / (hi > lo ? hi - lo : 1.0), 0.0, 1.0);
   const Eigen::Vector3d green(0.25, 0.45, 0.2), brown(0.5, 0.4, 0.3), white(0.95, 0.95, 0.95);
   return f < 0.6 ? Eigen::Vector3d(green * (1 - f / 0.6) + brown * (f / 0.6))
                  : Eigen::Vector3d(brown * (1 - (f - 0.6) / 0.4) + white * ((f - 0.6) / 0.4));
+}
+
+namespace {
+
+/// Adds triangle (a, b, c)'s upward normal, of length twice its area, to the block's sum.
+void addNormal(ChunkBlock& block, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  block.normalSum += n.z() < 0 ? Eigen::Vector3d(-n) : n;
 }
 
 std::uint8_t toByte(double v) { return std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
@@ -433,7 +437,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   // Base colours: the imagery on the level's regular grid (the last, irregular column or row blended
   // between the two regular ones around it), over the height ramp where the imagery is transparent.
   std::vector<std::uint8_t> image;
-  if (shading.imagery) {
+  if (shading.imagery && shading.baseColours) {
     image = shading.imagery(shading.mapOrigin.x() + c0 * dx, shading.mapOrigin.y() - r0 * dy, step * dx, step * dy,
                             int(nc), int(nr));
     if (image.size() != nc * nr * 4) image.clear();
@@ -475,7 +479,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
       for (int k = 0; k < 3; ++k) m.positions.push_back(float(p[k] - m.offset[k]));
       m.surfaceMin = m.surfaceMin.cwiseMin(p);
       m.surfaceMax = m.surfaceMax.cwiseMax(p);
-      Eigen::Vector3d colour = heightColour(p.z(), lo, hi);
+      Eigen::Vector3d colour = shading.baseColours ? terrainRampColour(p.z(), lo, hi) : Eigen::Vector3d::Ones();
       if (!image.empty()) {
         const Eigen::Vector4d im = imageAt(i, j);
         colour = im.w() * im.head<3>() + (1 - im.w()) * colour;
@@ -603,6 +607,13 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         if (!up && !low) continue;
         ChunkBlock& blk = quad.blocks[blockOf(i, j)];
         if (key.level > 0) blk.error = std::max(blk.error, gridErrors ? gridErrorOf(i, j) : cellError(g, i, j));
+        {
+          auto at = [&](std::size_t ii, std::size_t jj) {
+            return Eigen::Vector3d(g.cols[ii] * dx, -g.rows[jj] * dy, g.height(ii, jj));
+          };
+          if (up) addNormal(blk, at(i, j), at(i + 1, j + 1), at(i + 1, j));
+          if (low) addNormal(blk, at(i, j), at(i, j + 1), at(i + 1, j + 1));
+        }
         for (std::size_t jj = j; jj <= j + 1; ++jj)
           for (std::size_t ii = i; ii <= i + 1; ++ii)
             if (g.valid(ii, jj)) {
@@ -682,11 +693,13 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
           ChunkBlock& blk = out.blocks[blockOf(ci, cj)];
           blk.error = std::max(blk.error, gridErrors && key.level > 0 ? triangleErrorBound(g, tri, gridErrorOf)
                                                                        : triangleError(g, tri));
+          std::array<Eigen::Vector3d, 3> corner;
           for (std::size_t k = 0; k < 3; ++k) {
-            const Eigen::Vector3d p(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
-            blk.min = blk.min.cwiseMin(p);
-            blk.max = blk.max.cwiseMax(p);
+            corner[k] = Eigen::Vector3d(tri.v[k][0] * dx, -tri.v[k][1] * dy, tri.h[k]);
+            blk.min = blk.min.cwiseMin(corner[k]);
+            blk.max = blk.max.cwiseMax(corner[k]);
           }
+          addNormal(blk, corner[0], corner[1], corner[2]);
         }
         for (const ChunkBlock& blk : out.blocks) out.maxError = std::max(out.maxError, blk.error);
         return out;
@@ -755,6 +768,11 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   if (m.surfaceVertices > 0) {
     m.boxMin = m.boxMin.cwiseMin(m.surfaceMin);
     m.boxMax = m.boxMax.cwiseMax(m.surfaceMax);
+  }
+  if (!shading.baseColours) {  // the light alone, per vertex: no texture of the level's own
+    m.texture = {};
+    m.texCoords = {};
+    m.textureWidth = m.textureHeight = 0;
   }
   return m;
 }

@@ -80,7 +80,9 @@
 // s samples apart; one off the level's lattice, beside the grid's irregular last column or row,
 // counts as missing, as one beyond the grid does), with the renderer's sun: kAmbientLight + kSunLight * shade, at most 1. The same
 // colours, one texel per kept sample, form the chunk's texture: a simplified surface's large
-// triangles still show the imagery and the hillshade at the level's resolution.
+// triangles still show the imagery and the hillshade at the level's resolution. Without base colours
+// (ChunkShading::baseColours false: the renderer drapes imagery tiles at the imagery's own resolution
+// over the chunk) a vertex's colour is the light alone and there is no texture.
 //
 // Frames: the terrain's mesh frame, x = col * dx, y = -row * dy, z = height: metres from sample
 // (0, 0) for a projected CRS (the drawing side places it on the map). A chunk's vertices are stored
@@ -209,11 +211,14 @@ struct ChunkPyramidData {
   std::vector<float> blockLow;
 };
 
-/// A block of a chunk's cells: their largest error (metres) and the mesh-frame box of their surface
-/// vertices (empty, min > max, when none of its cells has a triangle).
+/// A block of a chunk's cells: their largest error (metres), the mesh-frame box of their surface
+/// vertices (empty, min > max, when none of its cells has a triangle), and the sum of its triangles'
+/// upward normals weighted by their areas (the direction of its mean normal: how obliquely a view
+/// meets it, for the imagery's texel choice, imagery_tiles.h; zero with the box empty).
 struct ChunkBlock {
   double error = 0;
   Eigen::Vector3d min, max;
+  Eigen::Vector3d normalSum = Eigen::Vector3d::Zero();
 };
 
 /// Level 0: a quadrant's surface simplified within less error than its own, for nearer views (see
@@ -272,10 +277,18 @@ struct ChunkShading {
   bool shade = true;                       // Horn's hillshade baked in (else the base colour alone)
   Eigen::Vector3d sun{-0.5, 0.5, std::sqrt(0.5)};  // towards the sun, map axes: azimuth 315, altitude 45
   ColourGridReader imagery;                // draped imagery (empty: colours by height)
+  /// false: each vertex's colour is the light alone (grey: the hillshade's, or white without shade)
+  /// and the chunk has no texture: the drawing side lays the imagery's own tiles over it
+  /// (engine/render/imagery_tiles.h). `imagery` is then not read.
+  bool baseColours = true;
   double heightLo = 0, heightHi = 1;       // the height ramp's ends, metres (the DEM's range)
   /// The map position of mesh-frame (0, 0): the heightfield's sample (0, 0), for the imagery reader.
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();
 };
+
+/// The colour of the terrain at height h where no imagery is draped: green valleys, brown slopes,
+/// white tops, linear between, over [lo, hi] (metres); RGB in [0, 1].
+Eigen::Vector3d terrainRampColour(double h, double lo, double hi);
 
 /// Builds one chunk (see above). The layout must be the heightfield's (same cols and rows).
 /// simplifyFraction > 0 simplifies each quadrant's surface (see "Simplification" above) to about

@@ -21,6 +21,7 @@ ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh)
     colours_->setNormalize(true);
     return;
   }
+  perVertexColours_ = false;
   colours_ = new osg::Vec4ubArray(1);
   (*colours_)[0] = osg::Vec4ub(255, 255, 255, 255);
   colours_->setNormalize(true);
@@ -43,13 +44,20 @@ ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh)
   textureState_->setTextureAttributeAndModes(0, texture.get(), osg::StateAttribute::ON);
 }
 
+ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh, double spanX, double spanY) : ChunkNodeMaker(mesh) {
+  if (mesh.vertexCount() == 0 || !perVertexColours_) return;  // a mesh with its own texture keeps it
+  texCoords_ = new osg::Vec2Array(unsigned(mesh.vertexCount()));
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+    (*texCoords_)[unsigned(v)].set(float(double(mesh.positions[3 * v]) / spanX), float(-double(mesh.positions[3 * v + 1]) / spanY));
+}
+
 osg::ref_ptr<osg::MatrixTransform> ChunkNodeMaker::operator()(const std::vector<IndexRange>& ranges,
                                                               const std::string& suffix) const {
   osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
   g->setUseDisplayList(false);
   g->setUseVertexBufferObjects(true);
   g->setVertexArray(positions_.get());
-  g->setColorArray(colours_.get(), texCoords_ ? osg::Array::BIND_OVERALL : osg::Array::BIND_PER_VERTEX);
+  g->setColorArray(colours_.get(), perVertexColours_ ? osg::Array::BIND_PER_VERTEX : osg::Array::BIND_OVERALL);
   if (texCoords_) g->setTexCoordArray(0, texCoords_.get());
   std::size_t count = 0;
   for (const IndexRange& r : ranges) count += r.count;

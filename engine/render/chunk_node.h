@@ -11,6 +11,12 @@
 // arrays and texture, so the surfaces of one chunk cost their indices only. Named "chunk LEVEL/X/Y" + the given suffix (tests
 // and the scene graph's readers tell the surfaces apart by it).
 //
+// Imagery coordinates (when a span is given, for a mesh built without base colours): the vertex
+// colours (the light) stay, and texture unit 0 gets each vertex's place in the chunk's nominal area,
+// u = x / spanX east and v = -y / spanY south of the chunk's first sample (mesh-frame metres over
+// the area's sides: chunkCells 2^level samples' spacing), for the imagery tiles the renderer lays
+// over it with a texture matrix (imagery_tiles.h).
+//
 // Ownership: the maker copies the mesh's positions and colours once; it reads the mesh's indices
 // while it lives (the mesh must outlive it). Not thread-safe (one maker, one thread).
 #pragma once
@@ -36,6 +42,8 @@ struct IndexRange {
 class ChunkNodeMaker {
  public:
   explicit ChunkNodeMaker(const terrain::ChunkMesh& mesh);
+  /// With imagery coordinates over a chunk area of spanX x spanY metres (see above).
+  ChunkNodeMaker(const terrain::ChunkMesh& mesh, double spanX, double spanY);
   /// A node drawing the ranges (in order), named "chunk L/X/Y" + suffix.
   osg::ref_ptr<osg::MatrixTransform> operator()(const std::vector<IndexRange>& ranges, const std::string& suffix) const;
 
@@ -45,6 +53,7 @@ class ChunkNodeMaker {
   osg::ref_ptr<osg::Vec4ubArray> colours_;
   osg::ref_ptr<osg::Vec2Array> texCoords_;  // null without a texture
   osg::ref_ptr<osg::StateSet> textureState_;
+  bool perVertexColours_ = true;
 };
 
 }  // namespace nestwalk

@@ -29,6 +29,11 @@ struct PagedTerrainStats {
   std::uint64_t chunksEvicted = 0;
   double loadSeconds = 0;            // time spent building chunks since the node was made
   int finestLevel = -1, coarsestLevel = -1;  // of the drawn chunks
+  // Imagery tiles (imagery_tiles.h; zero without them):
+  std::size_t imageryTilesResident = 0, imageryBytes = 0;  // bytes counted as the cache counts them (in residentBytes too)
+  std::size_t imageryTilesWanted = 0;  // drawn parts whose tile was loading (a coarser one stood in)
+  std::size_t imageryRefinements = 0;  // quadrants drawn finer than the error rule asks, for their texels
+  int finestTexelLevelDrawn = 0;       // the finest texel level drawn (imagery_tiles.h's levels)
 };
 
 /// What one culling frame did.

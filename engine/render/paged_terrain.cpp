@@ -54,6 +54,7 @@ struct PagedTerrain::Entry {
     std::vector<Surface> surfaces;
     std::size_t skirtTriangles = 0;
     osg::BoundingBox box;  // everything any of its surfaces draws (skirts included), for frustum culling
+    std::vector<terrain::ChunkBlock> texelBlocks;  // its primary surface's blocks, for the imagery's texel choice
   };
   std::array<Quadrant, 4> quadrants;
   bool empty = true;     // no triangle at all (holes)
@@ -130,6 +131,18 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
     shading_.heightLo = range->first;
     shading_.heightHi = range->second;
   }
+  if (options_.imagery && options_.imageryPixelM > 0) {
+    ImageryTilesOptions tiles;
+    tiles.imagery = options_.imagery;
+    tiles.imageryPixelM = options_.imageryPixelM;
+    tiles.finestTexelM = options_.imageryFinestTexelM;
+    tiles.mapOrigin = options_.mapOrigin;
+    tiles.heightLo = shading_.heightLo;
+    tiles.heightHi = shading_.heightHi;
+    tiles.loading = options_.loading;
+    tiles_ = std::make_unique<ImageryTiles>(hf_, layout_, std::move(tiles));
+    shading_.baseColours = false;  // the tiles give the colour, the chunks the light
+  }
   setCullingActive(false);  // the selection culls chunk by chunk
   setDataVariance(osg::Object::DYNAMIC);
   Built root = build(layout_.root());
@@ -148,6 +161,11 @@ PagedTerrain::~PagedTerrain() {
   if (loader_.joinable()) loader_.join();
 }
 
+std::size_t PagedTerrain::chunkBudget() const {
+  const std::size_t tiles = tiles_ ? tiles_->residentBytes() : 0;
+  return budget_ > tiles ? budget_ - tiles : 0;
+}
+
 osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
 
 void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
@@ -160,6 +178,7 @@ void PagedTerrain::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, e] : cache_)
     for (const auto& q : e.quadrants)
       for (const Entry::Surface& s : q.surfaces) s.node->releaseGLObjects(state);
+  if (tiles_) tiles_->releaseGLObjects(state);
 }
 
 PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
@@ -178,7 +197,9 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
   Built b;
   b.key = key;
   if (!m.empty()) {
-    const ChunkNodeMaker node(m);
+    const ChunkNodeMaker node = tiles_ ? ChunkNodeMaker(m, std::ldexp(layout_.chunkCells() * hf_->dx(), key.level),
+                                                        std::ldexp(layout_.chunkCells() * hf_->dy(), key.level))
+                                       : ChunkNodeMaker(m);
     for (std::size_t q = 0; q < 4; ++q) {
       const terrain::ChunkQuadrant& mq = m.quadrants[q];
       if (mq.empty()) continue;
@@ -187,6 +208,7 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
       quad.skirtTriangles = mq.skirtTriangles;
       quad.box = rangeBox(m, mq.firstIndex, mq.indexCount);
       if (mq.exactIndexCount > 0) quad.box.expandBy(rangeBox(m, mq.exactFirstIndex, mq.exactIndexCount));
+      if (tiles_) quad.texelBlocks = mq.blocks;
       quad.surfaces.push_back({node({{mq.firstIndex, mq.indexCount}}, name), blocksOf(mq.blocks), mq.maxError,
                                mq.surfaceTriangles + mq.skirtTriangles});
       for (std::size_t r = 0; r < mq.refinements.size(); ++r) {
@@ -280,9 +302,17 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
     };
     std::size_t drawn = 0;
     double pixels = projected(quad.surfaces[0]);
-    if (pixels > options_.maxPixels && key.level > 0) {
+    // Imagery tiles: the texel level the view asks for here; finer than the quadrant's own area's
+    // tile holds, the child's geometry is drawn (a level-0 quadrant holds finer tiles itself).
+    const int texelLevel =
+        tiles_ ? tiles_->texelLevelFor(quad.texelBlocks, Eigen::Vector3d(eye.x(), eye.y(), eye.z()), options_.pixelsPerRadian,
+                                       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return !cv.isCulled(toBox(lo, hi)); })
+               : 0;
+    const bool texelsFiner = tiles_ && texelLevel < key.level - 1;
+    if ((pixels > options_.maxPixels || texelsFiner) && key.level > 0) {
       const ChunkKey child{key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1)};
       if (cache_.count(child)) {
+        if (pixels <= options_.maxPixels) ++stats_.imageryRefinements;
         select(child, cv, wants);
         continue;
       }
@@ -292,7 +322,15 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
     // Level 0 near the eye: the coarsest of its finer surfaces within the rule (the exact grid last).
     while (pixels > options_.maxPixels && drawn + 1 < quad.surfaces.size()) pixels = projected(quad.surfaces[++drawn]);
     const Entry::Surface& surface = quad.surfaces[drawn];
-    drawList_.push_back({key, q, surface.node.get()});
+    DrawnPart part;
+    part.key = key;
+    part.quadrant = q;
+    part.node = surface.node.get();
+    if (tiles_) {
+      part.imageryTexelLevel = texelLevel;
+      part.imageryWanted = ImageryTiles::wanted(key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1), texelLevel);
+    }
+    drawList_.push_back(part);
     ++stats_.chunksDrawn;
     stats_.trianglesDrawn += surface.triangles;
     stats_.skirtTrianglesDrawn += quad.skirtTriangles;
@@ -335,7 +373,7 @@ void PagedTerrain::publish(std::vector<Want> wants) {
     std::lock_guard lock(mutex_);
     // Only what fits, built chunks waiting to be merged included (they and the chunks being built
     // are not asked for again).
-    std::size_t planned = residentBytes_;
+    std::size_t planned = residentBytes_ + (tiles_ ? tiles_->residentBytes() : 0);
     for (const Built& b : done_) planned += b.entry.bytes;
     const auto built = [&](const ChunkKey& key) {  // or being built
       return std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
@@ -386,12 +424,16 @@ void PagedTerrain::loaderLoop() {
 }
 
 std::string PagedTerrain::loadError() const {
-  std::lock_guard lock(mutex_);
-  return loadError_;
+  {
+    std::lock_guard lock(mutex_);
+    if (!loadError_.empty() || !tiles_) return loadError_;
+  }
+  return tiles_->loadError();
 }
 
 void PagedTerrain::waitUntilIdle() {
   if (options_.loading != TerrainLoading::Background) return;
+  if (tiles_) tiles_->waitUntilIdle();
   std::unique_lock lock(mutex_);
   idle_.wait(lock, [&] { return stop_ || (wanted_.empty() && inFlight_.empty()); });
 }
@@ -402,6 +444,7 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
   ++frame_;
   stats_.chunksMerged = stats_.bytesMerged = 0;
   mergeLoaded();
+  if (tiles_) tiles_->beginFrame();
   std::vector<Want> wants;
   for (;;) {
     const std::uint64_t loaded = stats_.chunksLoaded, evicted = stats_.chunksEvicted;
@@ -422,24 +465,44 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
     bool any = false;
     for (const Want& w : wants) {
       if (cache_.count(w.key)) continue;
-      const std::size_t estimate = estimatedBytes(w.key);
-      if (residentBytes_ + estimate > budget_ && estimate <= budget_) evictUnused(budget_ - estimate);
-      if (residentBytes_ + estimate > budget_) break;
+      const std::size_t estimate = estimatedBytes(w.key), budget = chunkBudget();
+      if (residentBytes_ + estimate > budget && estimate <= budget) evictUnused(budget - estimate);
+      if (residentBytes_ + estimate > budget) break;
       insert(build(w.key));
       any = true;
     }
     if (!any) break;
   }
+  const std::size_t tileBudget = budget_ > residentBytes_ ? budget_ - residentBytes_ : 0;
+  if (tiles_ && options_.loading == TerrainLoading::Complete) {
+    std::vector<ImageryTileKey> wantedTiles;
+    for (const DrawnPart& part : drawList_) wantedTiles.push_back(part.imageryWanted);
+    tiles_->buildMissing(wantedTiles, tileBudget);
+  }
   drawn_.clear();
-  for (const DrawnPart& part : drawList_) {
+  for (DrawnPart& part : drawList_) {
+    osg::ref_ptr<osg::StateSet> imagery;
+    if (tiles_) {
+      imagery = tiles_->stateFor(part.key, part.imageryWanted, part.imageryDrawn);
+      stats_.finestTexelLevelDrawn = drawn_.empty() ? part.imageryDrawn.texelLevel
+                                                    : std::min(stats_.finestTexelLevelDrawn, part.imageryDrawn.texelLevel);
+      cv->pushStateSet(imagery.get());
+    }
     drawn_.push_back(part);
     part.node->accept(nv);
+    if (imagery) cv->popStateSet();
   }
   stats_.chunksWanted = wants.size();
   if (options_.loading == TerrainLoading::Background) publish(wants);
-  evictUnused(budget_);
+  if (tiles_) {
+    tiles_->endFrame(tileBudget);
+    stats_.imageryTilesResident = tiles_->stats().tilesResident;
+    stats_.imageryBytes = tiles_->residentBytes();
+    stats_.imageryTilesWanted = tiles_->stats().tilesWanted;
+  }
+  evictUnused(chunkBudget());
   stats_.chunksResident = cache_.size();
-  stats_.residentBytes = residentBytes_;
+  stats_.residentBytes = residentBytes_ + stats_.imageryBytes;
 }
 
 }  // namespace nestwalk

@@ -39,6 +39,7 @@
 #pragma once
 
 #include "nestwalk/render/frame_stats.h"
+#include "nestwalk/render/imagery_tiles.h"
 #include "nestwalk/render/view_options.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/terrain_chunk.h"
@@ -113,6 +114,12 @@ struct PagedTerrainOptions {
   /// kept, terrain_chunk.h); 0: the level grids as they are.
   double simplifyFraction = kTerrainSimplifyFraction;
   terrain::ColourGridReader imagery;  // draped imagery (empty: colours by height)
+  /// The imagery's pixel size (map units, TerrainImagery::pixelSize): > 0 drapes it as tiles at its
+  /// own resolution (imagery_tiles.h: chunks then carry the light alone, and a part whose texel need
+  /// is finer than its area's tile refines its geometry); 0 bakes it into each chunk's texture at the
+  /// level's resolution (one texel per kept sample).
+  double imageryPixelM = 0;
+  double imageryFinestTexelM = 0;   // tiles: no texel finer than this (0: the imagery's own)
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
   /// The terrain's pyramid (the heightfield's grid; chunkCells must then be its kPyramidTopCells):
   /// coarse chunks take their grid errors from it instead of reading every fine sample under them
@@ -131,6 +138,10 @@ struct DrawnPart {
   terrain::ChunkKey key;
   int quadrant = 0;
   osg::Node* node = nullptr;
+  /// Imagery tiles: the texel level the part's view asks for, the tile that asks for (its area or an
+  /// ancestor's) and the tile it was drawn with (that one, or a resident stand-in while it loads).
+  int imageryTexelLevel = 0;
+  ImageryTileKey imageryWanted, imageryDrawn;
   friend bool operator==(const DrawnPart& p, const DrawnPart& o) { return p.key == o.key && p.quadrant == o.quadrant; }
   friend bool operator<(const DrawnPart& p, const DrawnPart& o) {
     return p.key < o.key || (p.key == o.key && p.quadrant < o.quadrant);
@@ -167,6 +178,8 @@ class PagedTerrain : public osg::Node {
   std::string loadError() const;
   /// The chunk quadrants the last cull drew.
   const std::vector<DrawnPart>& drawnParts() const { return drawn_; }
+  /// The imagery tiles (null without tiled imagery).
+  const ImageryTiles* imageryTiles() const { return tiles_.get(); }
 
  private:
   struct Entry;
@@ -183,6 +196,8 @@ class PagedTerrain : public osg::Node {
   /// Coarser levels first, then the larger projected error.
   static void sortByPriority(std::vector<Want>& wants);
   void evictUnused(std::size_t target);
+  /// The budget left to chunks: what the imagery tiles do not hold.
+  std::size_t chunkBudget() const;
   void publish(std::vector<Want> wants);
   void loaderLoop();
 
@@ -197,6 +212,7 @@ class PagedTerrain : public osg::Node {
   PagedTerrainStats stats_;
   std::vector<DrawnPart> drawn_, drawList_;
   osg::BoundingSphere bound_;
+  std::unique_ptr<ImageryTiles> tiles_;
 
   // The loader: wanted_ and done_ are shared with its thread under mutex_.
   mutable std::mutex mutex_;

@@ -125,7 +125,7 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
   terrainOptions.maxPixels = options_.lodMaxPixels;
   terrainOptions.budgetBytes = options_.terrainBudgetBytes;
   terrainOptions.loading = options_.terrainLoading;
-  terrainOptions.shade = options_.terrainShading;
+  terrainOptions.shade = options_.terrainShading && scene_.spec.hillshadeOn();
   terrainOptions.mapOrigin = hf.origin();
   if (options_.terrainChunkCells == terrain::kPyramidTopCells) {
     terrainOptions.pyramid = scene_.terrainPyramid;
@@ -136,6 +136,8 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
     // builds the chunks (paged_terrain.h).
     // A read that fails later (a file truncated on disk) leaves that chunk in its height colours.
     auto imagery = std::make_shared<terrain::TerrainImagery>(*scene_.spec.imagery, hf.crsWkt());
+    terrainOptions.imageryPixelM = imagery->pixelSize();  // tiles at its own resolution (imagery_tiles.h)
+    terrainOptions.imageryFinestTexelM = options_.imageryFinestTexelM;
     terrainOptions.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {
       try {
         return imagery->read(x0, y0, sx, sy, w, h);

@@ -24,7 +24,10 @@ struct RenderOptions {
   int terrainChunkCells = 64;    // cells per terrain chunk side (power of two, paged_terrain.h)
   std::size_t terrainBudgetBytes = 0;  // the terrain cache's budget (0: defaultTerrainBudgetBytes())
   TerrainLoading terrainLoading = TerrainLoading::Background;  // paged_terrain.h
-  bool terrainShading = true;    // Horn's hillshade baked into the terrain's colours
+  bool terrainShading = true;    // Horn's hillshade in the terrain's colours where the scene asks for it (SceneSpec::hillshadeOn)
+  /// Draped imagery: no texel finer than this, metres (0: the imagery's own pixel; the DEM's spacing
+  /// gives a drape at the DEM's resolution, for comparisons: imagery_tiles.h).
+  double imageryFinestTexelM = 0;
   bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
   bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
   bool blockedOverlay = true;    // a red frame and the blocker's name while blocked

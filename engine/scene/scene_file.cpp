@@ -177,13 +177,19 @@ SceneSpec parseSceneJson(const std::string& text, const std::string& path) {
   const JsonFieldReader r(path, fs::path(path).parent_path());
   const Json root = parseJsonStrictly(text, path);
   r.checkObject(root, "");
-  r.checkKeys(root, "", {"terrain", "imagery", "origin", "types", "equipment", "viewer", "method", "source"});
+  r.checkKeys(root, "", {"terrain", "imagery", "shading", "origin", "types", "equipment", "viewer", "method", "source"});
 
   SceneSpec s;
   s.path = path;
   if (!root.contains("terrain")) r.fail("terrain", "missing (the terrain file is required)");
   s.terrain = r.resolve(r.nonEmptyString(root["terrain"], "terrain"));
   if (root.contains("imagery")) s.imagery = r.resolve(r.nonEmptyString(root["imagery"], "imagery"));
+  if (root.contains("shading")) {
+    const std::string shading = r.nonEmptyString(root["shading"], "shading");
+    if (shading != "hillshade" && shading != "none")
+      r.fail("shading", "expected hillshade or none, got '" + shading + "'");
+    s.hillshade = shading == "hillshade";
+  }
   if (root.contains("origin")) {
     const std::vector<double> o = r.numbers(root["origin"], "origin", 3, 3);
     s.origin = Eigen::Vector3d(o[0], o[1], o[2]);

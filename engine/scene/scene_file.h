@@ -7,6 +7,8 @@
 //   "imagery": "ortho.tif",                // optional: imagery draped over the terrain (an
 //                                          // orthophoto, any raster GDAL reads, in any CRS:
 //                                          // terrain/terrain_imagery.h), relative as above
+//   "shading": "hillshade" | "none",       // optional: Horn's hillshade blended into the terrain's
+//                                          // colours (default: hillshade without imagery, none with it)
 //   "origin": [x, y, z],                   // optional: map point of the local frame's origin
 //                                          // (default: the terrain's centre, z 0)
 //   "types": { "gauge": {...} },           // optional: equipment types, as in a model catalog
@@ -89,6 +91,10 @@ struct SceneSpec {
   std::string path;        // the scene file as given
   std::string terrain;     // resolved path
   std::optional<std::string> imagery;  // resolved path of the draped imagery; unset: none
+  /// "shading": "hillshade" (true) or "none" (false); unset: hillshade without imagery, none with it
+  /// (a real orthophoto carries its own shadows). hillshadeOn() says which.
+  std::optional<bool> hillshade;
+  bool hillshadeOn() const { return hillshade.value_or(!imagery); }
   std::optional<Eigen::Vector3d> origin;
   std::map<std::string, ModelType> types;  // "types", model paths resolved
   std::vector<EquipmentSpec> equipment;

@@ -142,6 +142,21 @@ TEST_F(SceneFile, ImageryIsResolvedAndMustExist) {
   EXPECT_EQ(error(j), "imagery: must not be empty");
 }
 
+TEST_F(SceneFile, ShadingDefaultsToHillshadeOnlyWithoutImagery) {
+  fs::create_directories(dir() / "imagery");
+  writeText(dir() / "imagery" / "ortho.tif", "x");
+  Json j = base();
+  EXPECT_FALSE(parse(j).hillshade.has_value());
+  EXPECT_TRUE(parse(j).hillshadeOn()) << "no imagery: the height ramp is hillshaded";
+  j["imagery"] = "imagery/ortho.tif";
+  EXPECT_FALSE(parse(j).hillshadeOn()) << "an orthophoto carries its own shadows";
+  j["shading"] = "hillshade";
+  EXPECT_TRUE(parse(j).hillshadeOn());
+  j.erase("imagery");
+  j["shading"] = "none";
+  EXPECT_FALSE(parse(j).hillshadeOn());
+}
+
 TEST_F(SceneFile, AbsolutePathsAreKeptAndEquipmentIsOptional) {
   Json j{{"terrain", (dir() / "terrain.tif").string()}};
   const SceneSpec s = parse(j);
@@ -167,7 +182,7 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
   };
   const std::vector<Case> cases = {
       {[](Json& j) { j["terain"] = "x"; },
-       "terain: unknown key (expected one of: terrain, imagery, origin, types, equipment, viewer, method, source)"},
+       "terain: unknown key (expected one of: terrain, imagery, shading, origin, types, equipment, viewer, method, source)"},
       {[](Json& j) { j.erase("terrain"); }, "terrain: missing (the terrain file is required)"},
       {[](Json& j) { j["terrain"] = 3; }, "terrain: expected a string, got number"},
       {[](Json& j) { j["terrain"] = ""; }, "terrain: must not be empty"},
@@ -249,6 +264,8 @@ TEST_F(SceneFile, BadFieldsAreNamed) {
        "method.fitter: expected hull-search or covariance, got 'pca'"},
       {[](Json& j) { j["method"] = {{"fittr", "pca"}}; },
        "method.fittr: unknown key (expected one of: volumes, hierarchy, degree, split_axis, split_point, fitter)"},
+      {[](Json& j) { j["shading"] = "flat"; }, "shading: expected hillshade or none, got 'flat'"},
+      {[](Json& j) { j["shading"] = 1; }, "shading: expected a string, got number"},
       {[](Json& j) { j["terrain"] = "none.tif"; }, "terrain: file not found: "},  // path appended below
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
