@@ -1,6 +1,7 @@
 // Imagery at its own resolution (imagery_tiles.h).
 #include "nestwalk/render/imagery_tiles.h"
 
+#include "nestwalk/render/build_queue.h"
 #include "nestwalk/render/paged_terrain.h"
 
 #include <osg/Image>
@@ -20,6 +21,10 @@ struct ImageryTiles::Tile {
   osg::ref_ptr<osg::Texture2D> texture;
   std::size_t bytes = 0;
   std::uint64_t lastUsed = 0;
+  /// The states drawing chunks with it (the texture and the chunk's texture matrix), and the frame
+  /// each was last used in: made once while a chunk keeps being drawn with the tile.
+  std::unordered_map<terrain::ChunkKey, std::pair<osg::ref_ptr<osg::StateSet>, std::uint64_t>, terrain::ChunkKeyHash>
+      states;
 };
 
 struct ImageryTiles::Built {
@@ -53,17 +58,16 @@ ImageryTiles::ImageryTiles(std::shared_ptr<const terrain::Heightfield> heightfie
   const double level = std::floor(std::log2(pixel * kImageryTileTexels / (layout_.chunkCells() * hf_->dx())));
   finest_ = int(std::clamp(level, double(-1 - kMaxTexelLevelsBelowArea), double(top_)));
   insert(build({top_, 0, 0, top_}));
-  if (options_.loading == TerrainLoading::Background) loader_ = std::thread([this] { loaderLoop(); });
+  if (options_.loading == TerrainLoading::Background)
+    loader_ = std::make_unique<BuildQueue<ImageryTileKey, Built>>(
+        [this](const ImageryTileKey& key) { return build(key); },
+        [](const ImageryTileKey& key) {
+          return "imagery tile " + std::to_string(key.areaLevel) + "/" + std::to_string(key.x) + "/" +
+                 std::to_string(key.y) + " at texel level " + std::to_string(key.texelLevel);
+        });
 }
 
-ImageryTiles::~ImageryTiles() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  if (loader_.joinable()) loader_.join();
-}
+ImageryTiles::~ImageryTiles() { loader_.reset(); }  // before the members its builds read
 
 double ImageryTiles::texelSize(int texelLevel) const {
   return std::ldexp(layout_.chunkCells() * hf_->dx(), texelLevel) / kImageryTileTexels;
@@ -161,23 +165,24 @@ void ImageryTiles::insert(Built&& b) {
 void ImageryTiles::beginFrame() {
   ++frame_;
   missing_.clear();
+  if (!loader_) return;
   std::vector<Built> merging;
-  {
-    std::lock_guard lock(mutex_);
-    std::stable_sort(done_.begin(), done_.end(),
+  loader_->locked([&](BuildQueue<ImageryTileKey, Built>::Shared& shared) {
+    std::vector<Built>& done = shared.done;
+    std::stable_sort(done.begin(), done.end(),
                      [](const Built& a, const Built& b) { return a.key.texelLevel > b.key.texelLevel; });
     std::size_t taken = 0, bytes = 0;
-    for (; taken < done_.size(); ++taken) {
-      if (bytes > 0 && bytes + done_[taken].tile.bytes > kChunkMergeBytesPerFrame) break;
-      bytes += done_[taken].tile.bytes;
-      merging.push_back(std::move(done_[taken]));
+    for (; taken < done.size(); ++taken) {
+      if (bytes > 0 && bytes + done[taken].tile.bytes > kChunkMergeBytesPerFrame) break;
+      bytes += done[taken].tile.bytes;
+      merging.push_back(std::move(done[taken]));
     }
-    done_.erase(done_.begin(), done_.begin() + std::ptrdiff_t(taken));
-  }
+    done.erase(done.begin(), done.begin() + std::ptrdiff_t(taken));
+  });
   for (Built& b : merging) insert(std::move(b));
 }
 
-osg::ref_ptr<osg::StateSet> ImageryTiles::stateFor(const terrain::ChunkKey& chunk, const ImageryTileKey& wanted,
+osg::StateSet* ImageryTiles::stateFor(const terrain::ChunkKey& chunk, const ImageryTileKey& wanted,
                                                    ImageryTileKey& drawn) {
   ImageryTileKey k = wanted;
   auto it = tiles_.find(k);
@@ -191,15 +196,20 @@ osg::ref_ptr<osg::StateSet> ImageryTiles::stateFor(const terrain::ChunkKey& chun
     if (it == tiles_.end()) it = tiles_.find(k = ImageryTileKey{top_, 0, 0, top_});
   }
   drawn = k;
-  it->second.lastUsed = frame_;
-  // The chunk's imagery coordinates (chunk_node.h: its area from 0 to 1) onto the tile's: the chunk's
-  // area is 2^(level - areaLevel) tile areas across.
-  const double ratio = std::ldexp(1.0, chunk.level - k.areaLevel);
-  osg::ref_ptr<osg::StateSet> state = new osg::StateSet;
-  state->setTextureAttributeAndModes(0, it->second.texture.get(), osg::StateAttribute::ON);
-  state->setTextureAttribute(0, new osg::TexMat(osg::Matrixd::scale(ratio, ratio, 1) *
-                                                osg::Matrixd::translate(chunk.x * ratio - k.x, chunk.y * ratio - k.y, 0)));
-  return state;
+  Tile& tile = it->second;
+  tile.lastUsed = frame_;
+  auto& [state, used] = tile.states[chunk];
+  used = frame_;
+  if (!state) {
+    // The chunk's imagery coordinates (chunk_node.h: its area from 0 to 1) onto the tile's: the
+    // chunk's area is 2^(level - areaLevel) tile areas across.
+    const double ratio = std::ldexp(1.0, chunk.level - k.areaLevel);
+    state = new osg::StateSet;
+    state->setTextureAttributeAndModes(0, tile.texture.get(), osg::StateAttribute::ON);
+    state->setTextureAttribute(0, new osg::TexMat(osg::Matrixd::scale(ratio, ratio, 1) *
+                                                  osg::Matrixd::translate(chunk.x * ratio - k.x, chunk.y * ratio - k.y, 0)));
+  }
+  return state.get();
 }
 
 void ImageryTiles::buildMissing(const std::vector<ImageryTileKey>& wanted, std::size_t budgetLeft) {
@@ -218,28 +228,26 @@ void ImageryTiles::buildMissing(const std::vector<ImageryTileKey>& wanted, std::
 
 void ImageryTiles::endFrame(std::size_t budgetLeft) {
   stats_.tilesWanted = missing_.size();
-  if (options_.loading == TerrainLoading::Background) {
+  if (loader_) {
     std::vector<ImageryTileKey> wants = missing_;
     std::stable_sort(wants.begin(), wants.end(),
                      [](const ImageryTileKey& a, const ImageryTileKey& b) { return a.texelLevel > b.texelLevel; });
-    {
-      std::lock_guard lock(mutex_);
+    loader_->locked([&](BuildQueue<ImageryTileKey, Built>::Shared& shared) {
       std::size_t planned = residentBytes_;
-      for (const Built& b : done_) planned += b.tile.bytes;
-      std::vector<ImageryTileKey> queue;
+      for (const Built& b : shared.done) planned += b.tile.bytes;
+      shared.queue.clear();
       for (const ImageryTileKey& key : wants) {
-        const bool known = std::find(queue.begin(), queue.end(), key) != queue.end() ||
-                           std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
-                           std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; });
-        if (known) continue;
+        if (shared.known(key) || std::find(shared.queue.begin(), shared.queue.end(), key) != shared.queue.end()) continue;
         if (planned + tileBytes(key) > budgetLeft) break;
         planned += tileBytes(key);
-        queue.push_back(key);
+        shared.queue.push_back(key);
       }
-      queue_ = std::move(queue);
-    }
-    wake_.notify_one();
+    });
   }
+  // The states of chunks this frame did not draw with a tile go (a chunk drawn again makes its own).
+  for (auto& [key, tile] : tiles_)
+    for (auto s = tile.states.begin(); s != tile.states.end();)
+      s = s->second.second < frame_ ? tile.states.erase(s) : std::next(s);
   evictUnused(budgetLeft);
   stats_.tilesResident = tiles_.size();
   stats_.residentBytes = residentBytes_;
@@ -261,44 +269,13 @@ void ImageryTiles::evictUnused(std::size_t target) {
 }
 
 void ImageryTiles::waitUntilIdle() {
-  if (options_.loading != TerrainLoading::Background) return;
-  std::unique_lock lock(mutex_);
-  idle_.wait(lock, [&] { return stop_ || (queue_.empty() && inFlight_.empty()); });
+  if (loader_) loader_->waitUntilIdle();
 }
 
-std::string ImageryTiles::loadError() const {
-  std::lock_guard lock(mutex_);
-  return loadError_;
-}
+std::string ImageryTiles::loadError() const { return loader_ ? loader_->error() : std::string(); }
 
 void ImageryTiles::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, tile] : tiles_) tile.texture->releaseGLObjects(state);
-}
-
-void ImageryTiles::loaderLoop() {
-  std::unique_lock lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
-    if (stop_) return;
-    const ImageryTileKey key = queue_.front();
-    queue_.erase(queue_.begin());
-    inFlight_.push_back(key);
-    lock.unlock();
-    std::optional<Built> b;
-    std::string error;
-    try {
-      b = build(key);
-    } catch (const std::exception& e) {  // out of memory: the stand-in stays drawn
-      error = e.what();
-    }
-    lock.lock();
-    inFlight_.erase(std::find(inFlight_.begin(), inFlight_.end(), key));
-    if (b) done_.push_back(std::move(*b));
-    else if (loadError_.empty())
-      loadError_ = "imagery tile " + std::to_string(key.areaLevel) + "/" + std::to_string(key.x) + "/" +
-                   std::to_string(key.y) + " at texel level " + std::to_string(key.texelLevel) + ": " + error;
-    if (queue_.empty()) idle_.notify_all();
-  }
 }
 
 }  // namespace nestwalk

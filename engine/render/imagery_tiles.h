@@ -55,17 +55,17 @@
 #include <osg/StateSet>
 #include <osg/ref_ptr>
 
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
 namespace nestwalk {
+
+template <class Key, class Result>
+class BuildQueue;
 
 /// Texels a side of a tile whose texel level is its area's: 256, a chunk's 64 cells at 4 texels each.
 inline constexpr int kImageryTileTexels = 256;
@@ -142,10 +142,11 @@ class ImageryTiles {
   static ImageryTileKey wanted(int areaLevel, int x, int y, int texelLevel);
 
   /// Frame: merge what the loader built; then for each drawn part the state to draw it with (the
-  /// wanted tile or its nearest resident stand-in, mapped onto chunk `chunk`'s imagery coordinates)
-  /// and the tile it got; then end (ask for what was missing within `budgetLeft` bytes, and evict).
+  /// wanted tile or its nearest resident stand-in, mapped onto chunk `chunk`'s imagery coordinates;
+  /// kept with the tile while frames draw that chunk with it) and the tile it got; then end (ask for
+  /// what was missing within `budgetLeft` bytes, and evict).
   void beginFrame();
-  osg::ref_ptr<osg::StateSet> stateFor(const terrain::ChunkKey& chunk, const ImageryTileKey& wanted,
+  osg::StateSet* stateFor(const terrain::ChunkKey& chunk, const ImageryTileKey& wanted,
                                        ImageryTileKey& drawn);
   /// Complete loading: builds the wanted tiles still missing that fit in `budgetLeft` (call between
   /// the parts' choices and stateFor).
@@ -165,7 +166,6 @@ class ImageryTiles {
   Built build(const ImageryTileKey& key) const;
   void insert(Built&& b);
   std::size_t tileBytes(const ImageryTileKey& key) const;
-  void loaderLoop();
 
   std::shared_ptr<const terrain::Heightfield> hf_;
   const terrain::ChunkLayout layout_;
@@ -176,14 +176,7 @@ class ImageryTiles {
   std::uint64_t frame_ = 0;
   ImageryTileStats stats_;
   std::vector<ImageryTileKey> missing_;  // wanted this frame, not resident
-
-  mutable std::mutex mutex_;
-  std::condition_variable wake_, idle_;
-  std::vector<ImageryTileKey> queue_, inFlight_;
-  std::vector<Built> done_;
-  bool stop_ = false;
-  std::string loadError_;
-  std::thread loader_;
+  std::unique_ptr<BuildQueue<ImageryTileKey, Built>> loader_;  // Background: the loader (build_queue.h)
 };
 
 }  // namespace nestwalk

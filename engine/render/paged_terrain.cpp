@@ -1,6 +1,7 @@
 // View-bounded terrain (paged_terrain.h).
 #include "nestwalk/render/paged_terrain.h"
 
+#include "nestwalk/render/build_queue.h"
 #include "nestwalk/render/chunk_node.h"
 
 #include <osg/Geode>
@@ -149,17 +150,15 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
   const osg::BoundingBox box = root.entry.box;
   if (box.valid()) bound_ = osg::BoundingSphere(box);
   insert(std::move(root));
-  if (options_.loading == TerrainLoading::Background) loader_ = std::thread([this] { loaderLoop(); });
+  if (options_.loading == TerrainLoading::Background)
+    loader_ = std::make_unique<BuildQueue<ChunkKey, Built>>([this](const ChunkKey& key) { return build(key); },
+                                                            [](const ChunkKey& key) {
+                                                              return "terrain chunk " + std::to_string(key.level) + "/" +
+                                                                     std::to_string(key.x) + "/" + std::to_string(key.y);
+                                                            });
 }
 
-PagedTerrain::~PagedTerrain() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  if (loader_.joinable()) loader_.join();
-}
+PagedTerrain::~PagedTerrain() { loader_.reset(); }  // before the members its builds read
 
 std::size_t PagedTerrain::chunkBudget() const {
   const std::size_t tiles = tiles_ ? tiles_->residentBytes() : 0;
@@ -244,14 +243,15 @@ void PagedTerrain::insert(Built&& built) {
 
 void PagedTerrain::mergeLoaded() {
   // Coarser first (a parent before its children), up to the frame's bytes (at least one chunk); the
-  // rest stay in done_, where the loader sees them (it does not build them again).
+  // rest stay with the loader, which does not build them again.
+  if (!loader_) return;
   std::vector<Built> merging;
-  {
-    std::lock_guard lock(mutex_);
-    std::stable_sort(done_.begin(), done_.end(), [](const Built& a, const Built& b) { return a.key.level > b.key.level; });
+  loader_->locked([&](BuildQueue<ChunkKey, Built>::Shared& shared) {
+    std::vector<Built>& done = shared.done;
+    std::stable_sort(done.begin(), done.end(), [](const Built& a, const Built& b) { return a.key.level > b.key.level; });
     std::size_t taken = 0, bytes = 0;
-    for (; taken < done_.size(); ++taken) {
-      Built& b = done_[taken];
+    for (; taken < done.size(); ++taken) {
+      Built& b = done[taken];
       // A chunk whose parent went while it was loading cannot be reached: dropped (so is a copy).
       const bool orphan = b.key.level + 1 < layout_.levels() && !cache_.count(terrain::parentOf(b.key));
       if (orphan || cache_.count(b.key)) continue;
@@ -259,8 +259,8 @@ void PagedTerrain::mergeLoaded() {
       bytes += b.entry.bytes;
       merging.push_back(std::move(b));
     }
-    done_.erase(done_.begin(), done_.begin() + std::ptrdiff_t(taken));
-  }
+    done.erase(done.begin(), done.begin() + std::ptrdiff_t(taken));
+  });
   for (Built& b : merging) {
     ++stats_.chunksMerged;
     stats_.bytesMerged += b.entry.bytes;
@@ -369,73 +369,31 @@ void PagedTerrain::evictUnused(std::size_t target) {
 
 void PagedTerrain::publish(std::vector<Want> wants) {
   sortByPriority(wants);
-  {
-    std::lock_guard lock(mutex_);
+  loader_->locked([&](BuildQueue<ChunkKey, Built>::Shared& shared) {
     // Only what fits, built chunks waiting to be merged included (they and the chunks being built
     // are not asked for again).
     std::size_t planned = residentBytes_ + (tiles_ ? tiles_->residentBytes() : 0);
-    for (const Built& b : done_) planned += b.entry.bytes;
-    const auto built = [&](const ChunkKey& key) {  // or being built
-      return std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
-             std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; });
-    };
-    wants.erase(std::remove_if(wants.begin(), wants.end(), [&](const Want& w) { return built(w.key); }), wants.end());
-    std::vector<Want> fitting;
+    for (const Built& b : shared.done) planned += b.entry.bytes;
+    shared.queue.clear();
     for (const Want& w : wants) {
+      if (shared.known(w.key)) continue;
       const std::size_t estimate = estimatedBytes(w.key);
       if (planned + estimate > budget_) break;
       planned += estimate;
-      fitting.push_back(w);
+      shared.queue.push_back(w.key);
     }
-    wanted_ = std::move(fitting);
-  }
-  wake_.notify_one();
-}
-
-void PagedTerrain::loaderLoop() {
-  std::unique_lock lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stop_ || !wanted_.empty(); });
-    if (stop_) return;
-    const ChunkKey key = wanted_.front().key;
-    wanted_.erase(wanted_.begin());
-    if (std::find(inFlight_.begin(), inFlight_.end(), key) != inFlight_.end() ||
-        std::any_of(done_.begin(), done_.end(), [&](const Built& b) { return b.key == key; })) {
-      // Being built, or built and waiting to be merged: nothing to do (but say so when it was the last).
-      if (wanted_.empty()) idle_.notify_all();
-      continue;
-    }
-    inFlight_.push_back(key);
-    lock.unlock();
-    std::optional<Built> b;
-    std::string error;
-    try {
-      b = build(key);
-    } catch (const std::exception& e) {  // out of memory: the parent stays drawn
-      error = e.what();
-    }
-    lock.lock();
-    inFlight_.erase(std::find(inFlight_.begin(), inFlight_.end(), key));
-    if (b) done_.push_back(std::move(*b));
-    else if (loadError_.empty()) loadError_ = "terrain chunk " + std::to_string(key.level) + "/" +
-                                              std::to_string(key.x) + "/" + std::to_string(key.y) + ": " + error;
-    if (wanted_.empty()) idle_.notify_all();
-  }
+  });
 }
 
 std::string PagedTerrain::loadError() const {
-  {
-    std::lock_guard lock(mutex_);
-    if (!loadError_.empty() || !tiles_) return loadError_;
-  }
-  return tiles_->loadError();
+  std::string error = loader_ ? loader_->error() : std::string();
+  return error.empty() && tiles_ ? tiles_->loadError() : error;
 }
 
 void PagedTerrain::waitUntilIdle() {
   if (options_.loading != TerrainLoading::Background) return;
   if (tiles_) tiles_->waitUntilIdle();
-  std::unique_lock lock(mutex_);
-  idle_.wait(lock, [&] { return stop_ || (wanted_.empty() && inFlight_.empty()); });
+  loader_->waitUntilIdle();
 }
 
 void PagedTerrain::traverse(osg::NodeVisitor& nv) {
@@ -481,12 +439,12 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
   }
   drawn_.clear();
   for (DrawnPart& part : drawList_) {
-    osg::ref_ptr<osg::StateSet> imagery;
+    osg::StateSet* imagery = nullptr;
     if (tiles_) {
       imagery = tiles_->stateFor(part.key, part.imageryWanted, part.imageryDrawn);
       stats_.finestTexelLevelDrawn = drawn_.empty() ? part.imageryDrawn.texelLevel
                                                     : std::min(stats_.finestTexelLevelDrawn, part.imageryDrawn.texelLevel);
-      cv->pushStateSet(imagery.get());
+      cv->pushStateSet(imagery);
     }
     drawn_.push_back(part);
     part.node->accept(nv);

@@ -67,6 +67,9 @@ class CullVisitor;
 
 namespace nestwalk {
 
+template <class Key, class Result>
+class BuildQueue;
+
 /// The eye's distance to a chunk is taken as at least this: metres, below any eye height above the
 /// ground the walker allows, and keeps the projected error finite inside a chunk's box.
 inline constexpr double kMinEyeDistanceM = 0.01;
@@ -199,7 +202,6 @@ class PagedTerrain : public osg::Node {
   /// The budget left to chunks: what the imagery tiles do not hold.
   std::size_t chunkBudget() const;
   void publish(std::vector<Want> wants);
-  void loaderLoop();
 
   std::shared_ptr<const terrain::Heightfield> hf_;
   PagedTerrainOptions options_;
@@ -214,16 +216,8 @@ class PagedTerrain : public osg::Node {
   osg::BoundingSphere bound_;
   std::unique_ptr<ImageryTiles> tiles_;
 
-  // The loader: wanted_ and done_ are shared with its thread under mutex_.
-  mutable std::mutex mutex_;
   mutable std::atomic<bool> pyramidFailed_{false};  // a pyramid read failed: errors computed from then on
-  std::condition_variable wake_, idle_;
-  std::vector<Want> wanted_;
-  std::vector<terrain::ChunkKey> inFlight_;
-  std::vector<Built> done_;
-  bool stop_ = false;
-  std::string loadError_;
-  std::thread loader_;
+  std::unique_ptr<BuildQueue<terrain::ChunkKey, Built>> loader_;  // Background: the loader (build_queue.h)
 };
 
 }  // namespace nestwalk
