@@ -47,9 +47,9 @@ double demHeight(double x, double y) {  // map coordinates: gentle waves over a 
   return 200.0 + 0.02 * u + 0.01 * v + 1.5 * std::sin(0.05 * u) * std::cos(0.04 * v);
 }
 
-/// Which colour the checkerboard has at map (x, y): true red.
-bool redAt(double x, double y) {
-  const auto i = std::int64_t(std::floor((x - kEyeX) / kSquareM)), j = std::int64_t(std::floor((y - kEyeY) / kSquareM));
+/// Which colour a checkerboard of `square` metres has at map (x, y): true red.
+bool redAt(double x, double y, double square = kSquareM) {
+  const auto i = std::int64_t(std::floor((x - kEyeX) / square)), j = std::int64_t(std::floor((y - kEyeY) / square));
   return ((i + j) & 1) == 0;
 }
 
@@ -64,23 +64,24 @@ double edgeDistance(double x, double y) {
 
 class ImageryTilesRender : public test::TempFolderTest {
  protected:
-  /// The DEM, the orthophoto and scene.json in the test's folder; the scene loaded.
-  Scene makeScene() {
+  /// The DEM, the orthophoto (a checkerboard of `square` metres at `pixel` metres, `side` metres
+  /// around the eye) and scene.json in the test's folder; the scene loaded.
+  Scene makeScene(double square = kSquareM, double pixel = kOrthoPixelM, double side = kOrthoSideM) {
     std::vector<float> heights(std::size_t(kDemSamples) * kDemSamples);
     for (int r = 0; r < kDemSamples; ++r)
       for (int c = 0; c < kDemSamples; ++c) heights[std::size_t(r) * kDemSamples + std::size_t(c)] = float(demHeight(kWest + c, kNorth - r));
     terrain::writeTerrainCog((dir() / "dem.tif").string(), kDemSamples, kDemSamples, heights, kWest, kNorth, 1.0, 1.0,
                              "EPSG:32633", false);
-    const int side = int(std::lround(kOrthoSideM / kOrthoPixelM));
-    const double x0 = kEyeX - kOrthoSideM / 2, y0 = kEyeY + kOrthoSideM / 2;  // north-west corner
-    std::vector<std::uint8_t> rgb(std::size_t(side) * std::size_t(side) * 3);
-    for (int j = 0; j < side; ++j)
-      for (int i = 0; i < side; ++i) {
-        const bool red = redAt(x0 + (i + 0.5) * kOrthoPixelM, y0 - (j + 0.5) * kOrthoPixelM);
-        std::copy_n(red ? kRed : kBlue, 3, &rgb[3 * (std::size_t(j) * std::size_t(side) + std::size_t(i))]);
+    const int pixels = int(std::lround(side / pixel));
+    const double x0 = kEyeX - side / 2, y0 = kEyeY + side / 2;  // north-west corner
+    std::vector<std::uint8_t> rgb(std::size_t(pixels) * std::size_t(pixels) * 3);
+    for (int j = 0; j < pixels; ++j)
+      for (int i = 0; i < pixels; ++i) {
+        const bool red = redAt(x0 + (i + 0.5) * pixel, y0 - (j + 0.5) * pixel, square);
+        std::copy_n(red ? kRed : kBlue, 3, &rgb[3 * (std::size_t(j) * std::size_t(pixels) + std::size_t(i))]);
       }
-    terrain::writeImageryCog((dir() / "ortho.tif").string(), side, side, rgb, x0 + kOrthoPixelM / 2,
-                             y0 - kOrthoPixelM / 2, kOrthoPixelM, kOrthoPixelM, "EPSG:32633", false);
+    terrain::writeImageryCog((dir() / "ortho.tif").string(), pixels, pixels, rgb, x0 + pixel / 2, y0 - pixel / 2, pixel,
+                             pixel, "EPSG:32633", false);
     std::ofstream((dir() / "scene.json").string())
         << nlohmann::json{{"terrain", "dem.tif"}, {"imagery", "ortho.tif"}}.dump();
     return loadScene((dir() / "scene.json").string());
@@ -248,6 +249,71 @@ TEST_F(ImageryTilesRender, TexelLevelIsWithinOneOfTheGpusMipmapChoice) {
   EXPECT_LE(coarsest, 1.0) << histogram;
   std::printf("texel levels: %zu of %zu parts within one level of the GPU's choice; drawn minus GPU from %.2f to %.2f\n",
               within, parts, finest, coarsest);
+}
+
+TEST_F(ImageryTilesRender, FarTerrainDoesNotShimmerWhenTheEyeMovesALittle) {
+  // A checkerboard of 0.25 m squares over 400 m: far away a pixel covers many squares. Point-sampled
+  // (what a texture at the imagery's resolution without mipmaps shows) such a region flips between
+  // the two colours as the eye moves a few centimetres; the tiles show the average there, read from
+  // the orthophoto's overviews, and stay put.
+  constexpr double kSquare = 0.25, kFarM = 100.0;
+  const Scene scene = makeScene(kSquare, 0.125, 400.0);
+  ViewRenderer renderer(scene, options());
+  const ViewPose before = pose(-4);
+  ViewPose after = before;
+  after.eye += Eigen::Vector3d(0.03, 0.04, 0);  // 5 cm
+  // Each frame and the ground each sampled pixel shows (every second pixel each way).
+  struct Frame {
+    osg::ref_ptr<osg::Image> image;
+    std::vector<std::optional<Eigen::Vector3d>> ground;
+  };
+  std::vector<Frame> frames;
+  for (const ViewPose& p : {before, after}) {
+    renderer.render(p);
+    Frame f{new osg::Image(renderer.image(), osg::CopyOp::DEEP_COPY_ALL), {}};
+    for (int y = 0; y < f.image->t(); y += 2)
+      for (int x = 0; x < f.image->s(); x += 2) {
+        const auto [origin, dir] = renderer.pixelRay(x + 0.5, y + 0.5);
+        const auto hit = scene.terrain->intersectRay(origin, dir);
+        f.ground.push_back(hit ? std::optional<Eigen::Vector3d>(origin + hit->t * dir) : std::nullopt);
+      }
+    frames.push_back(std::move(f));
+  }
+  // Far pixels on the orthophoto in both frames: how much their drawn colour changes, and how much
+  // a point sample of the checkerboard at each frame's ground point would.
+  std::size_t pixels = 0, k = 0;
+  double drawnChange = 0, pointChange = 0, fromAverage = 0;
+  const Eigen::Vector3d eye = before.eye;
+  for (int y = 0; y < frames[0].image->t(); y += 2)
+    for (int x = 0; x < frames[0].image->s(); x += 2, ++k) {
+      const auto& g0 = frames[0].ground[k];
+      const auto& g1 = frames[1].ground[k];
+      if (!g0 || !g1 || (*g0 - eye).norm() < kFarM) continue;
+      if (std::abs(g0->x() - kEyeX) > 195 || std::abs(g0->y() - kEyeY) > 195) continue;  // on the orthophoto
+      ++pixels;
+      const unsigned char* c0 = frames[0].image->data(x, frames[0].image->t() - 1 - y);
+      const unsigned char* c1 = frames[1].image->data(x, frames[1].image->t() - 1 - y);
+      const unsigned char* p0 = redAt(g0->x(), g0->y(), kSquare) ? kRed : kBlue;
+      const unsigned char* p1 = redAt(g1->x(), g1->y(), kSquare) ? kRed : kBlue;
+      for (int c = 0; c < 3; ++c) {
+        drawnChange += std::abs(int(c0[c]) - int(c1[c])) / 3.0;
+        pointChange += std::abs(int(p0[c]) - int(p1[c])) / 3.0;
+        fromAverage += std::abs(c0[c] - 0.5 * (kRed[c] + kBlue[c])) / 3.0;
+      }
+    }
+  ASSERT_GT(pixels, 1000u);
+  drawnChange /= double(pixels);
+  pointChange /= double(pixels);
+  fromAverage /= double(pixels);
+  std::printf("far terrain (%zu pixels beyond %.0f m), eye moved 5 cm: drawn colours change by %.2f levels on average "
+              "(%.2f from the squares' average colour), point samples of the orthophoto by %.1f\n",
+              pixels, kFarM, drawnChange, fromAverage, pointChange);
+  // The bound: 2 levels on average (each far texel is about a pixel of the squares' average, so a
+  // 5 cm move shifts each pixel's bilinear sample within a texel of a nearly even image), and the
+  // colour drawn is that average; point samples change by 29 levels (two in five flip).
+  EXPECT_LT(drawnChange, 2.0);
+  EXPECT_LT(fromAverage, 6.0) << "far texels are not the squares' average";
+  EXPECT_GT(pointChange, 20.0) << "the region is not one that would shimmer";
 }
 
 }  // namespace
