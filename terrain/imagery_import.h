@@ -14,6 +14,8 @@
 // Thread safety: as terrain_import.h (GDAL's progress bar keeps static state).
 #pragma once
 
+#include "nestwalk/terrain/terrain_imagery.h"  // kImageryJpegQuality
+
 #include <string>
 #include <vector>
 
@@ -21,9 +23,6 @@ namespace nestwalk::terrain {
 
 /// Pixels per side of the COG's tiles.
 inline constexpr int kImageryTileSize = 512;
-/// JPEG quality (0-100) of the imported imagery: 90 keeps a drone orthophoto's texture (tyre
-/// tracks, gravel) at about a fifth of its lossless size.
-inline constexpr int kImageryJpegQuality = 90;
 
 struct ImageryImportSummary {
   int cols = 0, rows = 0, bands = 0;  // bands: 3 (RGB) or 1 (grey), plus the mask

@@ -57,4 +57,55 @@ void writeMiningDumpOrtho(const std::string& out, const MiningDump& dump, std::u
                   dump.cell, crs, overwrite);
 }
 
+void writeFineMiningDumpOrtho(const std::string& out, const MiningDumpParams& params, double pixel,
+                              const std::string& crs, bool overwrite) {
+  MiningDumpParams fine = params;
+  fine.cell = pixel;
+  fine.fineRelief = false;  // the materials alone are wanted
+  const MiningDumpGenerator generator(fine);
+  const int n = generator.cols();
+  const std::uint64_t salted = params.seed ^ kOrthoSeedSalt;
+  const bool textured = pixel < kOrthoTextureBelowPixelM;
+  SplitMix64 grain(salted ^ 0x6A7E);
+  std::vector<float> heights;
+  std::vector<DumpSurface> surfaces;
+  writeImageryCog(
+      out, n, n,
+      [&](int r0, int count, std::uint8_t* rgb) {
+        heights.resize(std::size_t(count) * std::size_t(n));
+        surfaces.resize(heights.size());
+        generator.generateRows(r0, count, heights.data(), surfaces.data());
+        for (int r = 0; r < count; ++r) {
+          const double y = -(r0 + r) * pixel;
+          for (int c = 0; c < n; ++c) {
+            const double x = c * pixel;
+            const std::size_t at = std::size_t(r) * std::size_t(n) + std::size_t(c);
+            const DumpSurface surface = surfaces[at];
+            double factor = 1.0 + kOrthoPatchAmplitude * valueNoise(salted, x, y, kOrthoPatchWavelength);
+            double colour[3];
+            for (int k = 0; k < 3; ++k) colour[k] = kDumpSurfaceColours[std::size_t(surface)][std::size_t(k)];
+            if (textured) {
+              factor *= 1.0 + kOrthoGravelAmplitude * valueNoise(salted ^ 1, x, y, kOrthoGravelWavelengthM) +
+                        kOrthoGritAmplitude * valueNoise(salted ^ 2, x, y, kOrthoGritWavelengthM);
+              if (surface != DumpSurface::Ground && surface != DumpSurface::Ditch &&
+                  valueNoise(salted ^ 3, x, y, kOrthoStoneWavelengthM) > kOrthoStoneThreshold)
+                factor *= valueNoise(salted ^ 4, x, y, 2 * kOrthoStoneWavelengthM) > 0 ? 1.3 : 0.65;
+              if (surface == DumpSurface::Ground || surface == DumpSurface::Top) {
+                const double v = valueNoise(salted ^ 5, x, y, kOrthoVegetationWavelengthM) +
+                                 0.3 * valueNoise(salted ^ 6, x, y, kOrthoVegetationWavelengthM / 4);
+                const double w = std::clamp((v - kOrthoVegetationThreshold) / 0.2, 0.0, 1.0);
+                for (int k = 0; k < 3; ++k)
+                  colour[k] = (1 - w) * colour[k] + w * kOrthoVegetationColour[std::size_t(k)];
+              }
+            }
+            for (int k = 0; k < 3; ++k) {
+              const double v = colour[k] * factor + kOrthoGrainLevels * grain.gaussian();
+              rgb[at * 3u + std::size_t(k)] = std::uint8_t(std::clamp(std::round(v), 0.0, 255.0));
+            }
+          }
+        }
+      },
+      generator.originX(), generator.originY(), pixel, pixel, crs, overwrite, ImageryCompression::Jpeg);
+}
+
 }  // namespace nestwalk::terrain

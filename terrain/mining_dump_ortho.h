@@ -3,7 +3,8 @@
 // scene's draped imagery.
 //
 // Grid: the DEM's own: pixel (c, r) is centred on DEM sample (c, r), so the image has the DEM's
-// CRS, extent and resolution (1 m for the bundled dump), RGB 8-bit, row 0 north.
+// CRS, extent and resolution (1 m for the bundled dump), RGB 8-bit, row 0 north; or, for a drone's
+// finer orthophoto (writeFineMiningDumpOrtho), pixels of any size over the same area.
 // Colour: the material of the surface the generator built at the sample (MiningDump::surfaces;
 // the rule is in mining_dump.h), from kDumpSurfaceColours, times a smooth brightness patchiness
 // (value noise on a lattice of kOrthoPatchWavelength metres, within +-kOrthoPatchAmplitude), plus a
@@ -49,6 +50,17 @@ inline constexpr double kOrthoPatchAmplitude = 0.06;
 /// 8-bit levels: the standard deviation of the per-pixel grain.
 inline constexpr double kOrthoGrainLevels = 3.0;
 
+/// Metres: an orthophoto of pixels finer than this shows the ground's own texture (below).
+inline constexpr double kOrthoTextureBelowPixelM = 0.5;
+/// The texture of a fine orthophoto (metres and factors of the base colour): gravel mottling on
+/// two scales, stones (a tenth of the surface lighter or darker) on every surface but the ground and
+/// the ditch, and vegetation patches (reclamation) on the ground and the top.
+inline constexpr double kOrthoGravelWavelengthM = 0.6, kOrthoGravelAmplitude = 0.08;
+inline constexpr double kOrthoGritWavelengthM = 0.25, kOrthoGritAmplitude = 0.05;
+inline constexpr double kOrthoStoneWavelengthM = 0.35, kOrthoStoneThreshold = 0.6;
+inline constexpr double kOrthoVegetationWavelengthM = 5.0, kOrthoVegetationThreshold = 0.3;
+inline constexpr std::array<std::uint8_t, 3> kOrthoVegetationColour{72, 104, 48};
+
 /// The orthophoto's pixels: dump.cols x dump.rows, row-major from the north row, RGB interleaved.
 std::vector<std::uint8_t> miningDumpOrtho(const MiningDump& dump, std::uint64_t seed);
 
@@ -58,5 +70,15 @@ std::vector<std::uint8_t> miningDumpOrtho(const MiningDump& dump, std::uint64_t 
 /// `overwrite`.
 void writeMiningDumpOrtho(const std::string& out, const MiningDump& dump, std::uint64_t seed, const std::string& crs,
                           bool overwrite);
+
+/// A drone's orthophoto of the dump `params` makes: pixels of `pixel` metres over its whole area
+/// (finer than its DEM: pixel centres on a grid of the area's own edges), each the material the
+/// generator finds at the pixel's centre (the same dump at that spacing), coloured as above and,
+/// below kOrthoTextureBelowPixelM, with the ground's texture; written as a JPEG COG with overviews
+/// (writeImageryCog's streamed form: memory is a stripe of rows), in `crs`. Deterministic for a seed
+/// and pixel. std::invalid_argument for a pixel the generator refuses (more than 65,536 a side);
+/// InputError naming the file when it cannot be written, or exists and not `overwrite`.
+void writeFineMiningDumpOrtho(const std::string& out, const MiningDumpParams& params, double pixel,
+                              const std::string& crs, bool overwrite);
 
 }  // namespace nestwalk::terrain

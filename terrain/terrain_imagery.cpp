@@ -491,9 +491,21 @@ void TerrainImagery::State::readReprojected(double x0, double y0, double sx, dou
 
 void writeImageryCog(const std::string& out, int cols, int rows, const std::vector<std::uint8_t>& rgb, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite) {
-  initGdal();
   if (cols < 1 || rows < 1 || rgb.size() != std::size_t(cols) * std::size_t(rows) * 3u)
     throw std::invalid_argument("writeImageryCog: rgb does not hold cols x rows RGB pixels");
+  writeImageryCog(
+      out, cols, rows,
+      [&](int r0, int count, std::uint8_t* stripe) {
+        std::copy_n(rgb.begin() + std::ptrdiff_t(r0) * cols * 3, std::size_t(count) * std::size_t(cols) * 3u, stripe);
+      },
+      originX, originY, dx, dy, crs, overwrite, ImageryCompression::Deflate);
+}
+
+void writeImageryCog(const std::string& out, int cols, int rows, const ImageryRowSource& source, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite,
+                     ImageryCompression compression) {
+  initGdal();
+  if (cols < 1 || rows < 1) throw std::invalid_argument("writeImageryCog: no pixels");
   std::error_code ec;
   if (fs::exists(out, ec)) {
     if (fs::is_directory(out, ec)) throw InputError(out + ": is a folder; the imagery needs a file name");
@@ -502,35 +514,51 @@ void writeImageryCog(const std::string& out, int cols, int rows, const std::vect
   const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
   if (!fs::is_directory(parent, ec)) throw InputError(out + ": the folder " + parent.string() + " does not exist");
 
-  GdalDataset memOwned(GDALCreate(GDALGetDriverByName("MEM"), "", cols, rows, 3, GDT_Byte, nullptr));
-  auto* mem = static_cast<GDALDatasetH>(memOwned.get());
-  if (!mem) throw std::runtime_error("writeImageryCog: GDAL's MEM driver cannot hold the image");
+  // The pixels stripe by stripe into a tiled scratch GeoTIFF beside the output (never held whole),
+  // which GDAL's COG driver then copies with its overviews.
+  OutputFile stripes(out, ".tif", "stripes");
+  const char* scratchOptions[] = {"TILED=YES", "BLOCKXSIZE=512", "BLOCKYSIZE=512", "INTERLEAVE=PIXEL", "BIGTIFF=IF_NEEDED",
+                                  nullptr};
+  GdalDataset scratchOwned(GDALCreate(GDALGetDriverByName("GTiff"), stripes.tempPath().c_str(), cols, rows, 3, GDT_Byte,
+                                      const_cast<char**>(scratchOptions)));
+  auto* scratch = static_cast<GDALDatasetH>(scratchOwned.get());
+  if (!scratch) throw InputError(out + ": cannot write the imagery file: " + lastGdalError());
   double gt[6] = {originX - 0.5 * dx, dx, 0, originY + 0.5 * dy, 0, -dy};
-  GDALSetGeoTransform(mem, gt);
+  GDALSetGeoTransform(scratch, gt);
   if (!crs.empty()) {
     const Srs srs(parseCrs(crs, crs + ": not a CRS GDAL knows"));
     char* wkt = nullptr;
     OSRExportToWkt(srs.get(), &wkt);
-    GDALSetProjection(mem, wkt);
+    GDALSetProjection(scratch, wkt);
     CPLFree(wkt);
   }
   const GDALColorInterp interp[3] = {GCI_RedBand, GCI_GreenBand, GCI_BlueBand};
-  for (int b = 0; b < 3; ++b) {
-    GDALRasterBandH band = GDALGetRasterBand(mem, b + 1);
-    GDALSetRasterColorInterpretation(band, interp[b]);
-    // Interleaved RGB: band b starts at byte b, 3 bytes a pixel.
-    if (GDALRasterIO(band, GF_Write, 0, 0, cols, rows, const_cast<std::uint8_t*>(rgb.data()) + b, cols, rows, GDT_Byte,
-                     3, 3 * cols) != CE_None)
-      throw std::runtime_error("writeImageryCog: cannot fill GDAL's MEM dataset: " + lastGdalError());
+  for (int b = 0; b < 3; ++b) GDALSetRasterColorInterpretation(GDALGetRasterBand(scratch, b + 1), interp[b]);
+  std::vector<std::uint8_t> stripe(std::size_t(kImageryStripeRows) * std::size_t(cols) * 3u);
+  for (int r0 = 0; r0 < rows; r0 += kImageryStripeRows) {
+    const int count = std::min(kImageryStripeRows, rows - r0);
+    source(r0, count, stripe.data());
+    // Interleaved RGB: 3 bytes a pixel, band b at byte b.
+    int bands[3] = {1, 2, 3};
+    if (GDALDatasetRasterIO(scratch, GF_Write, 0, r0, cols, count, stripe.data(), cols, count, GDT_Byte, 3, bands, 3,
+                            3 * std::int64_t(cols), 1) != CE_None)
+      throw InputError(out + ": cannot write the imagery file: " + lastGdalError());
   }
   GDALDriverH cog = GDALGetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver");
   OutputFile tmp(out, ".tif");
-  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "BLOCKSIZE=512", "OVERVIEWS=AUTO",
-                           "OVERVIEW_RESAMPLING=AVERAGE", "BIGTIFF=IF_SAFER", nullptr};
+  const bool jpeg = compression == ImageryCompression::Jpeg;
+  const std::string quality = "QUALITY=" + std::to_string(kImageryJpegQuality);
+  const char* options[] = {jpeg ? "COMPRESS=JPEG" : "COMPRESS=DEFLATE",
+                           jpeg ? quality.c_str() : "PREDICTOR=YES",
+                           "BLOCKSIZE=512",
+                           "OVERVIEWS=AUTO",
+                           "OVERVIEW_RESAMPLING=AVERAGE",
+                           "BIGTIFF=IF_SAFER",
+                           nullptr};
   CPLErrorReset();
-  GDALDatasetH written = GDALCreateCopy(cog, tmp.tempPath().c_str(), mem, FALSE, const_cast<char**>(options), nullptr,
-                                        nullptr);
+  GDALDatasetH written = GDALCreateCopy(cog, tmp.tempPath().c_str(), scratch, FALSE, const_cast<char**>(options),
+                                        nullptr, nullptr);
   if (!written) throw InputError(out + ": cannot write the imagery file: " + lastGdalError());
   CPLErrorReset();
   GDALClose(written);

@@ -71,6 +71,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -153,5 +154,22 @@ class TerrainImagery {
 /// to write), std::invalid_argument when `rgb` does not hold cols x rows pixels.
 void writeImageryCog(const std::string& out, int cols, int rows, const std::vector<std::uint8_t>& rgb, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite);
+
+/// Rows [r0, r0 + count) of an RGB 8-bit image: count * cols pixels, 3 bytes each, row-major.
+using ImageryRowSource = std::function<void(int r0, int count, std::uint8_t* rgb)>;
+enum class ImageryCompression { Deflate, Jpeg };
+/// Rows a stripe of the streamed writer asks its source for (a tile row).
+inline constexpr int kImageryStripeRows = 512;
+/// JPEG quality (0-100) of the engine's JPEG imagery files (import-terrain --imagery,
+/// imagery_import.h; generated fine orthophotos): 90 keeps a drone orthophoto's texture (tyre
+/// tracks, gravel) at about a fifth of its lossless size.
+inline constexpr int kImageryJpegQuality = 90;
+/// The same, for images too large to hold: the rows asked for kImageryStripeRows at a time into a
+/// tiled scratch GeoTIFF beside `out` (removed afterwards), then copied to the COG with its
+/// overviews; memory is a stripe. Deflate is lossless; Jpeg (quality kImageryJpegQuality) is what a
+/// drone survey's orthophoto usually is, a fifth of the size.
+void writeImageryCog(const std::string& out, int cols, int rows, const ImageryRowSource& source, double originX,
+                     double originY, double dx, double dy, const std::string& crs, bool overwrite,
+                     ImageryCompression compression);
 
 }  // namespace nestwalk::terrain

@@ -2,12 +2,17 @@
 // surface agrees with the heights the generator produced, measured independently (slopes from the
 // grid, levels from the layout: tops and berms flat at their levels, faces at 35 degrees, the ramp at
 // its grade, the ditch a trough), and the orthophoto's colour at a sample is its surface's material
-// (the nearest base colour of a 3 x 3 average), deterministic from the seed.
+// (the nearest base colour of a 3 x 3 average), deterministic from the seed; a drone's finer
+// orthophoto (writeFineMiningDumpOrtho), read back through GDAL, is on the area's edges at its
+// pixel, shows the materials the generator finds at its pixels and carries texture.
 #include "nestwalk/terrain/mining_dump.h"
 #include "nestwalk/terrain/mining_dump_ortho.h"
+#include "tests/scene/scene_test_util.h"
 
+#include <gdal.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -165,6 +170,107 @@ TEST(MiningDumpOrtho, SameSeedSameBytes) {
   terrain::MiningDump broken = d;
   broken.surfaces.pop_back();
   EXPECT_THROW(terrain::miningDumpOrtho(broken, 7), std::invalid_argument);
+}
+
+class FineMiningDumpOrtho : public TempFolderTest {};
+
+TEST_F(FineMiningDumpOrtho, ShowsTheGeneratorsMaterialsAtItsPixelsWithTexture) {
+  terrain::MiningDumpParams params;
+  params.size = 400;
+  constexpr double kPixel = 0.25;
+  const std::string path = (dir() / "ortho.tif").string();
+  terrain::writeFineMiningDumpOrtho(path, params, kPixel, terrain::kMiningDumpCrs, false);
+  EXPECT_THROW(terrain::writeFineMiningDumpOrtho(path, params, kPixel, terrain::kMiningDumpCrs, false), InputError);
+
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  ASSERT_NE(ds, nullptr);
+  const int n = GDALGetRasterXSize(ds);
+  ASSERT_EQ(n, 1600);
+  ASSERT_EQ(GDALGetRasterYSize(ds), n);
+  double gt[6];
+  ASSERT_EQ(GDALGetGeoTransform(ds, gt), CE_None);
+  EXPECT_DOUBLE_EQ(gt[0], params.centreE - 200);  // the area's west and north edges
+  EXPECT_DOUBLE_EQ(gt[3], params.centreN + 200);
+  EXPECT_DOUBLE_EQ(gt[1], kPixel);
+  EXPECT_DOUBLE_EQ(gt[5], -kPixel);
+  EXPECT_GT(GDALGetOverviewCount(GDALGetRasterBand(ds, 1)), 0);
+  std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3u);
+  int bands[3] = {1, 2, 3};
+  ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, n, n, rgb.data(), n, n, GDT_Byte, 3, bands, 3, 3 * n, 1), CE_None);
+  GDALClose(ds);
+
+  // The generator's own materials at the pixels' centres.
+  terrain::MiningDumpParams fine = params;
+  fine.cell = kPixel;
+  const terrain::MiningDumpGenerator generator(fine);
+  std::vector<float> heights(rgb.size() / 3);
+  std::vector<DumpSurface> surfaces(heights.size());
+  generator.generateRows(0, n, heights.data(), surfaces.data());
+  // 1 m blocks of one material (4 x 4 pixels and a pixel around them): the nearest base colour (or
+  // the vegetation's, on the ground and the top) of their mean is their material; the spread of
+  // their light within them is the texture (the per-pixel grain alone is 3 levels).
+  std::array<int, terrain::kDumpSurfaceCount> checked{}, right{};
+  double spread = 0;
+  int spreadBlocks = 0;
+  for (int by = 1; by + 5 < n; by += 4)
+    for (int bx = 1; bx + 5 < n; bx += 4) {
+      const DumpSurface s = surfaces[std::size_t(by) * std::size_t(n) + std::size_t(bx)];
+      bool uniform = true;
+      for (int y = by - 1; y < by + 5 && uniform; ++y)
+        for (int x = bx - 1; x < bx + 5; ++x) uniform = uniform && surfaces[std::size_t(y) * std::size_t(n) + std::size_t(x)] == s;
+      if (!uniform) continue;
+      double mean[3] = {0, 0, 0}, light = 0, light2 = 0;
+      for (int y = by; y < by + 4; ++y)
+        for (int x = bx; x < bx + 4; ++x) {
+          const std::uint8_t* p = &rgb[(std::size_t(y) * std::size_t(n) + std::size_t(x)) * 3u];
+          for (int k = 0; k < 3; ++k) mean[k] += p[k] / 16.0;
+          const double l = (p[0] + p[1] + p[2]) / 3.0;
+          light += l / 16.0;
+          light2 += l * l / 16.0;
+        }
+      auto distance = [&](const std::array<std::uint8_t, 3>& c) { return std::hypot(mean[0] - c[0], mean[1] - c[1], mean[2] - c[2]); };
+      int nearest = 0;
+      for (int m = 1; m < terrain::kDumpSurfaceCount; ++m)
+        if (distance(terrain::kDumpSurfaceColours[std::size_t(m)]) < distance(terrain::kDumpSurfaceColours[std::size_t(nearest)]))
+          nearest = m;
+      // Vegetation blends the ground and the top towards its green: their mean lies nearer the
+      // segment from their base colour to the green than any other material's colour.
+      bool vegetated = false;
+      if (s == DumpSurface::Ground || s == DumpSurface::Top) {
+        const auto& a = terrain::kDumpSurfaceColours[std::size_t(s)];
+        const auto& g = terrain::kOrthoVegetationColour;
+        double t = 0, len2 = 0;
+        for (int k = 0; k < 3; ++k) {
+          t += (mean[k] - a[std::size_t(k)]) * (g[std::size_t(k)] - a[std::size_t(k)]);
+          len2 += double(g[std::size_t(k)] - a[std::size_t(k)]) * (g[std::size_t(k)] - a[std::size_t(k)]);
+        }
+        t = std::clamp(t / len2, 0.0, 1.0);
+        double toSegment = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double d = mean[k] - (a[std::size_t(k)] + t * (g[std::size_t(k)] - a[std::size_t(k)]));
+          toSegment += d * d;
+        }
+        vegetated = true;
+        for (int m = 0; m < terrain::kDumpSurfaceCount; ++m)
+          if (m != int(s) && distance(terrain::kDumpSurfaceColours[std::size_t(m)]) < std::sqrt(toSegment)) vegetated = false;
+      }
+      ++checked[std::size_t(s)];
+      right[std::size_t(s)] += nearest == int(s) || vegetated;
+      if (s == DumpSurface::Face) {
+        spread += std::sqrt(std::max(0.0, light2 - light * light));
+        ++spreadBlocks;
+      }
+    }
+  for (DumpSurface s : {DumpSurface::Ground, DumpSurface::Face, DumpSurface::Berm, DumpSurface::Top}) {
+    ASSERT_GT(checked[std::size_t(s)], 100) << terrain::dumpSurfaceName(s);
+    std::printf("%s: %d of %d one-metre blocks\n", terrain::dumpSurfaceName(s), right[std::size_t(s)], checked[std::size_t(s)]);
+    // Stones (a tenth of the area, 0.65 or 1.3 times the colour) pull a block's mean off its
+    // material where they gather.
+    EXPECT_GE(double(right[std::size_t(s)]) / checked[std::size_t(s)], 0.9) << terrain::dumpSurfaceName(s);
+  }
+  ASSERT_GT(spreadBlocks, 100);
+  EXPECT_GT(spread / spreadBlocks, 6.0) << "the faces show no texture within a metre";
+  std::printf("light spread within a metre of face: %.1f levels\n", spread / spreadBlocks);
 }
 
 }  // namespace

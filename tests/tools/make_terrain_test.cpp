@@ -174,5 +174,28 @@ TEST(MakeTerrain, OrthoIsKeptWithoutOverwriteAndIsNotTheTerrain) {
   probe.expectOnTheGridOf(dir / "a.tif");
 }
 
+TEST(MakeTerrain, FinerOrthoPixelWritesADronesOrthophotoAndACoarserOneIsRefused) {
+  const TempFolder folder;
+  const fs::path dir = folder.path();
+  const auto coarse = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --size 200 --ortho " +
+                                  quoted(dir / "ortho.tif") + " --ortho-pixel 2");
+  EXPECT_EQ(coarse.exitCode, 1);
+  EXPECT_NE(coarse.err.find("--ortho-pixel must not be coarser than --cell"), std::string::npos) << coarse.err;
+  EXPECT_FALSE(fs::exists(dir / "a.tif"));
+  const auto fine = runNestwalk("make-terrain " + quoted(dir / "a.tif") + " --size 200 --ortho " +
+                                quoted(dir / "ortho.tif") + " --ortho-pixel 0.25");
+  ASSERT_EQ(fine.exitCode, 0) << fine.err;
+  EXPECT_NE(fine.out.find("RGB JPEG at 0.25 m a pixel (materials, gravel, stones and vegetation patches)"),
+            std::string::npos) << fine.out;
+  // The same area as the DEM, four pixels a cell (the materials at the pixels are checked in
+  // tests/terrain/mining_dump_ortho_test.cpp).
+  const auto info = runCommand("gdalinfo " + quoted(dir / "ortho.tif"));
+  EXPECT_NE(info.out.find("Size is 800, 800"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("Pixel Size = (0.250000000000000,-0.250000000000000)"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("JPEG"), std::string::npos) << info.out;
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().find(".ortho.tif."), std::string::npos) << "a scratch file is left: " << entry.path();
+}
+
 }  // namespace
 }  // namespace nestwalk::test

@@ -1,4 +1,5 @@
 // nestwalk make-terrain OUT [--seed N] [--size METRES] [--cell METRES] [--fine-relief] [--ortho FILE]
+//                          [--ortho-pixel METRES]
 // [--overwrite]: generates the bundled mining-dump DEM (terrain/mining_dump.h) and writes it as the
 // engine's terrain format (the same Cloud-Optimized GeoTIFF as import-terrain, with its pyramid), in
 // UTM zone 51N (EPSG:32651); with --ortho, also its synthetic orthophoto on the DEM's grid
@@ -23,6 +24,7 @@ namespace {
 struct MakeTerrainArgs {
   std::string out;
   std::string ortho;  // the orthophoto's file; empty: none
+  double orthoPixel = 0;  // its pixel, metres; 0: the DEM's cell
   terrain::MiningDumpParams params;
   bool overwrite = false;
 };
@@ -31,7 +33,13 @@ void runMakeTerrain(const MakeTerrainArgs& args) {
   if (!(args.params.size >= 16 * args.params.cell && args.params.cell > 0))
     throw InputError("--size must be at least 16 cells and --cell positive");
   const double cells = std::round(args.params.size / args.params.cell);
-  if (cells > terrain::kMaxMiningDumpCellsPerSide || (!args.ortho.empty() && cells * cells > terrain::kMaxHeldMiningDumpSamples)) {
+  const bool fineOrtho = args.orthoPixel > 0 && args.orthoPixel != args.params.cell;
+  if (args.orthoPixel > args.params.cell)
+    throw InputError("--ortho-pixel must not be coarser than --cell (the orthophoto is at least the DEM's resolution)");
+  if (fineOrtho && std::round(args.params.size / args.orthoPixel) > terrain::kMaxMiningDumpCellsPerSide)
+    throw InputError("--ortho-pixel: more than 65536 pixels a side over --size");
+  if (cells > terrain::kMaxMiningDumpCellsPerSide ||
+      (!args.ortho.empty() && !fineOrtho && cells * cells > terrain::kMaxHeldMiningDumpSamples)) {
     char text[200];
     std::snprintf(text, sizeof text, "--size %g at --cell %g is %.0f cells a side: more than the generator's %s",
                   args.params.size, args.params.cell, cells,
@@ -59,7 +67,9 @@ void runMakeTerrain(const MakeTerrainArgs& args) {
       },
       generator.originX(), generator.originY(), args.params.cell, args.params.cell, terrain::kMiningDumpCrs,
       args.overwrite);
-  if (!args.ortho.empty())
+  if (!args.ortho.empty() && fineOrtho)
+    terrain::writeFineMiningDumpOrtho(args.ortho, args.params, args.orthoPixel, terrain::kMiningDumpCrs, args.overwrite);
+  else if (!args.ortho.empty())
     terrain::writeMiningDumpOrtho(args.ortho, terrain::generateMiningDump(args.params), args.params.seed,
                                   terrain::kMiningDumpCrs, args.overwrite);
   const auto& L = generator.layout();
@@ -73,7 +83,10 @@ void runMakeTerrain(const MakeTerrainArgs& args) {
               L.centreE, L.centreN, L.azimuthDeg, std::fmod(L.azimuthDeg + 270.0, 360.0));
   std::printf("  benches:      toe at %.3f m, top at %.3f m, bench height %.3f m, face slope %.3f deg\n",
               L.baseHeight, L.topHeight, args.params.benchHeight, args.params.faceSlopeDeg);
-  if (!args.ortho.empty())
+  if (!args.ortho.empty() && fineOrtho)
+    std::printf("  ortho:        %s, RGB JPEG at %.10g m a pixel (materials%s)\n", args.ortho.c_str(), args.orthoPixel,
+                args.orthoPixel < terrain::kOrthoTextureBelowPixelM ? ", gravel, stones and vegetation patches" : "");
+  else if (!args.ortho.empty())
     std::printf("  ortho:        %s, RGB on the DEM's grid (materials of the top, berms, faces, ramp, ditch and "
                 "ground)\n",
                 args.ortho.c_str());
@@ -94,6 +107,10 @@ void registerMakeTerrain(CLI::App& app) {
                 "Relief down to the cell (stones, ruts: noise octaves from 2 m down to two cells), as a drone survey has");
   cmd->add_option("--ortho", args->ortho,
                   "Also write a synthetic orthophoto of the dump (RGB GeoTIFF on the DEM's grid) to this file");
+  cmd->add_option("--ortho-pixel", args->orthoPixel,
+                  "The orthophoto's pixel, metres (default: --cell): finer, as a drone's is, written as a JPEG COG row by "
+                  "row in bounded memory, with gravel, stones and vegetation below 0.5 m")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing OUT (and --ortho FILE)");
   cmd->callback([args] { runMakeTerrain(*args); });
 }
