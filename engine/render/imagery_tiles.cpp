@@ -109,7 +109,7 @@ ImageryTileKey ImageryTiles::wanted(int areaLevel, int x, int y, int texelLevel)
 
 std::size_t ImageryTiles::tileBytes(const ImageryTileKey& key) const {
   const std::size_t side = std::size_t(kImageryTileTexels) << (key.areaLevel - key.texelLevel);
-  return 2 * 4 * side * side;
+  return 4 * side * side;
 }
 
 ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
@@ -148,6 +148,9 @@ ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
   t.setWrap(osg::Texture::WRAP_T, osg::Texture::CLAMP_TO_EDGE);
   t.setFilter(osg::Texture::MAG_FILTER, osg::Texture::LINEAR);
   t.setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR);  // the levels are the tiles (see above)
+  // The GL's copy is the one kept: OSG lets go of the image once it is uploaded (one context draws
+  // a tile; a tile evicted and wanted again is read again).
+  t.setUnRefImageDataAfterApply(true);
   b.tile.bytes = tileBytes(key);
   b.seconds = osg::Timer::instance()->delta_s(t0, osg::Timer::instance()->tick());
   return b;

@@ -37,7 +37,8 @@
 // frame asked for, coarser first, and a frame draws the nearest resident ancestor of a tile still
 // loading (Background); or every wanted tile is built before the frame is drawn (Complete).
 //
-// Memory: a tile costs twice its RGBA texels (OSG's image and the GL's copy). The paged terrain
+// Memory: a tile costs its RGBA texels once: OSG lets go of its image once the GL has its copy
+// (llvmpipe keeps that copy in the process, so it is the resident cost). The paged terrain
 // counts tiles and chunks in one budget: tiles are asked for only while they fit, and those a frame
 // did not draw go, oldest first, when the budget is short (never the top one).
 //

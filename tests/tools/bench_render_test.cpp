@@ -4,6 +4,7 @@
 // nested view culling never kept more instances than OSG's bounding spheres on the same frames, and
 // the frame-rate target is the default configuration's median frame rate.
 #include "tests/common/run_command.h"
+#include "tests/common/temp_folder.h"
 #include "tests/common/test_data.h"
 
 #include <nlohmann/json.hpp>
@@ -36,6 +37,32 @@ TEST(BenchRender, QuickJsonRunComparesCullingAndLod) {
   EXPECT_LE(cull["nested_kept_mean"].get<double>(), cull["osg_spheres_kept_mean"].get<double>());
   ASSERT_EQ(j["targets"].size(), 1u);
   EXPECT_DOUBLE_EQ(j["targets"][0]["value"].get<double>(), j["configs"][0]["fps_p50"].get<double>());
+}
+
+TEST(BenchRender, ImageryRowsDrapeAFinerOrthophotoBesideTheDemResolution) {
+  if (!std::filesystem::exists(test::bundledSceneFile()))
+    GTEST_SKIP() << "the bundled scene is absent: build the bundled_scene target";
+  // The bundled dump's orthophoto at 25 cm (the bundled scene is make-terrain's default dump).
+  const TempFolder folder;
+  const auto made = runNestwalk("make-terrain " + quoted(folder.path() / "dump.tif") + " --ortho " +
+                                quoted(folder.path() / "ortho25.tif") + " --ortho-pixel 0.25");
+  ASSERT_EQ(made.exitCode, 0) << made.err;
+  const CommandResult r = runNestwalk("bench render --quick --json --imagery " + quoted(folder.path() / "ortho25.tif"));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["configs"].size(), 4u);  // the two default rows, the DEM's resolution, the orthophoto
+  const auto& dem = j["configs"][2];
+  const auto& fine = j["configs"][3];
+  EXPECT_EQ(dem["config"], "imagery at the DEM's resolution, settled");
+  EXPECT_EQ(fine["config"], "imagery ortho25.tif, settled");
+  EXPECT_DOUBLE_EQ(dem["finest_texel_cm"].get<double>(), 100.0);  // 1 m cells: the DEM's spacing
+  EXPECT_DOUBLE_EQ(fine["finest_texel_cm"].get<double>(), 25.0);  // the 25 cm pixels: 64 m over 256 texels
+  EXPECT_GT(fine["imagery_mib"].get<double>(), dem["imagery_mib"].get<double>());
+  for (const auto* row : {&dem, &fine}) {
+    EXPECT_EQ((*row)["poses_unsettled"].get<long>(), 0);
+    EXPECT_LE((*row)["imagery_mib"].get<double>(), (*row)["terrain_resident_mib"].get<double>());
+    EXPECT_LE((*row)["max_terrain_error_px"].get<double>(), 1.0 + 1e-9);
+  }
 }
 
 }  // namespace

@@ -115,6 +115,11 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
   cmd.add_option("--terrain-cache", o.terrainCache,
                  "Folder of the sweep's generated DEMs, reused while they exist (default: "
                  "nestwalk-terrain-cache in the system's temporary folder)");
+  cmd.add_option("--imagery", o.imagery,
+                 "Orthophotos to drape instead of the scene's (e.g. the bundled dump's at 10 and 3 cm: make-terrain "
+                 "--ortho FILE --ortho-pixel 0.1): a settled row each, beside the scene's imagery at the DEM's resolution, "
+                 "after the two default rows (the other configurations are left out)")
+      ->check(CLI::ExistingFile);
   cmd.add_option("--terrain-sweep-child", o.sweepChild, "The sweep's measuring child (internal)")->group("");
 }
 

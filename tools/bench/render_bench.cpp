@@ -6,6 +6,7 @@
 #include "tools/bench/render_terrain_sweep.h"
 
 #include "nestwalk/core/statistics.h"
+#include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -45,6 +47,8 @@ struct Config {
   // so the timed frame draws and loads nothing new. Also measures the time to the first complete
   // frame with background loading.
   bool settle = false;
+  std::string imagery = {};  // draped instead of the scene's (empty: the scene's)
+  bool demImagery = false;   // the imagery at the DEM's resolution (its finest texel the DEM's spacing)
 };
 
 /// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
@@ -123,7 +127,9 @@ std::optional<double> restartPeakResident() {
 }
 
 /// Whether the last frame drew the terrain's full answer (nothing wanted, no stand-in).
-bool complete(const RenderFrameStats& s) { return s.terrain.chunksWanted == 0 && s.terrain.standIns == 0; }
+bool complete(const RenderFrameStats& s) {
+  return s.terrain.chunksWanted == 0 && s.terrain.standIns == 0 && s.terrain.imageryTilesWanted == 0;
+}
 
 /// From a renderer just made (background loading, as in the window), frames of one pose until one is
 /// complete: milliseconds and frames (-1 ms when it gave up).
@@ -140,9 +146,13 @@ std::pair<double, int> firstCompleteFrame(const Scene& scene, RenderOptions ro, 
 }
 
 /// Renders every pose with configuration c: the configuration's row of the table.
-Json renderConfig(const Scene& scene, const Config& c, int width, int height, const std::vector<ViewPose>& poses,
+Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int height, const std::vector<ViewPose>& poses,
                   CullComparison* cull, Json& doc) {
+  std::optional<Scene> draped;  // the scene with the configuration's imagery
+  if (!c.imagery.empty()) draped.emplace(sceneAsLoaded).spec.imagery = c.imagery;
+  const Scene& scene = draped ? *draped : sceneAsLoaded;
   RenderOptions ro;
+  if (c.demImagery) ro.imageryFinestTexelM = std::max(scene.terrain->dx(), scene.terrain->dy());
   ro.width = width;
   ro.height = height;
   ro.lodMaxPixels = c.lodPixels;
@@ -165,6 +175,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
   const double firstFrameMs = renderer.render(poses.front()).totalMs;  // warm-up, reported apart
   std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
   double maxErrorPx = 0, maxErrorM = 0;
+  int finestTexelLevel = std::numeric_limits<int>::max();  // drawn over the poses
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
   std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
@@ -189,6 +200,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
     exactTriangles.push_back(double(s.terrain.exactTrianglesDrawn));
     maxErrorPx = std::max(maxErrorPx, s.terrainErrorPx);
     maxErrorM = std::max(maxErrorM, s.terrainErrorM);
+    finestTexelLevel = std::min(finestTexelLevel, s.terrain.finestTexelLevelDrawn);
     if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
   }
   Json row = {{"config", c.name},
@@ -197,6 +209,7 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
           {"nested_culling", c.nestedCulling},
           {"chunk_cells", c.chunkCells},
           {"terrain_resident_mib", double(renderer.graph().terrainStats().residentBytes) / (1 << 20)},
+          {"imagery_mib", double(renderer.graph().terrainStats().imageryBytes) / (1 << 20)},
           {"frames", poses.size()},
           {"ms_p50", percentile(total, 50)},
           {"ms_p95", percentile(total, 95)},
@@ -213,6 +226,8 @@ Json renderConfig(const Scene& scene, const Config& c, int width, int height, co
           {"max_terrain_error_m", maxErrorM},
           {"first_frame_ms", firstFrameMs},
           {"setup_ms", setupMs}};
+  if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles())
+    row["finest_texel_cm"] = 100 * tiles->texelSize(finestTexelLevel);
   if (c.settle) {
     row["settle_frames_mean"] = double(settleFrames) / double(std::max<std::size_t>(poses.size(), 1));
     row["poses_unsettled"] = unsettled;
@@ -236,7 +251,7 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
   const std::vector<ViewPose> poses = sampleFlythroughPoses(scene, o, o.runFramesPerScript(), j["flythroughs"]);
 
   std::vector<Config> configs = {{"LOD 1 px, nested culling", 1.0, true}, {"LOD 1 px, OSG sphere culling", 1.0, false}};
-  if (!o.quick) {
+  if (!o.quick && o.imagery.empty()) {
     // The two ways of paging the terrain, each pose settled before its timed frame.
     configs.push_back({"LOD 1 px, own quadtree, settled", 1.0, true, 64, false, true});
     configs.push_back({"LOD 1 px, osg::PagedLOD + DatabasePager", 1.0, true, 64, true, true});
@@ -249,6 +264,17 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
     configs.push_back({"LOD 4 px, nested", 4.0, true});
     configs.push_back({"LOD 1 px, chunks of 32 cells", 1.0, true, 32});
     configs.push_back({"LOD 1 px, chunks of 128 cells", 1.0, true, 128});
+  }
+  if (!o.imagery.empty()) {
+    // Imagery at its own resolution against the drape at the DEM's (imagery_tiles.h), settled.
+    Config dem{"imagery at the DEM's resolution, settled", 1.0, true, 64, false, true};
+    dem.demImagery = true;
+    configs.push_back(dem);
+    for (const std::string& path : o.imagery) {
+      Config c{"imagery " + std::filesystem::path(path).filename().string() + ", settled", 1.0, true, 64, false, true};
+      c.imagery = path;
+      configs.push_back(c);
+    }
   }
   Table table;
   table.column({"configuration", "/config", 40, 0, true})
@@ -263,6 +289,8 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
       .column({"err px", "/max_terrain_error_px", 10, 3})
       .column({"err m", "/max_terrain_error_m", 10, 3})
       .column({"MiB", "/terrain_resident_mib", 7, 0})
+      .column({"img MiB", "/imagery_mib", 8, 0})
+      .column({"texel cm", "/finest_texel_cm", 9, 1})
       .column({"first", "/first_frame_ms", 9, 0})
       .column({"complete", "/first_complete_ms", 9, 0})
       .column({"+RSS MiB", "/peak_rss_growth_mib", 9, 0});

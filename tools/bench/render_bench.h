@@ -38,6 +38,9 @@ struct RenderBenchOptions : BenchOptions {
   std::vector<double> terrainCells;  // metres: the finer sweep (the 1000 m dump at these cells); empty: the wider one
   std::string terrainCache;          // folder of the generated DEMs; empty: the default
   std::string sweepChild;            // hidden: a sweep child's request file (it measures one size)
+  /// Orthophotos to drape instead of the scene's own, a settled row each, beside a row of the
+  /// scene's imagery at the DEM's resolution (make-terrain --ortho-pixel makes the bundled dump's).
+  std::vector<std::string> imagery;
 
   // What a run uses (the configurations and the sweep alike): with quick, 320 x 180 and 8 frames.
   int runWidth() const { return quick ? 320 : width; }
