@@ -11,6 +11,7 @@
 #include <cpl_string.h>
 #include <gdal.h>
 #include <gdal_utils.h>
+#include <ogr_srs_api.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +22,32 @@ namespace {
 namespace fs = std::filesystem;
 
 }  // namespace
+
+bool imageryReadyToDrape(const std::string& path, const std::string& terrainCrsWkt) {
+  try {
+    GdalDataset owned = openRaster(path);
+    auto* ds = static_cast<GDALDatasetH>(owned.get());
+    const int cols = GDALGetRasterXSize(ds), rows = GDALGetRasterYSize(ds), bands = GDALGetRasterCount(ds);
+    if (bands < 1) return false;
+    for (int b = 1; b <= bands; ++b)
+      if (GDALGetRasterDataType(GDALGetRasterBand(ds, b)) != GDT_Byte) return false;
+    const char* wkt = GDALGetProjectionRef(ds);
+    if (wkt && *wkt && !terrainCrsWkt.empty()) {
+      OGRSpatialReferenceH a = OSRNewSpatialReference(wkt), b = OSRNewSpatialReference(terrainCrsWkt.c_str());
+      const bool same = OSRIsSame(a, b);
+      OSRDestroySpatialReference(a);
+      OSRDestroySpatialReference(b);
+      if (!same) return false;
+    }
+    if (cols <= kImageryReadySide && rows <= kImageryReadySide) return true;
+    GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+    int blockX = 0, blockY = 0;
+    GDALGetBlockSize(band, &blockX, &blockY);
+    return blockX < cols && blockY > 1 && GDALGetOverviewCount(band) > 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
 
 std::string imageryPathOf(const std::string& terrainOut) {
   fs::path p(terrainOut);

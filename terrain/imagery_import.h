@@ -39,6 +39,17 @@ struct ImageryImportSummary {
 ImageryImportSummary importImagery(const std::string& in, const std::string& out, const std::string& terrainCrsWkt,
                                    bool overwrite = false, bool progress = false);
 
+/// Pixels: imagery up to this many a side is drawn as it is, however it is stored (a few reads of
+/// the whole of it cost little); larger imagery must be tiled with overviews (below).
+inline constexpr int kImageryReadySide = 4096;
+
+/// Whether `path` can be draped over a terrain in `terrainCrsWkt` as it is, fast at every view: a
+/// raster of 8-bit bands in the terrain's CRS (or without one), and either at most kImageryReadySide
+/// pixels a side or tiled (blocks narrower than its width) with overviews. False for anything else,
+/// including a file GDAL cannot open (the drape's own opening says why). What the terrain cache
+/// imports once instead (scene/terrain_cache.h).
+bool imageryReadyToDrape(const std::string& path, const std::string& terrainCrsWkt);
+
 /// Where import-terrain writes OUT's imagery: OUT without its extension, then "_imagery.tif".
 std::string imageryPathOf(const std::string& terrainOut);
 

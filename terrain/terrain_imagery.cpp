@@ -489,6 +489,16 @@ void TerrainImagery::State::readReprojected(double x0, double y0, double sx, dou
   }
 }
 
+void requireImageryOverlap(const TerrainImagery& imagery, double x0, double y0, double x1, double y1) {
+  const ImageryExtent e = imagery.extent();
+  if (e.maxX <= std::min(x0, x1) || e.minX >= std::max(x0, x1) || e.maxY <= std::min(y0, y1) || e.minY >= std::max(y0, y1)) {
+    char text[256];
+    std::snprintf(text, sizeof text, ": does not overlap the terrain (imagery x %.3f..%.3f, y %.3f..%.3f; terrain x %.3f..%.3f, y %.3f..%.3f)",
+                  e.minX, e.maxX, e.minY, e.maxY, std::min(x0, x1), std::max(x0, x1), std::min(y0, y1), std::max(y0, y1));
+    throw InputError(imagery.path() + text);
+  }
+}
+
 void writeImageryCog(const std::string& out, int cols, int rows, const std::vector<std::uint8_t>& rgb, double originX,
                      double originY, double dx, double dy, const std::string& crs, bool overwrite) {
   if (cols < 1 || rows < 1 || rgb.size() != std::size_t(cols) * std::size_t(rows) * 3u)

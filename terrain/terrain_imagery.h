@@ -144,6 +144,11 @@ class TerrainImagery {
   std::unique_ptr<State> state_;
 };
 
+/// Throws InputError naming the imagery's file when its extent does not overlap the terrain's
+/// samples' extent [x0, x1] x [y0, y1] (map units, the terrain's CRS): an orthophoto of another
+/// place, or in a CRS read wrongly, would drape nothing.
+void requireImageryOverlap(const TerrainImagery& imagery, double x0, double y0, double x1, double y1);
+
 /// Writes an RGB 8-bit image (`rgb`: cols x rows pixels, row-major from the north row, 3 bytes each)
 /// as the engine's imagery file: a Cloud-Optimized GeoTIFF (512 x 512 tiles, DEFLATE with the
 /// horizontal predictor, lossless; overviews averaged down to one tile, so a coarse read is cheap),

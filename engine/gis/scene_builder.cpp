@@ -10,6 +10,8 @@
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
 #include "nestwalk/terrain/dem_reader.h"
+#include "nestwalk/terrain/imagery_import.h"
+#include "nestwalk/terrain/terrain_imagery.h"
 #include "nestwalk/terrain/paged_heightfield.h"
 #include "nestwalk/terrain/terrain_import.h"
 
@@ -194,6 +196,28 @@ BuildSceneSummary buildScene(const BuildSceneOptions& o) {
   if (hf.crsWkt().empty())
     throw InputError(o.terrain + ": has no CRS, so the layers cannot be placed on it (import it with --crs first)");
   summary.terrainCrs = terrain::crsName(hf.crsWkt());
+  // The orthophoto: named where it is when it can be draped as it is (and is not inside the folder
+  // about to be replaced), else imported beside the terrain; either way it must overlap it.
+  std::string imageryInScene;
+  if (!o.imagery.empty()) {
+    std::string imageryPath;
+    if (terrain::imageryReadyToDrape(o.imagery, hf.crsWkt()) && !isInside(o.imagery, out)) {
+      imageryPath = o.imagery;
+      imageryInScene = relativeTo(o.imagery, out);
+    } else {
+      imageryPath = (fs::path(folder.tempPath()) / "imagery.tif").string();
+      terrain::importImagery(o.imagery, imageryPath, hf.crsWkt());
+      imageryInScene = "imagery.tif";
+      summary.imageryImported = true;
+    }
+    const Eigen::Vector2d first = hf.samplePosition(0, 0), last = hf.samplePosition(hf.cols() - 1, hf.rows() - 1);
+    try {
+      terrain::requireImageryOverlap(terrain::TerrainImagery(imageryPath, hf.crsWkt()), first.x(), first.y(), last.x(),
+                                     last.y());
+    } catch (const InputError& e) {
+      throw InputError(o.imagery + std::string(e.what()).substr(imageryPath.size()));
+    }
+  }
 
   const LayerFeatures features = readLayerFeatures(o.layers, hf.crsWkt());
   summary.layers = features.layers;
@@ -258,6 +282,10 @@ BuildSceneSummary buildScene(const BuildSceneOptions& o) {
   source["built_by"] = "nestwalk build-scene";
   source["terrain"] = o.terrain;
   source["terrain_imported"] = summary.terrainImported;
+  if (!o.imagery.empty()) {
+    source["imagery"] = o.imagery;
+    source["imagery_imported"] = summary.imageryImported;
+  }
   source["catalog"] = o.catalog;
   Json layers = Json::array();
   for (const LayerRead& l : summary.layers)
@@ -270,6 +298,7 @@ BuildSceneSummary buildScene(const BuildSceneOptions& o) {
   source["warnings"] = summary.warnings;
   Json scene;
   scene["terrain"] = terrainInScene;
+  if (!imageryInScene.empty()) scene["imagery"] = imageryInScene;
   scene["types"] = types;
   scene["equipment"] = equipment;
   scene["source"] = source;

@@ -41,6 +41,7 @@ namespace nestwalk::gis {
 
 struct BuildSceneOptions {
   std::string terrain;  // the DEM
+  std::string imagery;  // an orthophoto to drape (empty: none)
   std::string catalog;  // the model catalog
   LayerSelection layers;
   std::string out;      // the scene's folder
@@ -53,6 +54,7 @@ struct BuildSceneSummary {
   std::string sceneFile;
   bool terrainImported = false;
   std::string terrainCrs;
+  bool imageryImported = false;  // written as imagery.tif (else named where it is: ready to drape)
   std::size_t pointInstances = 0, fences = 0, fencePieces = 0;
   std::vector<LayerRead> layers;
   std::vector<FeatureProblem> skipped;  // with skipBad

@@ -11,8 +11,8 @@ namespace nestwalk {
 
 SceneGltf writeSceneGltf(const Scene& scene, SceneGraphOptions options, const std::string& path, bool binary,
                          bool instancing) {
-  if (scene.spec.imagery && options.terrain) {
-    auto imagery = std::make_shared<terrain::TerrainImagery>(*scene.spec.imagery, scene.terrain->crsWkt());
+  if (!scene.drapedImagery.empty() && options.terrain) {
+    auto imagery = std::make_shared<terrain::TerrainImagery>(scene.drapedImagery, scene.terrain->crsWkt());
     options.terrainCut.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {
       return imagery->read(x0, y0, sx, sy, w, h);
     };

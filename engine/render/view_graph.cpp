@@ -131,11 +131,13 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
     terrainOptions.pyramid = scene_.terrainPyramid;
     terrainOptions.pyramidHeightShift = scene_.terrainHeightShift;
   }
-  if (scene_.spec.imagery && !options_.idPass) {
+  if (!scene_.drapedImagery.empty() && !options_.idPass) {
     // Opened here, so a bad file is refused before the first frame; read only by the thread that
     // builds the chunks (paged_terrain.h).
     // A read that fails later (a file truncated on disk) leaves that chunk in its height colours.
-    auto imagery = std::make_shared<terrain::TerrainImagery>(*scene_.spec.imagery, hf.crsWkt());
+    auto imagery = std::make_shared<terrain::TerrainImagery>(scene_.drapedImagery, hf.crsWkt());
+    const Eigen::Vector2d first = hf.samplePosition(0, 0), last = hf.samplePosition(hf.cols() - 1, hf.rows() - 1);
+    terrain::requireImageryOverlap(*imagery, first.x(), first.y(), last.x(), last.y());
     terrainOptions.imageryPixelM = imagery->pixelSize();  // tiles at its own resolution (imagery_tiles.h)
     terrainOptions.imageryFinestTexelM = options_.imageryFinestTexelM;
     terrainOptions.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {

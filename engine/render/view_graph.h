@@ -65,7 +65,7 @@ class ViewGraph {
  public:
   // Builds the graph. Throws std::invalid_argument for a size under 16 x 16 or a scene without
   // terrain, InputError (naming the file) when the overlay's font or the scene's imagery cannot be
-  // loaded (terrain/terrain_imagery.h).
+  // loaded (terrain/terrain_imagery.h) or the imagery does not overlap the terrain.
   // With makeTerrain, the terrain is the node it makes instead of the own quadtree.
   ViewGraph(const Scene& scene, const RenderOptions& options, const TerrainNodeMaker& makeTerrain = {});
   ~ViewGraph();

@@ -96,6 +96,9 @@ struct Scene {
   /// Metres the terrain's heights were moved by on loading (SceneLoadOptions::mapShift.z): the
   /// pyramid's pages hold the file's own heights, this much apart from the scene's.
   double terrainHeightShift = 0;
+  /// The file the imagery is drawn from (empty: no imagery): SceneSpec::imagery itself, or its import
+  /// in the terrain cache when it is not ready to drape as it is (terrain_cache.h, cachedImagery).
+  std::string drapedImagery;
   std::map<std::string, Similarity<double>> typeTransforms;  // per type: model file frame -> the
                                                              // engine's model frame (model_catalog.h)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // map point of the local origin

@@ -112,6 +112,7 @@ Scene loadScene(const SceneSpec& spec, const SceneLoadOptions& options) {
     throw InputError(file + ": terrain: " + e.what());
   }
   const terrain::Heightfield& hf = *scene.terrain;
+  if (spec.imagery) scene.drapedImagery = cachedImagery(*spec.imagery, hf.crsWkt(), options.note);
   if (spec.origin) {
     scene.origin = *spec.origin + options.mapShift;
   } else {

@@ -6,6 +6,7 @@
 #include "nestwalk/scene/model_cache.h"
 #include "nestwalk/terrain/dem_reader.h"
 #include "nestwalk/terrain/heightfield.h"
+#include "nestwalk/terrain/imagery_import.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
 
@@ -130,6 +131,50 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
   if (!pyramid || pyramid->layout().cols != size.first || pyramid->layout().rows != size.second) return nullptr;
   fs::last_write_time(entry, fs::file_time_type::clock::now(), ec);  // used: the last to go
   return pyramid;
+}
+
+std::string cachedImagery(const std::string& imageryPath, const std::string& terrainCrsWkt,
+                          const std::function<void(const std::string&)>& note) {
+  if (terrain::imageryReadyToDrape(imageryPath, terrainCrsWkt)) return imageryPath;
+  const std::string folder = terrainCacheFolder();
+  if (folder.empty()) return imageryPath;
+  std::error_code ec;
+  const std::string canonical = fs::weakly_canonical(fs::absolute(imageryPath, ec), ec).string();
+  const std::optional<ModelFileIdentity> before = modelFileIdentity(imageryPath);
+  if (ec || !before) return imageryPath;
+  char name[40];
+  std::snprintf(name, sizeof name, "imagery-%016llx",
+                static_cast<unsigned long long>(std::hash<std::string>{}(canonical)));
+  const fs::path entry = fs::path(folder) / name;
+  std::ostringstream sourceStream;
+  sourceStream << before->size << ' ' << before->mtimeNs << ' ' << before->inode << ' ' << before->device << '\n'
+               << canonical << '\n'
+               << terrainCrsWkt << '\n';
+  const std::string source = sourceStream.str();
+  const fs::path imported = entry / "imagery.tif";
+  {
+    std::ifstream in(entry / "source");
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in && s.str() == source && fs::is_regular_file(imported, ec)) {
+      fs::last_write_time(entry, fs::file_time_type::clock::now(), ec);  // used: the last to go
+      return imported.string();
+    }
+  }
+  try {
+    fs::create_directories(folder, ec);
+    if (ec) return imageryPath;
+    prune(folder);
+    if (note) note(imageryPath + ": importing it once into the terrain cache to drape it (" + entry.string() + ")");
+    OutputFolder out(entry.string());
+    terrain::importImagery(imageryPath, (fs::path(out.tempPath()) / "imagery.tif").string(), terrainCrsWkt, false, true);
+    if (!(modelFileIdentity(imageryPath) == before)) return imageryPath;  // changed while it was imported
+    writeFileAtomically((fs::path(out.tempPath()) / "source").string(), source);
+    out.commit();
+    return imported.string();
+  } catch (const std::exception&) {
+    return imageryPath;  // best effort: drawn from the file itself
+  }
 }
 
 }  // namespace nestwalk

@@ -58,4 +58,16 @@ std::shared_ptr<const terrain::TerrainPyramid> cachedTerrainPyramid(const std::s
                                                                     const terrain::Heightfield* hf,
                                                                     const std::function<void(const std::string&)>& note);
 
+/// The imagery to drape for a scene whose "imagery" is `imageryPath` over a terrain in
+/// `terrainCrsWkt`: the file itself when it is ready to drape as it is (terrain::imageryReadyToDrape:
+/// in the terrain's CRS, small, or tiled with overviews); else its import (terrain/imagery_import.h:
+/// a JPEG COG with overviews in the terrain's CRS) from an entry of this cache, imported on first
+/// use (`note` is told before) and reused while the file and the terrain's CRS are unchanged. An
+/// entry is a folder "imagery-" + a hash of the canonical path, holding imagery.tif and `source`
+/// (the file's path and identity, and the CRS), stored and pruned as the terrain's entries are (one
+/// count for both). Best effort: the file itself when the cache is off, cannot be written or the
+/// import fails (opening it to draw then says what is wrong with it).
+std::string cachedImagery(const std::string& imageryPath, const std::string& terrainCrsWkt,
+                          const std::function<void(const std::string&)>& note);
+
 }  // namespace nestwalk

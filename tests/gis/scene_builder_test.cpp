@@ -6,6 +6,7 @@
 #include "nestwalk/gis/scene_builder.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/terrain_imagery.h"
 #include "nestwalk/terrain/terrain_import.h"
 #include "tests/gis/gis_test_util.h"
 
@@ -177,6 +178,39 @@ TEST_F(SceneBuilder, TerrainCogUsedWhereItIsAndRisingGroundReported) {
   EXPECT_NE(s.warnings[0].find("feature 0: stands on "), std::string::npos) << s.warnings[0];
   const Scene scene = loadScene(s.sceneFile);
   EXPECT_GT(scene.instances[0].footprintRise, 0.5);
+}
+
+TEST_F(SceneBuilder, ImageryIsNamedWhereItIsOrImportedAndMustOverlapTheTerrain) {
+  const std::string src = writeGeoJson("eq.geojson", Json::array({point(50, 50, {{"type", "box"}, {"name", "a"}})}));
+  const std::string crs = "EPSG:" + std::to_string(terrain_.epsg);
+  const std::vector<std::uint8_t> grey(100 * 100 * 3, 120);
+  // Ready to drape (a COG in the terrain's CRS): named where it is.
+  terrain::writeImageryCog((dir() / "ready.tif").string(), 100, 100, grey, terrain_.west + 1, terrain_.north - 1, 2, 2,
+                           crs, false);
+  gis::BuildSceneOptions o = options({src});
+  o.imagery = (dir() / "ready.tif").string();
+  gis::BuildSceneSummary s = gis::buildScene(o);
+  EXPECT_FALSE(s.imageryImported);
+  EXPECT_EQ(Json::parse(test::readText(s.sceneFile))["imagery"], "../ready.tif");
+  EXPECT_EQ(loadScene(s.sceneFile).drapedImagery, (dir() / "scene" / ".." / "ready.tif").lexically_normal().string());
+  // In longitude and latitude: imported beside the terrain, in its CRS.
+  const Eigen::Vector2d nw = proj_->toLonLat({terrain_.west, terrain_.north});
+  const Eigen::Vector2d se = proj_->toLonLat({terrain_.west + terrain_.size, terrain_.north - terrain_.size});
+  terrain::writeImageryCog((dir() / "lonlat.tif").string(), 100, 100, grey, nw.x(), nw.y(), (se.x() - nw.x()) / 100,
+                           (nw.y() - se.y()) / 100, "EPSG:4326", false);
+  o.imagery = (dir() / "lonlat.tif").string();
+  o.overwrite = true;
+  s = gis::buildScene(o);
+  EXPECT_TRUE(s.imageryImported);
+  EXPECT_EQ(Json::parse(test::readText(s.sceneFile))["imagery"], "imagery.tif");
+  const Scene scene = loadScene(s.sceneFile);
+  EXPECT_FALSE(terrain::TerrainImagery(scene.drapedImagery, scene.terrain->crsWkt()).reprojected());
+  // Ten kilometres east: nothing to drape, an error naming the file, and the scene kept as it was.
+  terrain::writeImageryCog((dir() / "elsewhere.tif").string(), 100, 100, grey, terrain_.west + 10000, terrain_.north, 2,
+                           2, crs, false);
+  o.imagery = (dir() / "elsewhere.tif").string();
+  EXPECT_NE(error(o).find(o.imagery + ": does not overlap the terrain"), std::string::npos) << error(o);
+  EXPECT_EQ(Json::parse(test::readText(s.sceneFile))["imagery"], "imagery.tif");
 }
 
 }  // namespace

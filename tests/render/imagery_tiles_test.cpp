@@ -316,5 +316,20 @@ TEST_F(ImageryTilesRender, FarTerrainDoesNotShimmerWhenTheEyeMovesALittle) {
   EXPECT_GT(pointChange, 20.0) << "the region is not one that would shimmer";
 }
 
+TEST_F(ImageryTilesRender, ImageryElsewhereIsRefusedNamingTheFileBeforeAFrame) {
+  Scene scene = makeScene();
+  // The same orthophoto 10 km east: it drapes nothing.
+  const std::string elsewhere = (dir() / "elsewhere.tif").string();
+  terrain::writeImageryCog(elsewhere, 64, 64, std::vector<std::uint8_t>(64 * 64 * 3, 128), kEyeX + 10000, kEyeY, 0.5,
+                           0.5, "EPSG:32633", false);
+  scene.drapedImagery = elsewhere;
+  try {
+    ViewRenderer renderer(scene, options());
+    FAIL() << "an orthophoto beside the terrain was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(elsewhere + ": does not overlap the terrain"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace nestwalk

@@ -7,6 +7,8 @@
 #include "nestwalk/scene/node_geometry.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/terrain/imagery_import.h"
+#include "nestwalk/terrain/terrain_imagery.h"
 #include "nestwalk/terrain/terrain_pyramid.h"
 #include "nestwalk/terrain/terrain_pyramid_writer.h"
 #include "tests/common/build_paths.h"
@@ -167,6 +169,58 @@ TEST_P(SceneLoad, ATerrainsPyramidIsItsOwnWhenValidElseTheTerrainCachesImport) {
   EXPECT_EQ(notes[1], s.terrainPyramidRefused + " (not used)");
   EXPECT_NEAR(*s.terrain->groundHeight(other.sampleX(3), other.sampleY(4)), other.height(other.sampleX(3), other.sampleY(4)),
               1e-9);
+}
+
+TEST_P(SceneLoad, ImageryNotReadyToDrapeIsImportedOnceIntoTheTerrainCache) {
+  // Over the terrain: an orthophoto 5000 pixels wide stored in strips without overviews (every coarse
+  // view would read all of it: not ready to drape), and a small COG (ready as it is).
+  const double pixel = 64.0 / 5000;
+  std::vector<std::uint8_t> rgb(5000 * 4 * 3);
+  for (std::size_t k = 0; k < rgb.size(); ++k) rgb[k] = std::uint8_t(k % 251);
+  {
+    terrain::initGdal();
+    GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), (dir() / "wide.tif").c_str(), 5000, 4, 3, GDT_Byte, nullptr);
+    ASSERT_NE(ds, nullptr);
+    double gt[6] = {terrain_.west, pixel, 0.0, terrain_.north, 0.0, -pixel};
+    GDALSetGeoTransform(ds, gt);
+    int bands[3] = {1, 2, 3};
+    ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Write, 0, 0, 5000, 4, rgb.data(), 5000, 4, GDT_Byte, 3, bands, 3, 3 * 5000, 1),
+              CE_None);
+    GDALClose(ds);
+  }
+  terrain::writeImageryCog((dir() / "cog.tif").string(), 64, 64, std::vector<std::uint8_t>(64 * 64 * 3, 90),
+                           terrain_.sampleX(0), terrain_.sampleY(0), 1, 1, "", false);
+  std::vector<std::string> notes;
+  SceneLoadOptions options;
+  options.note = [&](const std::string& text) { notes.push_back(text); };
+  const Json none = Json::array();
+  {
+    const ScopedEnvironment off("NESTWALK_TERRAIN_CACHE", "off");
+    EXPECT_EQ(load(none, options, {{"imagery", "wide.tif"}}).drapedImagery, (dir() / "wide.tif").string());
+  }
+  const ScopedEnvironment cache("NESTWALK_TERRAIN_CACHE", (dir() / "cache").string());
+  EXPECT_EQ(load(none, options, {{"imagery", "cog.tif"}}).drapedImagery, (dir() / "cog.tif").string());
+  EXPECT_TRUE(load(none, options).drapedImagery.empty()) << "no imagery, nothing to drape";
+  const std::size_t before = notes.size();
+  const std::string imported = load(none, options, {{"imagery", "wide.tif"}}).drapedImagery;
+  EXPECT_EQ(imported.find((dir() / "cache").string()), 0u) << imported;
+  ASSERT_EQ(notes.size(), before + 1);
+  EXPECT_NE(notes.back().find("importing it once into the terrain cache"), std::string::npos) << notes.back();
+  // The import: the same pixels (lossy JPEG: within a few levels), tiled and ready.
+  EXPECT_TRUE(terrain::imageryReadyToDrape(imported, ""));
+  terrain::TerrainImagery original((dir() / "wide.tif").string(), ""), copy(imported, "");
+  const auto a = original.read(terrain_.west + 10 * pixel, terrain_.north - 1.5 * pixel, pixel, pixel, 4000, 1);
+  const auto b = copy.read(terrain_.west + 10 * pixel, terrain_.north - 1.5 * pixel, pixel, pixel, 4000, 1);
+  ASSERT_EQ(a.size(), b.size());
+  double error = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) error += std::abs(int(a[k]) - int(b[k])) / double(a.size());
+  EXPECT_LT(error, 12.0) << "mean level difference (JPEG of a sawtooth)";
+  // Reused while the file is unchanged; imported again when it changes.
+  EXPECT_EQ(load(none, options, {{"imagery", "wide.tif"}}).drapedImagery, imported);
+  EXPECT_EQ(notes.size(), before + 1);
+  fs::last_write_time(dir() / "wide.tif", fs::last_write_time(dir() / "wide.tif") + std::chrono::seconds(5));
+  EXPECT_EQ(load(none, options, {{"imagery", "wide.tif"}}).drapedImagery, imported);
+  EXPECT_EQ(notes.size(), before + 2);
 }
 
 TEST_P(SceneLoad, APagedTerrainPlacesEverythingAsTheResidentOneBitForBit) {

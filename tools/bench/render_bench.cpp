@@ -11,6 +11,7 @@
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
 #include "nestwalk/scene/scene_loader.h"
+#include "nestwalk/scene/terrain_cache.h"
 #include "nestwalk/walker/flythrough.h"
 #include "nestwalk/walker/script_file.h"
 
@@ -149,7 +150,7 @@ std::pair<double, int> firstCompleteFrame(const Scene& scene, RenderOptions ro, 
 Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int height, const std::vector<ViewPose>& poses,
                   CullComparison* cull, Json& doc) {
   std::optional<Scene> draped;  // the scene with the configuration's imagery
-  if (!c.imagery.empty()) draped.emplace(sceneAsLoaded).spec.imagery = c.imagery;
+  if (!c.imagery.empty()) draped.emplace(sceneAsLoaded).drapedImagery = cachedImagery(c.imagery, sceneAsLoaded.terrain->crsWkt(), {});
   const Scene& scene = draped ? *draped : sceneAsLoaded;
   RenderOptions ro;
   if (c.demImagery) ro.imageryFinestTexelM = std::max(scene.terrain->dx(), scene.terrain->dy());

@@ -1,4 +1,4 @@
-// nestwalk build-scene --terrain DEM --equipment SOURCE [--equipment ...] --catalog CATALOG --out DIR:
+// nestwalk build-scene --terrain DEM [--imagery ORTHO] --equipment SOURCE [--equipment ...] --catalog CATALOG --out DIR:
 // a scene from a user's GIS layers and models (engine/gis/scene_builder.h). SOURCE is any vector
 // file OGR reads (GeoPackage, Shapefile, GeoJSON, KML, CSV with X/Y or WKT columns); without
 // --layer every point and line layer of every source is read. The fields type, name, heading,
@@ -19,6 +19,9 @@ void runBuildScene(const gis::BuildSceneOptions& o) {
   std::printf("  terrain:   %s (%s), CRS %s\n", o.terrain.c_str(),
               s.terrainImported ? "imported as terrain.tif" : "used as it is: already the engine's format",
               s.terrainCrs.c_str());
+  if (!o.imagery.empty())
+    std::printf("  imagery:   %s (%s)\n", o.imagery.c_str(),
+                s.imageryImported ? "imported as imagery.tif" : "used as it is: ready to drape");
   for (const gis::LayerRead& l : s.layers)
     std::printf("  layer:     %s: '%s', %zu features, CRS %s\n", l.source.c_str(), l.layer.c_str(), l.features,
                 l.crs.c_str());
@@ -41,6 +44,10 @@ void registerBuildScene(CLI::App& app) {
       ->required();
   cmd->add_option("--layer", o->layers.layers, "Read only this layer (repeatable; default: every point and line layer)");
   cmd->add_option("--where", o->layers.where, "OGR attribute filter for every layer read (SQL WHERE clause)");
+  cmd->add_option("--imagery", o->imagery,
+                  "An orthophoto to drape, any raster GDAL reads (named where it is when it is tiled with overviews in the "
+                  "terrain's CRS; else imported beside the terrain as imagery.tif, a JPEG COG)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--catalog", o->catalog, "Model catalog (JSON: types, their model files and how to read them)")
       ->required();
   cmd->add_option("--out", o->out, "Folder for the scene (scene.json, terrain.tif)")->required();
