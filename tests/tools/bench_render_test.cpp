@@ -58,6 +58,10 @@ TEST(BenchRender, ImageryRowsDrapeAFinerOrthophotoBesideTheDemResolution) {
   EXPECT_DOUBLE_EQ(dem["finest_texel_cm"].get<double>(), 100.0);  // 1 m cells: the DEM's spacing
   EXPECT_DOUBLE_EQ(fine["finest_texel_cm"].get<double>(), 25.0);  // the 25 cm pixels: 64 m over 256 texels
   EXPECT_GT(fine["imagery_mib"].get<double>(), dem["imagery_mib"].get<double>());
+  // Texels per pixel near the eye (render/texel_density.h): the same pixels of the same poses, each
+  // drawn at its finest texel there (a pixel within 20 m covers less than 25 cm), so the 25 cm
+  // orthophoto shows 4 times the DEM drape's texels per pixel.
+  EXPECT_NEAR(fine["texels_per_px_near"].get<double>() / dem["texels_per_px_near"].get<double>(), 4.0, 0.2);
   for (const auto* row : {&dem, &fine}) {
     EXPECT_EQ((*row)["poses_unsettled"].get<long>(), 0);
     EXPECT_LE((*row)["imagery_mib"].get<double>(), (*row)["terrain_resident_mib"].get<double>());

@@ -7,6 +7,7 @@
 
 #include "nestwalk/core/statistics.h"
 #include "nestwalk/render/paged_terrain.h"
+#include "nestwalk/render/texel_density.h"
 #include "nestwalk/render/view_graph.h"
 #include "nestwalk/render/view_renderer.h"
 #include "nestwalk/scene/scene.h"
@@ -36,6 +37,10 @@ constexpr double kTargetFps = 30.0;  // frames per second, median, at the defaul
 constexpr double kSettleWaitSeconds = 10.0;
 /// The time to the first complete frame gives up after this long: milliseconds.
 constexpr double kFirstCompleteCapMs = 60000.0;
+/// Texels per pixel (render/texel_density.h) on every this many-th pose, at every this many-th
+/// pixel across and down: 3,600 pixels a pose at 1280x720, five ray casts each.
+constexpr std::size_t kTexelPoseStep = 4;
+constexpr int kTexelPixelStep = 16;
 
 struct Config {
   std::string name;
@@ -177,6 +182,8 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
   std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
   double maxErrorPx = 0, maxErrorM = 0;
   int finestTexelLevel = std::numeric_limits<int>::max();  // drawn over the poses
+  TexelsPerPixel texelsPerPixel;                              // settled imagery rows, every kTexelPoseStep-th pose
+  const bool measureTexels = c.settle && !c.osgPagedLod && renderer.graph().pagedTerrain().imageryTiles();
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
   std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
@@ -191,6 +198,8 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
       unsettled += !done;
     }
     const RenderFrameStats& s = renderer.render(pose);
+    if (measureTexels && (total.size() % kTexelPoseStep) == 0)
+      sampleTexelsPerPixel(renderer, *scene.terrain, kTexelPixelStep, texelsPerPixel);
     total.push_back(s.totalMs);
     cullMs.push_back(s.cullMs);
     draw.push_back(s.drawMs);
@@ -229,6 +238,12 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
           {"setup_ms", setupMs}};
   if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles())
     row["finest_texel_cm"] = 100 * tiles->texelSize(finestTexelLevel);
+  auto median = [](const std::vector<double>& v) { return v.empty() ? Json() : Json(percentile(v, 50)); };
+  if (measureTexels) {
+    row["texels_per_px_near"] = median(texelsPerPixel.near);
+    row["texels_per_px_middle"] = median(texelsPerPixel.middle);
+    row["texels_per_px_far"] = median(texelsPerPixel.far);
+  }
   if (c.settle) {
     row["settle_frames_mean"] = double(settleFrames) / double(std::max<std::size_t>(poses.size(), 1));
     row["poses_unsettled"] = unsettled;
@@ -292,6 +307,9 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
       .column({"MiB", "/terrain_resident_mib", 7, 0})
       .column({"img MiB", "/imagery_mib", 8, 0})
       .column({"texel cm", "/finest_texel_cm", 9, 1})
+      .column({"tx/px near", "/texels_per_px_near", 11, 2})
+      .column({"mid", "/texels_per_px_middle", 6, 2})
+      .column({"far", "/texels_per_px_far", 6, 2})
       .column({"first", "/first_frame_ms", 9, 0})
       .column({"complete", "/first_complete_ms", 9, 0})
       .column({"+RSS MiB", "/peak_rss_growth_mib", 9, 0});
