@@ -12,6 +12,8 @@
 namespace nestwalk::terrain {
 namespace {
 
+/// Metres: half the haul ramp's running width (20 m: two lanes of a haul truck's width).
+constexpr double kRampHalfWidthM = 10.0;
 
 /// Uniform in [0, 1) from the generator's raw 64 bits (no library distribution).
 double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
@@ -103,6 +105,10 @@ MiningDumpGenerator::MiningDumpGenerator(const MiningDumpParams& p) : p_(p) {
   rampEnd_ = 0.3 * std::max(topHalfLength, 0.0);
   rampGrade_ = (L.topHeight - L.baseHeight) / (rampEnd_ - rampStart_);
   sideTan_ = std::tan(radians(p.faceSlopeDeg));
+  L.rampV = rampV_;
+  L.rampHalfWidth = kRampHalfWidthM;
+  L.rampStartU = rampStart_;
+  L.rampEndU = rampEnd_;
 
   // Pits in the natural ground, clear of the dump, the ditch and the ramp's foot.
   const int pitCount = 2 + int(uniform(rng) * 3.0);
@@ -145,7 +151,6 @@ void MiningDumpGenerator::generateRows(int r0, int count, float* heights, DumpSu
     if (s - k * period_ < faceRun_) return DumpSurface::Face;
     return k + 1 < benches_ ? DumpSurface::Berm : DumpSurface::Top;  // beyond the last crest: the top
   };
-  const double rampHalfWidth = 10.0;
   for (int r = r0; r < r0 + count; ++r) {
     const double nn = originY_ - r * p_.cell;
     for (int c = 0; c < n_; ++c) {
@@ -167,7 +172,7 @@ void MiningDumpGenerator::generateRows(int r0, int count, float* heights, DumpSu
       }
       // Haul ramp, cut or filled with side slopes.
       const double rampZ = L.baseHeight + rampGrade_ * std::clamp(u - rampStart_, 0.0, rampEnd_ - rampStart_);
-      const double off = std::max({std::abs(v - rampV_) - rampHalfWidth, rampStart_ - u, u - rampEnd_, 0.0});
+      const double off = std::max({std::abs(v - rampV_) - kRampHalfWidthM, rampStart_ - u, u - rampEnd_, 0.0});
       const double onRamp = std::clamp(h, rampZ - off * sideTan_, rampZ + off * sideTan_);
       if (off == 0) surface = DumpSurface::Ramp;
       else if (onRamp != h) surface = DumpSurface::RampSide;

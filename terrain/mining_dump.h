@@ -61,6 +61,10 @@ struct MiningDumpLayout {
   double halfLength = 0, halfWidth = 0;
   double baseHeight = 0;  // level of the dump's toe; bench k's berm is at baseHeight + k * benchHeight
   double topHeight = 0;
+  /// The haul ramp's running surface: across the long axis (v, azimuth + 90 degrees, metres from the
+  /// centre) its axis lies at rampV and it is 2 rampHalfWidth wide; along the long axis (u) it runs
+  /// from rampStartU (on the ground beyond the dump's end) to rampEndU (on the top).
+  double rampV = 0, rampHalfWidth = 0, rampStartU = 0, rampEndU = 0;
 };
 
 /// What set the height at a sample (see "Surfaces" above).

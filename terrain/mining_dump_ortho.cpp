@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace nestwalk::terrain {
@@ -24,6 +25,29 @@ double latticeValue(std::uint64_t seed, std::int64_t i, std::int64_t j) {
 double valueNoise(std::uint64_t seed, double x, double y, double wavelength) {
   return terrain::valueNoise([seed](std::int64_t i, std::int64_t j) { return latticeValue(seed, i, j); }, x, y,
                              wavelength);
+}
+
+/// How much of map point (e, n) of the ramp's running surface a tyre track covers, in [0, 1], and
+/// the tread's factor there (see kOrthoLaneOffsetM).
+struct TrackCover {
+  double weight = 0, tread = 1;
+};
+TrackCover tyreTrackCover(const MiningDumpLayout& L, std::uint64_t salted, double e, double n) {
+  const double az = L.azimuthDeg * std::numbers::pi / 180.0;
+  const double de = e - L.centreE, dn = n - L.centreN;
+  const double u = de * std::sin(az) + dn * std::cos(az), across = de * std::cos(az) - dn * std::sin(az) - L.rampV;
+  TrackCover cover;
+  int path = 0;
+  for (const double lane : {-kOrthoLaneOffsetM, kOrthoLaneOffsetM})
+    for (const double side : {-0.5, 0.5}) {
+      const double centre =
+          lane + side * kOrthoWheelGaugeM + kOrthoTrackWanderM * valueNoise(salted ^ (0x7A0 + std::uint64_t(path++)), u, 0.0,
+                                                                            kOrthoTrackWanderWavelengthM);
+      const double inside = 0.5 * kOrthoTrackWidthM - std::abs(across - centre);
+      cover.weight = std::max(cover.weight, std::clamp(inside / kOrthoTrackEdgeM + 0.5, 0.0, 1.0));
+    }
+  cover.tread = 1.0 + kOrthoTreadAmplitude * (std::sin(2 * std::numbers::pi * u / kOrthoTreadPitchM) > 0 ? 1 : -1);
+  return cover;
 }
 
 }  // namespace
@@ -87,9 +111,14 @@ void writeFineMiningDumpOrtho(const std::string& out, const MiningDumpParams& pa
             if (textured) {
               factor *= 1.0 + kOrthoGravelAmplitude * valueNoise(salted ^ 1, x, y, kOrthoGravelWavelengthM) +
                         kOrthoGritAmplitude * valueNoise(salted ^ 2, x, y, kOrthoGritWavelengthM);
-              if (surface != DumpSurface::Ground && surface != DumpSurface::Ditch &&
+              const TrackCover track = surface == DumpSurface::Ramp
+                                           ? tyreTrackCover(generator.layout(), salted, generator.originX() + x,
+                                                            generator.originY() + y)
+                                           : TrackCover{};
+              if (track.weight < 1 && surface != DumpSurface::Ground && surface != DumpSurface::Ditch &&
                   valueNoise(salted ^ 3, x, y, kOrthoStoneWavelengthM) > kOrthoStoneThreshold)
                 factor *= valueNoise(salted ^ 4, x, y, 2 * kOrthoStoneWavelengthM) > 0 ? 1.3 : 0.65;
+              factor *= 1.0 + track.weight * (kOrthoTrackDarkening * track.tread - 1.0);
               if (surface == DumpSurface::Ground || surface == DumpSurface::Top) {
                 const double v = valueNoise(salted ^ 5, x, y, kOrthoVegetationWavelengthM) +
                                  0.3 * valueNoise(salted ^ 6, x, y, kOrthoVegetationWavelengthM / 4);

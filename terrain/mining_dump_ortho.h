@@ -61,6 +61,17 @@ inline constexpr double kOrthoStoneWavelengthM = 0.35, kOrthoStoneThreshold = 0.
 inline constexpr double kOrthoVegetationWavelengthM = 5.0, kOrthoVegetationThreshold = 0.3;
 inline constexpr std::array<std::uint8_t, 3> kOrthoVegetationColour{72, 104, 48};
 
+/// The haul trucks' tyre tracks on the ramp's running surface (MiningDumpLayout's ramp) of a fine
+/// orthophoto: two lanes kOrthoLaneOffsetM either side of the ramp's axis, each with two wheel paths
+/// kOrthoWheelGaugeM apart (centre to centre), kOrthoTrackWidthM wide (dual tyres), each path
+/// wandering by up to kOrthoTrackWanderM over kOrthoTrackWanderWavelengthM along the ramp and fading
+/// into the gravel beside it over kOrthoTrackEdgeM. In a track the surface is compacted: its colour
+/// times kOrthoTrackDarkening, tread lugs across it every kOrthoTreadPitchM (+- kOrthoTreadAmplitude),
+/// no stones. Metres and factors of the colour; a 40-tonne truck's dual tyres and lane.
+inline constexpr double kOrthoLaneOffsetM = 5.0, kOrthoWheelGaugeM = 4.8, kOrthoTrackWidthM = 1.4;
+inline constexpr double kOrthoTrackWanderM = 0.3, kOrthoTrackWanderWavelengthM = 25.0, kOrthoTrackEdgeM = 0.2;
+inline constexpr double kOrthoTrackDarkening = 0.8, kOrthoTreadPitchM = 0.4, kOrthoTreadAmplitude = 0.06;
+
 /// The orthophoto's pixels: dump.cols x dump.rows, row-major from the north row, RGB interleaved.
 std::vector<std::uint8_t> miningDumpOrtho(const MiningDump& dump, std::uint64_t seed);
 
@@ -74,7 +85,7 @@ void writeMiningDumpOrtho(const std::string& out, const MiningDump& dump, std::u
 /// A drone's orthophoto of the dump `params` makes: pixels of `pixel` metres over its whole area
 /// (finer than its DEM: pixel centres on a grid of the area's own edges), each the material the
 /// generator finds at the pixel's centre (the same dump at that spacing), coloured as above and,
-/// below kOrthoTextureBelowPixelM, with the ground's texture; written as a JPEG COG with overviews
+/// below kOrthoTextureBelowPixelM, with the ground's texture and the ramp's tyre tracks; written as a JPEG COG with overviews
 /// (writeImageryCog's streamed form: memory is a stripe of rows), in `crs`. Deterministic for a seed
 /// and pixel. std::invalid_argument for a pixel the generator refuses (more than 65,536 a side);
 /// InputError naming the file when it cannot be written, or exists and not `overwrite`.
