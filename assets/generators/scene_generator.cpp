@@ -6,6 +6,7 @@
 #include "assets/generators/phone_track.h"
 
 #include "nestwalk/core/angles.h"
+#include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/heightfield.h"
 #include "nestwalk/terrain/mining_dump_ortho.h"
 #include "nestwalk/terrain/terrain_import.h"
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <map>
 #include <random>
+#include <sstream>
 
 namespace nestwalk::assets {
 namespace {
@@ -413,14 +415,21 @@ GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site) {
   return out;
 }
 
-void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite) {
+void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite, double orthoPixel) {
+  if (orthoPixel > scene.dump.cell)
+    throw InputError(dir + ": an orthophoto pixel of " + (std::ostringstream() << orthoPixel).str() +
+                     " m is coarser than the terrain's " + (std::ostringstream() << scene.dump.cell).str() +
+                     " m cell; it must be as fine or finer");
   writeGeneratedFolder(dir, overwrite, [&](const fs::path& tmp) {
     fs::create_directories(tmp / "models");
     fs::create_directories(tmp / "scripts");
     const terrain::MiningDump& d = scene.dump;
     terrain::writeTerrainCog((tmp / "terrain.tif").string(), d.cols, d.rows, d.heights, d.originX, d.originY, d.cell,
                              d.cell, scene.site.crs, false);
-    terrain::writeMiningDumpOrtho((tmp / "ortho.tif").string(), d, scene.seed, scene.site.crs, false);
+    if (orthoPixel > 0 && orthoPixel < d.cell)
+      terrain::writeFineMiningDumpOrtho((tmp / "ortho.tif").string(), scene.params, orthoPixel, scene.site.crs, false);
+    else
+      terrain::writeMiningDumpOrtho((tmp / "ortho.tif").string(), d, scene.seed, scene.site.crs, false);
     for (ModelKind m : kAllModels) writeModel(m, (tmp / "models" / modelFileName(m)).string());
     writeTextFile(tmp / "scene.json", scene.sceneJson);
     for (const auto& [name, text] : scene.scripts) writeTextFile(tmp / "scripts" / name, text);

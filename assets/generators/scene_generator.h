@@ -89,12 +89,13 @@ struct GeneratedScene {
 /// Generates the scene in memory (terrain grid, placements, JSON, scripts). Takes about a second.
 GeneratedScene generateScene(std::uint64_t seed, const SceneSite& site = {});
 
-/// Writes the scene into `dir`: terrain.tif, ortho.tif (the synthetic orthophoto on the terrain's
-/// grid, terrain/mining_dump_ortho.h, its noise seeded with the scene's seed; scene.json names it as
-/// the "imagery"), models/*.osgt, scene.json, scripts/*.txt, routes/*.gpx (GPS tracks for
+/// Writes the scene into `dir`: terrain.tif, ortho.tif (the synthetic orthophoto, its noise seeded
+/// with the scene's seed; scene.json names it as the "imagery": on the terrain's grid when
+/// orthoPixel is 0 or the terrain's cell, terrain/mining_dump_ortho.h, else a drone's orthophoto at
+/// orthoPixel metres, finer than the cell, with the ground's texture, writeFineMiningDumpOrtho), models/*.osgt, scene.json, scripts/*.txt, routes/*.gpx (GPS tracks for
 /// `nestwalk route` and `run --route`, phone_track.h). `dir` is
 /// built under a temporary name beside it and renamed to `dir` at the end; an existing `dir` is
 /// replaced only when `overwrite` (else InputError, and it is left as it was).
-void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite);
+void writeScene(const GeneratedScene& scene, const std::string& dir, bool overwrite, double orthoPixel = 0);
 
 }  // namespace nestwalk::assets

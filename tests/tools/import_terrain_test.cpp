@@ -260,9 +260,11 @@ TEST(ImportTerrain, RotatedIsWarpedNorthUpAndUngeoreferencedWarns) {
 }
 
 TEST(ImportTerrain, ImageryIsImportedBesideTheTerrainAndKeptWithoutOverwrite) {
-  if (!fs::exists(bundledSceneFile())) GTEST_SKIP() << "build the bundled_scene target";
   const TempFolder folder;
-  const fs::path dem = bundledSceneFolder() / "terrain.tif", ortho = bundledSceneFolder() / "ortho.tif";
+  // The bundled dump and its orthophoto on the DEM's 1 m grid (make-terrain's default).
+  const fs::path dem = folder / "made.tif", ortho = folder / "made_ortho.tif";
+  const auto made = runNestwalk("make-terrain " + quoted(dem) + " --ortho " + quoted(ortho));
+  ASSERT_EQ(made.exitCode, 0) << made.err;
   const fs::path out = folder / "dump.tif", imagery = folder / "dump_imagery.tif";
   const auto r = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
   ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -112,5 +112,37 @@ TEST(MakeScene, TheOrthophotoShowsTheMaterialsWhereTheSceneHasThem) {
   EXPECT_GT(steep["face"], 0.8 * total) << "most steep ground is bench faces";
 }
 
+TEST(MakeScene, OrthoPixelWritesADronesOrthophotoOverTheTerrainAndACoarserOneIsRefused) {
+  const TempFolder folder;
+  const fs::path out = folder / "dump";
+  const auto r = runNestwalk("make-scene " + quoted(out) + " --seed 3 --ortho-pixel 0.25");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("ortho.tif, a drone's synthetic orthophoto at 0.25 m"), std::string::npos) << r.out;
+  // Through GDAL: the terrain's outer bounds at 0.25 m pixels (4 a terrain cell), with overviews.
+  const OrthoProbe probe(out / "ortho.tif");
+  GDALDatasetH dem = GDALOpen((out / "terrain.tif").c_str(), GA_ReadOnly);
+  ASSERT_NE(dem, nullptr);
+  double d[6], o[6];
+  GDALGetGeoTransform(dem, d);
+  GDALGetGeoTransform(probe.dataset(), o);
+  const int demCols = GDALGetRasterXSize(dem), demRows = GDALGetRasterYSize(dem);
+  GDALClose(dem);
+  EXPECT_DOUBLE_EQ(o[1], 0.25);
+  EXPECT_DOUBLE_EQ(o[5], -0.25);
+  // The orthophoto's pixels tile the DEM raster's extent.
+  EXPECT_DOUBLE_EQ(o[0], d[0]);
+  EXPECT_DOUBLE_EQ(o[3], d[3]);
+  EXPECT_NEAR(GDALGetRasterXSize(probe.dataset()) * o[1], demCols * d[1], 1e-6);
+  EXPECT_NEAR(GDALGetRasterYSize(probe.dataset()) * -o[5], demRows * -d[5], 1e-6);
+  EXPECT_GT(GDALGetOverviewCount(GDALGetRasterBand(probe.dataset(), 1)), 2);
+
+  const fs::path coarse = folder / "coarse";
+  const auto refused = runNestwalk("make-scene " + quoted(coarse) + " --ortho-pixel 2");
+  EXPECT_EQ(refused.exitCode, 1);
+  EXPECT_NE(refused.err.find("an orthophoto pixel of 2 m is coarser than the terrain's 1 m cell"), std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(fs::exists(coarse));
+}
+
 }  // namespace
 }  // namespace nestwalk::test

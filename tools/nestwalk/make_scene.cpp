@@ -1,6 +1,6 @@
-// nestwalk make-scene DIR [--seed N] [--gis-inputs] [--overwrite]: generates the bundled mining-dump scene
-// (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/ortho.tif (its synthetic orthophoto,
-// the scene's draped imagery), DIR/models/*.osgt, DIR/scene.json and
+// nestwalk make-scene DIR [--seed N] [--gis-inputs] [--ortho-pixel M] [--overwrite]: generates the bundled
+// mining-dump scene (assets/generators/scene_generator.h): DIR/terrain.tif, DIR/ortho.tif (its synthetic
+// orthophoto, the scene's draped imagery; at M metres a pixel with --ortho-pixel), DIR/models/*.osgt, DIR/scene.json and
 // DIR/scripts/{bench_patrol,ramp_descent,low_flight,equipment_walk,equipment_fly}.txt, built in a temporary folder beside DIR
 // and renamed to DIR at the end. An existing DIR is replaced only with --overwrite. With
 // --gis-inputs it writes instead what a user brings to `nestwalk build-scene` (gis_inputs.h): a
@@ -22,6 +22,7 @@ struct MakeSceneArgs {
   std::uint64_t seed = 1;
   bool overwrite = false;
   bool gisInputs = false;
+  double orthoPixel = 0;  // ortho.tif's pixel, metres; 0: the terrain's cell
 };
 
 void runMakeScene(const MakeSceneArgs& args) {
@@ -38,7 +39,7 @@ void runMakeScene(const MakeSceneArgs& args) {
     return;
   }
   const assets::GeneratedScene scene = assets::generateScene(args.seed);
-  assets::writeScene(scene, args.dir, args.overwrite);
+  assets::writeScene(scene, args.dir, args.overwrite, args.orthoPixel);
   std::map<std::string, int> kinds;
   for (const auto& p : scene.equipment) ++kinds[assets::modelKindLabel(p.model)];
   const auto& L = scene.dump.layout;
@@ -47,8 +48,13 @@ void runMakeScene(const MakeSceneArgs& args) {
   std::printf("  terrain:    terrain.tif, %d x %d samples at %.10g m, EPSG:32651; benches every %.3f m from %.3f to %.3f m\n",
               scene.dump.cols, scene.dump.rows, scene.dump.cell, scene.geometry.benchHeight, L.baseHeight,
               L.topHeight);
-  std::printf("  imagery:    ortho.tif, a synthetic orthophoto on the terrain's grid (RGB; materials of the top, "
-              "berms, faces, ramp, ditch and ground)\n");
+  if (args.orthoPixel > 0 && args.orthoPixel < scene.dump.cell)
+    std::printf("  imagery:    ortho.tif, a drone's synthetic orthophoto at %.10g m (JPEG COG; materials with gravel, "
+                "stones, vegetation and tyre tracks on the ramp)\n",
+                args.orthoPixel);
+  else
+    std::printf("  imagery:    ortho.tif, a synthetic orthophoto on the terrain's grid (RGB; materials of the top, "
+                "berms, faces, ramp, ditch and ground)\n");
   std::printf("  equipment:  %zu pieces:", scene.equipment.size());
   for (const auto& [kind, n] : kinds) std::printf(" %s %d", kind.c_str(), n);
   std::printf("\n  models:     models/*.osgt (%zu)\n", assets::kAllModels.size());
@@ -78,6 +84,10 @@ void registerMakeScene(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "Random seed (same seed, same scene)")->default_val(1);
   cmd->add_flag("--gis-inputs", args->gisInputs,
                 "Write GIS inputs for build-scene instead (DEM, GeoPackage, catalog, models, flythroughs)");
+  cmd->add_option("--ortho-pixel", args->orthoPixel,
+                  "ortho.tif's pixel in metres, finer than the terrain's cell: a drone's orthophoto with the ground's "
+                  "texture (default: the terrain's grid)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing DIR");
   cmd->callback([args] { runMakeScene(*args); });
 }
