@@ -108,8 +108,10 @@ ImageryTileKey ImageryTiles::wanted(int areaLevel, int x, int y, int texelLevel)
 }
 
 std::size_t ImageryTiles::tileBytes(const ImageryTileKey& key) const {
-  const std::size_t side = std::size_t(kImageryTileTexels) << (key.areaLevel - key.texelLevel);
-  return 4 * side * side;
+  std::size_t side = std::size_t(kImageryTileTexels) << (key.areaLevel - key.texelLevel), bytes = 4 * side * side;
+  if (options_.mipmaps)
+    while (side > 1) side /= 2, bytes += 4 * side * side;
+  return bytes;
 }
 
 ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
@@ -136,9 +138,31 @@ ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
       for (int k = 0; k < 3; ++k) p[k] = std::uint8_t(std::lround(a * p[k] + (1 - a) * 255.0 * ramp[k]));
       p[3] = 255;
     }
+  // Mip levels (see "Filtering" above): each texel the mean of the four under it, down to 1 x 1,
+  // after the tile's own texels in one buffer.
+  osg::Image::MipmapDataType offsets;
+  if (options_.mipmaps) {
+    std::size_t at = 0;
+    for (int s = side; s > 1; s /= 2) {
+      const int h = s / 2;
+      const std::size_t next = at + 4 * std::size_t(s) * std::size_t(s);
+      offsets.push_back(unsigned(next));
+      rgba.resize(next + 4 * std::size_t(h) * std::size_t(h));
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < h; ++i)
+          for (int k = 0; k < 4; ++k) {
+            auto texel = [&](int x, int y) { return unsigned(rgba[at + 4 * (std::size_t(y) * std::size_t(s) + std::size_t(x)) + std::size_t(k)]); };
+            rgba[next + 4 * (std::size_t(j) * std::size_t(h) + std::size_t(i)) + std::size_t(k)] =
+                std::uint8_t((texel(2 * i, 2 * j) + texel(2 * i + 1, 2 * j) + texel(2 * i, 2 * j + 1) + texel(2 * i + 1, 2 * j + 1) + 2) / 4);
+          }
+      at = next;
+    }
+  }
   osg::ref_ptr<osg::Image> image = new osg::Image;
-  image->allocateImage(side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE);
-  std::copy(rgba.begin(), rgba.end(), image->data());
+  auto* data = new unsigned char[rgba.size()];
+  std::copy(rgba.begin(), rgba.end(), data);
+  image->setImage(side, side, 1, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, data, osg::Image::USE_NEW_DELETE);
+  if (!offsets.empty()) image->setMipmapLevels(offsets);
   Built b;
   b.key = key;
   b.tile.texture = new osg::Texture2D(image.get());
@@ -147,7 +171,8 @@ ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
   t.setWrap(osg::Texture::WRAP_S, osg::Texture::CLAMP_TO_EDGE);
   t.setWrap(osg::Texture::WRAP_T, osg::Texture::CLAMP_TO_EDGE);
   t.setFilter(osg::Texture::MAG_FILTER, osg::Texture::LINEAR);
-  t.setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR);  // the levels are the tiles (see above)
+  t.setFilter(osg::Texture::MIN_FILTER, options_.mipmaps ? osg::Texture::LINEAR_MIPMAP_LINEAR : osg::Texture::LINEAR);
+  t.setUseHardwareMipMapGeneration(false);  // the levels are the image's
   // The GL's copy is the one kept: OSG lets go of the image once it is uploaded (one context draws
   // a tile; a tile evicted and wanted again is read again).
   t.setUnRefImageDataAfterApply(true);

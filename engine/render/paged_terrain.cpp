@@ -137,6 +137,7 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
     tiles.imagery = options_.imagery;
     tiles.imageryPixelM = options_.imageryPixelM;
     tiles.finestTexelM = options_.imageryFinestTexelM;
+    tiles.mipmaps = options_.imageryMipmaps;
     tiles.mapOrigin = options_.mapOrigin;
     tiles.heightLo = shading_.heightLo;
     tiles.heightHi = shading_.heightHi;

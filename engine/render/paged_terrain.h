@@ -123,6 +123,7 @@ struct PagedTerrainOptions {
   /// level's resolution (one texel per kept sample).
   double imageryPixelM = 0;
   double imageryFinestTexelM = 0;   // tiles: no texel finer than this (0: the imagery's own)
+  bool imageryMipmaps = true;       // tiles: with their mip levels (imagery_tiles.h)
   Eigen::Vector2d mapOrigin = Eigen::Vector2d::Zero();  // map x, y of mesh-frame (0, 0) (for the imagery)
   /// The terrain's pyramid (the heightfield's grid; chunkCells must then be its kPyramidTopCells):
   /// coarse chunks take their grid errors from it instead of reading every fine sample under them

@@ -28,7 +28,7 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
   };
   // The drawn parts' areas (mesh frame) and their tiles' texels.
   struct Area {
-    double x0, x1, y0, y1, texel;
+    double x0, x1, y0, y1, texel, span;
   };
   std::vector<Area> areas;
   const double cells = paged.layout().chunkCells();
@@ -36,7 +36,9 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
     const double sx = cells * std::ldexp(terrain.dx(), part.key.level - 1);
     const double sy = cells * std::ldexp(terrain.dy(), part.key.level - 1);
     const double ax = (2 * part.key.x + (part.quadrant & 1)) * sx, ay = (2 * part.key.y + (part.quadrant >> 1)) * sy;
-    areas.push_back({ax, ax + sx, ay, ay + sy, tiles->texelSize(part.imageryDrawn.texelLevel)});
+    const ImageryTileKey& tile = part.imageryDrawn;
+    areas.push_back({ax, ax + sx, ay, ay + sy, tiles->texelSize(tile.texelLevel),
+                     tiles->texelSize(tile.areaLevel) * kImageryTileTexels});
   }
   const auto [eyeMap, unused] = renderer.pixelRay(0.5 * w, 0.5 * h);
   const Eigen::Vector3d eye = eyeMap - origin0;
@@ -57,8 +59,11 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
       });
       if (area == areas.end()) continue;
       const double distance = (*p - eye).norm();
+      // With mip levels the GL samples the level whose texel is the footprint (trilinear: between
+      // the two nearest), down to the tile's 1 x 1 level; without, the tile's own texels.
+      const double sampled = tiles->mipmaps() ? std::clamp(footprint, area->texel, area->span) : area->texel;
       (distance < kTexelNearM ? into.near : distance < kTexelFarM ? into.middle : into.far)
-          .push_back(footprint / area->texel);
+          .push_back(footprint / sampled);
     }
 }
 

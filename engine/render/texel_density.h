@@ -5,11 +5,13 @@
 // centre (Heightfield::intersectRay); the pixel's footprint is, as a GPU's derivatives measure it,
 // the larger over the screen's two axes of the ground step to the neighbouring pixel (on each axis
 // the smaller of the two sides' steps, so that a step over a silhouette does not count). Texels per
-// pixel there is footprint / texel, the texel being that of the tile the drawn part holding the
-// ground point was drawn with (DrawnPart::imageryDrawn): 1 is one texel per pixel; below 1 the
-// tile is magnified (the imagery holds no finer detail, or the tile is coarser than the view can
-// show); above 1 several texels fall in a pixel (sharper than the GPU can show without aliasing).
-// The floor rule of imagery_tiles.h aims at [1, 2) where the imagery is fine enough.
+// pixel there is footprint / texel, the texel being the one the GL samples there: that of the tile
+// the drawn part holding the ground point was drawn with (DrawnPart::imageryDrawn), or, where the
+// tiles carry mip levels and the footprint is coarser than that, the footprint's own (trilinear
+// filtering samples the level of the footprint: OpenGL 4.6, 8.14), down to the tile's 1 x 1 level.
+// 1 is one texel per pixel; below 1 the tile is magnified (the imagery holds no finer detail, or the
+// tile is coarser than the view can show); above 1 several texels fall in a pixel (aliasing: only
+// without mip levels).
 //
 // Pixels are sampled every `pixelStep` pixels across and down and binned by the ground point's
 // distance from the eye: near (< kTexelNearM), middle (< kTexelFarM), far.

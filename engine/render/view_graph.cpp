@@ -140,6 +140,7 @@ ViewGraph::ViewGraph(const Scene& scene, const RenderOptions& options, const Ter
     terrain::requireImageryOverlap(*imagery, first.x(), first.y(), last.x(), last.y());
     terrainOptions.imageryPixelM = imagery->pixelSize();  // tiles at its own resolution (imagery_tiles.h)
     terrainOptions.imageryFinestTexelM = options_.imageryFinestTexelM;
+    terrainOptions.imageryMipmaps = options_.imageryMipmaps;
     terrainOptions.imagery = [imagery](double x0, double y0, double sx, double sy, int w, int h) {
       try {
         return imagery->read(x0, y0, sx, sy, w, h);

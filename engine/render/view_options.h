@@ -28,6 +28,9 @@ struct RenderOptions {
   /// Draped imagery: no texel finer than this, metres (0: the imagery's own pixel; the DEM's spacing
   /// gives a drape at the DEM's resolution, for comparisons: imagery_tiles.h).
   double imageryFinestTexelM = 0;
+  /// Draped imagery: tiles carry mip levels built on the loader thread, so each pixel samples the
+  /// level of its own footprint (imagery_tiles.h); false samples each tile's own texels alone.
+  bool imageryMipmaps = true;
   bool nestedCulling = true;     // false: OSG's bounding-sphere culling decides alone
   bool volumes = false;          // outer AABBs (yellow) and inner OBBs (cyan) as wireframes
   bool blockedOverlay = true;    // a red frame and the blocker's name while blocked

@@ -8,7 +8,8 @@
 //   nearest visible point, measured from the frame's own rays (the ground distance between
 //   neighbouring pixels' hits), not from the rule's boxes;
 // - a far region of the frame changes little when the eye moves a little (no shimmer): each far
-//   tile is filtered from the orthophoto's overviews, not point-sampled.
+//   tile is filtered from the orthophoto's overviews, not point-sampled; nearer, a part's farther
+//   pixels are kept from shimmering by the tile's mip levels.
 #include "nestwalk/render/view_renderer.h"
 
 #include "nestwalk/render/paged_terrain.h"
@@ -162,8 +163,9 @@ TEST_F(ImageryTilesRender, CheckerboardNearTheEyeShowsTheOrthophotosColours) {
 TEST_F(ImageryTilesRender, TexelLevelIsWithinOneOfTheGpusMipmapChoice) {
   const Scene scene = makeScene();
   ViewRenderer renderer(scene, options());
-  std::size_t parts = 0, within = 0;
-  double finest = 0, coarsest = 0;  // drawn minus GPU level, over the parts
+  std::size_t parts = 0, within = 0, tileWithin = 0;
+  double finest = 0, coarsest = 0;          // drawn minus GPU level, over the parts
+  double tileFinest = 0, tileCoarsest = 0;  // the tile's own level minus the GPU's
   std::map<int, int> offByLevel;
   for (const auto& [heading, pitch] : {std::pair(30.0, -8.0), std::pair(120.0, -20.0), std::pair(250.0, -3.0)}) {
     ViewPose view = pose(pitch);
@@ -224,15 +226,21 @@ TEST_F(ImageryTilesRender, TexelLevelIsWithinOneOfTheGpusMipmapChoice) {
       // The GPU's level, continuous: log2 of the footprint in the finest texels, within the levels.
       const double gpu = std::clamp(tiles.finestTexelLevel() + std::log2(*f / tiles.texelSize(tiles.finestTexelLevel())),
                                     double(tiles.finestTexelLevel()), double(tiles.topTexelLevel()));
-      const int drawn = part.imageryDrawn.texelLevel;
+      // The level the GL samples at that pixel: with mip levels the GPU's own wherever the tile
+      // holds it (the tile's level bounds how fine), else the tile's.
+      const int tile = part.imageryDrawn.texelLevel;
+      const double drawn = tiles.mipmaps() ? std::max(double(tile), gpu) : double(tile);
       ++parts;
       within += std::abs(drawn - gpu) <= 1.0;
+      tileWithin += std::abs(tile - gpu) <= 1.0;
+      tileFinest = std::min(tileFinest, tile - gpu);
+      tileCoarsest = std::max(tileCoarsest, tile - gpu);
       finest = std::min(finest, drawn - gpu);
       coarsest = std::max(coarsest, drawn - gpu);
       ++offByLevel[int(std::floor(drawn - gpu))];
       if (std::getenv("NESTWALK_DEBUG_TEXELS"))
         std::printf("part %d/%d/%d q%d wanted %d drawn %d gpu %.2f nearest %.1f m footprint %.3f m at (%d, %d)\n",
-                    part.key.level, part.key.x, part.key.y, part.quadrant, part.imageryTexelLevel, drawn, gpu, nearest,
+                    part.key.level, part.key.x, part.key.y, part.quadrant, part.imageryTexelLevel, tile, gpu, nearest,
                     *f, nx, ny);
     }
   }
@@ -241,25 +249,31 @@ TEST_F(ImageryTilesRender, TexelLevelIsWithinOneOfTheGpusMipmapChoice) {
   ASSERT_GT(parts, 30u);
   // The rule measures at a block's nearest point in view with the block's mean normal; the GPU at
   // the nearest pixel the part shows, on the surface there. Where the two differ (a wave tilting
-  // away from a grazing view, a box reaching nearer than what the part shows) the rule is finer than
-  // the GPU: measured 47 of 49 parts within one level, the other 2 up to 1.84 levels finer, none
-  // more than 0.65 of a level coarser.
-  EXPECT_GE(double(within) / double(parts), 0.9) << within << " of " << parts << "; drawn minus GPU level (floor):" << histogram;
-  EXPECT_GE(finest, -2.0) << histogram;
-  EXPECT_LE(coarsest, 1.0) << histogram;
-  std::printf("texel levels: %zu of %zu parts within one level of the GPU's choice; drawn minus GPU from %.2f to %.2f\n",
-              within, parts, finest, coarsest);
+  // away from a grazing view, a box reaching nearer than what the part shows) the tile is finer than
+  // the GPU wants there: measured 47 of 49 tiles within one level, the other 2 up to 1.84 levels
+  // finer, none more than 0.65 of a level coarser. The mip levels sample the GPU's own level there,
+  // so every part is drawn within one level of it.
+  EXPECT_EQ(within, parts) << "drawn minus GPU level (floor):" << histogram;
+  EXPECT_GE(double(tileWithin) / double(parts), 0.9) << tileWithin << " of " << parts;
+  EXPECT_GE(tileFinest, -2.0) << histogram;
+  EXPECT_LE(tileCoarsest, 1.0) << histogram;
+  std::printf("texel levels: %zu of %zu parts drawn within one level of the GPU's choice (drawn minus GPU from %.2f to "
+              "%.2f); their tiles' own level %zu within one (from %.2f to %.2f)\n",
+              within, parts, finest, coarsest, tileWithin, tileFinest, tileCoarsest);
 }
 
-TEST_F(ImageryTilesRender, FarTerrainDoesNotShimmerWhenTheEyeMovesALittle) {
-  // A checkerboard of 0.25 m squares over 400 m: far away a pixel covers many squares. Point-sampled
-  // (what a texture at the imagery's resolution without mipmaps shows) such a region flips between
-  // the two colours as the eye moves a few centimetres; the tiles show the average there, read from
-  // the orthophoto's overviews, and stay put.
-  constexpr double kSquare = 0.25, kFarM = 100.0;
-  const Scene scene = makeScene(kSquare, 0.125, 400.0);
-  ViewRenderer renderer(scene, options());
-  const ViewPose before = pose(-4);
+/// A band of the frame over a checkerboard of 0.25 m squares when the eye moves 5 cm: how much the
+/// drawn colours of the pixels whose ground lies between `fromM` and `toM` of the eye change
+/// (levels, mean over the channels), how far they lie from the squares' average, and how much a
+/// point sample of the checkerboard at each frame's ground point changes.
+struct ShimmerBand {
+  std::size_t pixels = 0;
+  double drawnChange = 0, fromAverage = 0, pointChange = 0;
+};
+constexpr double kShimmerSquareM = 0.25;
+
+ShimmerBand shimmer(const Scene& scene, const RenderOptions& options, const ViewPose& before, double fromM, double toM) {
+  ViewRenderer renderer(scene, options);
   ViewPose after = before;
   after.eye += Eigen::Vector3d(0.03, 0.04, 0);  // 5 cm
   // Each frame and the ground each sampled pixel shows (every second pixel each way).
@@ -279,41 +293,70 @@ TEST_F(ImageryTilesRender, FarTerrainDoesNotShimmerWhenTheEyeMovesALittle) {
       }
     frames.push_back(std::move(f));
   }
-  // Far pixels on the orthophoto in both frames: how much their drawn colour changes, and how much
-  // a point sample of the checkerboard at each frame's ground point would.
-  std::size_t pixels = 0, k = 0;
-  double drawnChange = 0, pointChange = 0, fromAverage = 0;
+  ShimmerBand band;
+  std::size_t k = 0;
   const Eigen::Vector3d eye = before.eye;
   for (int y = 0; y < frames[0].image->t(); y += 2)
     for (int x = 0; x < frames[0].image->s(); x += 2, ++k) {
       const auto& g0 = frames[0].ground[k];
       const auto& g1 = frames[1].ground[k];
-      if (!g0 || !g1 || (*g0 - eye).norm() < kFarM) continue;
+      if (!g0 || !g1 || (*g0 - eye).norm() < fromM || (*g0 - eye).norm() >= toM) continue;
       if (std::abs(g0->x() - kEyeX) > 195 || std::abs(g0->y() - kEyeY) > 195) continue;  // on the orthophoto
-      ++pixels;
+      ++band.pixels;
       const unsigned char* c0 = frames[0].image->data(x, frames[0].image->t() - 1 - y);
       const unsigned char* c1 = frames[1].image->data(x, frames[1].image->t() - 1 - y);
-      const unsigned char* p0 = redAt(g0->x(), g0->y(), kSquare) ? kRed : kBlue;
-      const unsigned char* p1 = redAt(g1->x(), g1->y(), kSquare) ? kRed : kBlue;
+      const unsigned char* p0 = redAt(g0->x(), g0->y(), kShimmerSquareM) ? kRed : kBlue;
+      const unsigned char* p1 = redAt(g1->x(), g1->y(), kShimmerSquareM) ? kRed : kBlue;
       for (int c = 0; c < 3; ++c) {
-        drawnChange += std::abs(int(c0[c]) - int(c1[c])) / 3.0;
-        pointChange += std::abs(int(p0[c]) - int(p1[c])) / 3.0;
-        fromAverage += std::abs(c0[c] - 0.5 * (kRed[c] + kBlue[c])) / 3.0;
+        band.drawnChange += std::abs(int(c0[c]) - int(c1[c])) / 3.0;
+        band.pointChange += std::abs(int(p0[c]) - int(p1[c])) / 3.0;
+        band.fromAverage += std::abs(c0[c] - 0.5 * (kRed[c] + kBlue[c])) / 3.0;
       }
     }
-  ASSERT_GT(pixels, 1000u);
-  drawnChange /= double(pixels);
-  pointChange /= double(pixels);
-  fromAverage /= double(pixels);
+  if (band.pixels) {
+    band.drawnChange /= double(band.pixels);
+    band.pointChange /= double(band.pixels);
+    band.fromAverage /= double(band.pixels);
+  }
+  return band;
+}
+
+TEST_F(ImageryTilesRender, FarTerrainDoesNotShimmerWhenTheEyeMovesALittle) {
+  // A checkerboard of 0.25 m squares over 400 m: far away a pixel covers many squares. Point-sampled
+  // (what a texture at the imagery's resolution without mipmaps shows) such a region flips between
+  // the two colours as the eye moves a few centimetres; the tiles show the average there, read from
+  // the orthophoto's overviews, and stay put.
+  constexpr double kFarM = 100.0;
+  const Scene scene = makeScene(kShimmerSquareM, 0.125, 400.0);
+  const ShimmerBand far = shimmer(scene, options(), pose(-4), kFarM, 1e9);
   std::printf("far terrain (%zu pixels beyond %.0f m), eye moved 5 cm: drawn colours change by %.2f levels on average "
               "(%.2f from the squares' average colour), point samples of the orthophoto by %.1f\n",
-              pixels, kFarM, drawnChange, fromAverage, pointChange);
+              far.pixels, kFarM, far.drawnChange, far.fromAverage, far.pointChange);
+  ASSERT_GT(far.pixels, 1000u);
   // The bound: 2 levels on average (each far texel is about a pixel of the squares' average, so a
   // 5 cm move shifts each pixel's bilinear sample within a texel of a nearly even image), and the
   // colour drawn is that average; point samples change by 29 levels (two in five flip).
-  EXPECT_LT(drawnChange, 2.0);
-  EXPECT_LT(fromAverage, 6.0) << "far texels are not the squares' average";
-  EXPECT_GT(pointChange, 20.0) << "the region is not one that would shimmer";
+  EXPECT_LT(far.drawnChange, 2.0);
+  EXPECT_LT(far.fromAverage, 6.0) << "far texels are not the squares' average";
+  EXPECT_GT(far.pointChange, 20.0) << "the region is not one that would shimmer";
+}
+
+TEST_F(ImageryTilesRender, MipLevelsKeepAPartsFartherPixelsFromShimmering) {
+  // Between 30 and 100 m a part's tile is chosen for its nearest point, so its farther pixels cover
+  // several of its texels: sampled at the tile's own texels they alias (and shimmer as the eye
+  // moves); with the tile's mip levels each pixel samples its own footprint's level.
+  const Scene scene = makeScene(kShimmerSquareM, 0.125, 400.0);
+  RenderOptions plain = options();
+  plain.imageryMipmaps = false;
+  const ShimmerBand mip = shimmer(scene, options(), pose(-4), 30, 100);
+  const ShimmerBand own = shimmer(scene, plain, pose(-4), 30, 100);
+  std::printf("30 to 100 m (%zu pixels), eye moved 5 cm: drawn colours change by %.2f levels with mip levels, %.2f "
+              "without (%.2f and %.2f from the squares' average), point samples by %.1f\n",
+              mip.pixels, mip.drawnChange, own.drawnChange, mip.fromAverage, own.fromAverage, mip.pointChange);
+  ASSERT_GT(mip.pixels, 1000u);
+  EXPECT_EQ(mip.pixels, own.pixels);
+  EXPECT_LT(mip.drawnChange, 0.5 * own.drawnChange);
+  EXPECT_LT(mip.fromAverage, 0.5 * own.fromAverage);
 }
 
 TEST_F(ImageryTilesRender, ImageryElsewhereIsRefusedNamingTheFileBeforeAFrame) {

@@ -54,7 +54,7 @@ struct Config {
   // frame with background loading.
   bool settle = false;
   std::string imagery = {};  // draped instead of the scene's (empty: the scene's)
-  bool demImagery = false;   // the imagery at the DEM's resolution (its finest texel the DEM's spacing)
+  bool demImagery = false;   // the imagery at the DEM's resolution (its finest texel the DEM's spacing), no mip levels
 };
 
 /// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
@@ -158,7 +158,10 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
   if (!c.imagery.empty()) draped.emplace(sceneAsLoaded).drapedImagery = cachedImagery(c.imagery, sceneAsLoaded.terrain->crsWkt(), {});
   const Scene& scene = draped ? *draped : sceneAsLoaded;
   RenderOptions ro;
-  if (c.demImagery) ro.imageryFinestTexelM = std::max(scene.terrain->dx(), scene.terrain->dy());
+  if (c.demImagery) {  // today's drape: one texel a DEM sample, no mip levels
+    ro.imageryFinestTexelM = std::max(scene.terrain->dx(), scene.terrain->dy());
+    ro.imageryMipmaps = false;
+  }
   ro.width = width;
   ro.height = height;
   ro.lodMaxPixels = c.lodPixels;
