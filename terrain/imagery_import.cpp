@@ -49,6 +49,22 @@ bool imageryReadyToDrape(const std::string& path, const std::string& terrainCrsW
   }
 }
 
+namespace {
+
+/// Whether the opened orthophoto `ds` (at `path`) already is what importImagery writes: a GeoTIFF,
+/// ready to drape in the terrain's CRS, tiled with overviews.
+bool alreadyImported(GDALDatasetH ds, const std::string& path, const std::string& terrainCrsWkt) {
+  GDALDriverH driver = GDALGetDatasetDriver(ds);
+  if (!driver || std::string(GDALGetDriverShortName(driver)) != "GTiff") return false;
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  int blockX = 0, blockY = 0;
+  GDALGetBlockSize(band, &blockX, &blockY);
+  return blockX < GDALGetRasterXSize(ds) && blockY > 1 && GDALGetOverviewCount(band) > 0 &&
+         imageryReadyToDrape(path, terrainCrsWkt);
+}
+
+}  // namespace
+
 std::string imageryPathOf(const std::string& terrainOut) {
   fs::path p(terrainOut);
   return (p.parent_path() / (p.stem().string() + "_imagery.tif")).string();
@@ -66,6 +82,23 @@ ImageryImportSummary importImagery(const std::string& in, const std::string& out
   s.bands = imagery.colourBands();
   GdalDataset source = openRaster(in);
   GDALDatasetH chain = static_cast<GDALDatasetH>(source.get());
+  if (!s.reprojected && alreadyImported(chain, in, terrainCrsWkt)) {
+    OutputFile file(out, ".tif");
+    std::error_code ec;
+    fs::copy_file(in, file.tempPath(), fs::copy_options::overwrite_existing, ec);
+    if (ec) throw InputError(out + ": the imagery could not be copied from " + in + ": " + ec.message());
+    GDALRasterBandH band = GDALGetRasterBand(chain, 1);
+    s.copied = true;
+    s.cols = GDALGetRasterXSize(chain);
+    s.rows = GDALGetRasterYSize(chain);
+    s.overviews = GDALGetOverviewCount(band);
+    s.masked = (GDALGetMaskFlags(band) & (GMF_PER_DATASET | GMF_ALPHA)) != 0;
+    const std::string wkt = crsWkt(chain);
+    s.crsName = wkt.empty() ? "none" : crsName(wkt);
+    source.reset();
+    file.commit();
+    return s;
+  }
 
   // 2. The virtual chain: warped to the terrain's CRS where they differ, then 8-bit colour bands.
   GdalDataset warped, translated;

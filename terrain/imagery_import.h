@@ -30,12 +30,15 @@ struct ImageryImportSummary {
   bool reprojected = false;           // warped from the orthophoto's CRS to the terrain's
   bool masked = false;                // holes kept as a mask
   int overviews = 0;
+  bool copied = false;                // already a tiled GeoTIFF ready to drape: copied as it is
   std::string crsName;
   std::vector<std::string> warnings;  // what was assumed (a missing CRS), naming the file
 };
 
 /// Writes `in` as the imagery COG `out` in the CRS `terrainCrsWkt` (WKT; empty: the terrain has
-/// none, and the imagery is taken as it is, as a drape would).
+/// none, and the imagery is taken as it is, as a drape would). An orthophoto that already is what
+/// this writes would be (a GeoTIFF ready to drape, imageryReadyToDrape, tiled with overviews) is
+/// copied byte for byte instead: encoding it again would only lose detail.
 ImageryImportSummary importImagery(const std::string& in, const std::string& out, const std::string& terrainCrsWkt,
                                    bool overwrite = false, bool progress = false);
 

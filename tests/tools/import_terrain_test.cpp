@@ -1,11 +1,13 @@
 // `nestwalk import-terrain`: the summary, the COG it writes (read back through `query ground`),
 // --overwrite, and every kind of bad input: its message names the file and the problem, the exit
 // code is 1, OUT stays absent or byte-for-byte unchanged, and IN's bytes and mtime are untouched.
-// The bad files are written by hand (ASCII grids, ENVI raw + header, VRT XML) so no GDAL library
-// is needed here.
+// The bad files are written by hand (ASCII grids, ENVI raw + header, VRT XML); GDAL's library
+// only rewrites an orthophoto as a plain GeoTIFF for the imagery import.
 #include "nestwalk/terrain/terrain_pyramid_format.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
+
+#include <gdal.h>
 
 #include <algorithm>
 #include <cmath>
@@ -262,9 +264,15 @@ TEST(ImportTerrain, RotatedIsWarpedNorthUpAndUngeoreferencedWarns) {
 TEST(ImportTerrain, ImageryIsImportedBesideTheTerrainAndKeptWithoutOverwrite) {
   const TempFolder folder;
   // The bundled dump and its orthophoto on the DEM's 1 m grid (make-terrain's default).
-  const fs::path dem = folder / "made.tif", ortho = folder / "made_ortho.tif";
-  const auto made = runNestwalk("make-terrain " + quoted(dem) + " --ortho " + quoted(ortho));
-  ASSERT_EQ(made.exitCode, 0) << made.err;
+  const fs::path dem = folder / "made.tif", made = folder / "made_ortho.tif", ortho = folder / "striped.tif";
+  const auto r0 = runNestwalk("make-terrain " + quoted(dem) + " --ortho " + quoted(made));
+  ASSERT_EQ(r0.exitCode, 0) << r0.err;
+  // ... as a plain GeoTIFF (striped, no overviews, uncompressed): one the import encodes.
+  GDALAllRegister();
+  GDALDatasetH src = GDALOpen(made.c_str(), GA_ReadOnly);
+  ASSERT_NE(src, nullptr);
+  GDALClose(GDALCreateCopy(GDALGetDriverByName("GTiff"), ortho.c_str(), src, FALSE, nullptr, nullptr, nullptr));
+  GDALClose(src);
   const fs::path out = folder / "dump.tif", imagery = folder / "dump_imagery.tif";
   const auto r = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -280,6 +288,21 @@ TEST(ImportTerrain, ImageryIsImportedBesideTheTerrainAndKeptWithoutOverwrite) {
   EXPECT_EQ(snapshot(imagery).mtime, imageryBefore.mtime);
   EXPECT_EQ(runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho) +
                         " --overwrite").exitCode, 0);
+}
+
+TEST(ImportTerrain, ImageryThatIsAlreadyATiledGeoTiffReadyToDrapeIsCopiedAsItIs) {
+  const TempFolder folder;
+  // A drone's orthophoto at 0.5 m: make-terrain writes it as a JPEG COG with overviews in the DEM's CRS.
+  const fs::path dem = folder / "made.tif", ortho = folder / "drone.tif";
+  const auto made = runNestwalk("make-terrain " + quoted(dem) + " --ortho " + quoted(ortho) + " --ortho-pixel 0.5");
+  ASSERT_EQ(made.exitCode, 0) << made.err;
+  const fs::path out = folder / "dump.tif", imagery = folder / "dump_imagery.tif";
+  const auto r = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("imagery:      " + imagery.string() + ": 2000 x 2000 pixels of 0.5, RGB, copied as it is"),
+            std::string::npos) << r.out;
+  EXPECT_EQ(readText(imagery), readText(ortho)) << "not the orthophoto's own bytes";
+  EXPECT_EQ(fs::file_size(imagery), fs::file_size(ortho));
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // nestwalk import-terrain IN OUT [--imagery ORTHO]: any raster GDAL reads becomes the engine's
 // terrain format, a Cloud-Optimized GeoTIFF of Float32 heights in metres (see
 // terrain/terrain_import.h); with --imagery, the orthophoto becomes OUT_imagery.tif beside it, an
-// 8-bit JPEG COG with overviews in the terrain's CRS (terrain/imagery_import.h). Prints a
+// 8-bit JPEG COG with overviews in the terrain's CRS (terrain/imagery_import.h), or a copy of it
+// when it already is a tiled GeoTIFF ready to drape. Prints a
 // summary on stdout; a progress bar on stderr when it is a terminal.
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
@@ -50,9 +51,10 @@ void runImportTerrain(ImportArgs& args) {
   const std::string terrainWkt = terrain::crsWkt(terrain::openRaster(args.out).get());
   const terrain::ImageryImportSummary im = terrain::importImagery(args.imagery, imageryOut, terrainWkt, o.overwrite, o.progress);
   for (const auto& w : im.warnings) std::fprintf(stderr, "nestwalk: warning: %s\n", w.c_str());
-  std::printf("  imagery:      %s: %d x %d pixels of %.4g, %s%s, JPEG COG with %d overviews%s\n", imageryOut.c_str(),
-              im.cols, im.rows, im.pixelSize, im.bands == 1 ? "grey" : "RGB", im.masked ? " with a mask" : "",
-              im.overviews, im.reprojected ? ", warped to the terrain's CRS" : "");
+  std::printf("  imagery:      %s: %d x %d pixels of %.4g, %s%s, %s with %d overviews%s\n", imageryOut.c_str(), im.cols,
+              im.rows, im.pixelSize, im.bands == 1 ? "grey" : "RGB", im.masked ? " with a mask" : "",
+              im.copied ? "copied as it is (a tiled GeoTIFF ready to drape)" : "JPEG COG", im.overviews,
+              im.reprojected ? ", warped to the terrain's CRS" : "");
 }
 
 }  // namespace
