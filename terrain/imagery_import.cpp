@@ -51,11 +51,16 @@ bool imageryReadyToDrape(const std::string& path, const std::string& terrainCrsW
 
 namespace {
 
-/// Whether the opened orthophoto `ds` (at `path`) already is what importImagery writes: a GeoTIFF,
-/// ready to drape in the terrain's CRS, tiled with overviews.
+/// Whether the opened orthophoto `ds` (at `path`) already is what importImagery writes: a GeoTIFF
+/// in one file (no .ovr, .aux.xml, .tfw or .msk beside it that a copy of the file alone would
+/// lose), ready to drape in the terrain's CRS, tiled with overviews.
 bool alreadyImported(GDALDatasetH ds, const std::string& path, const std::string& terrainCrsWkt) {
   GDALDriverH driver = GDALGetDatasetDriver(ds);
   if (!driver || std::string(GDALGetDriverShortName(driver)) != "GTiff") return false;
+  char** files = GDALGetFileList(ds);
+  const bool alone = CSLCount(files) == 1;
+  CSLDestroy(files);
+  if (!alone) return false;
   GDALRasterBandH band = GDALGetRasterBand(ds, 1);
   int blockX = 0, blockY = 0;
   GDALGetBlockSize(band, &blockX, &blockY);
@@ -92,7 +97,7 @@ ImageryImportSummary importImagery(const std::string& in, const std::string& out
     s.cols = GDALGetRasterXSize(chain);
     s.rows = GDALGetRasterYSize(chain);
     s.overviews = GDALGetOverviewCount(band);
-    s.masked = (GDALGetMaskFlags(band) & (GMF_PER_DATASET | GMF_ALPHA)) != 0;
+    s.masked = (GDALGetMaskFlags(band) & (GMF_PER_DATASET | GMF_ALPHA | GMF_NODATA)) != 0;
     const std::string wkt = crsWkt(chain);
     s.crsName = wkt.empty() ? "none" : crsName(wkt);
     source.reset();

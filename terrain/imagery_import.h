@@ -3,7 +3,10 @@
 // terrain's CRS, ready for draping (terrain_imagery.h) and for the imagery levels of the survey
 // pipeline: 8-bit RGB (or grey), tiled kImageryTileSize, JPEG at kImageryJpegQuality with the
 // imagery's holes as a mask (GDAL's COG driver turns an alpha band into one), and overviews down to
-// one tile, averaged (the COG driver's).
+// one tile, averaged (the COG driver's). An orthophoto that already is such a file in every way the
+// drape needs (a single-file GeoTIFF, 8-bit, in the terrain's CRS, tiled with overviews:
+// imageryReadyToDrape) is copied byte for byte instead, whatever its compression and tile size:
+// encoding it again would only lose detail.
 //
 // Stages: the orthophoto is opened as a drape would open it (TerrainImagery: its CRS checked
 // against the terrain's, what is refused there is refused here); a virtual chain then warps it to
@@ -28,7 +31,7 @@ struct ImageryImportSummary {
   int cols = 0, rows = 0, bands = 0;  // bands: 3 (RGB) or 1 (grey), plus the mask
   double pixelSize = 0;               // metres (terrain CRS units) per pixel
   bool reprojected = false;           // warped from the orthophoto's CRS to the terrain's
-  bool masked = false;                // holes kept as a mask
+  bool masked = false;                // holes kept (a mask, an alpha band or a nodata value)
   int overviews = 0;
   bool copied = false;                // already a tiled GeoTIFF ready to drape: copied as it is
   std::string crsName;
@@ -36,9 +39,7 @@ struct ImageryImportSummary {
 };
 
 /// Writes `in` as the imagery COG `out` in the CRS `terrainCrsWkt` (WKT; empty: the terrain has
-/// none, and the imagery is taken as it is, as a drape would). An orthophoto that already is what
-/// this writes would be (a GeoTIFF ready to drape, imageryReadyToDrape, tiled with overviews) is
-/// copied byte for byte instead: encoding it again would only lose detail.
+/// none, and the imagery is taken as it is, as a drape would), or copies it (see above).
 ImageryImportSummary importImagery(const std::string& in, const std::string& out, const std::string& terrainCrsWkt,
                                    bool overwrite = false, bool progress = false);
 

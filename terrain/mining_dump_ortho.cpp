@@ -32,7 +32,7 @@ double valueNoise(std::uint64_t seed, double x, double y, double wavelength) {
 struct TrackCover {
   double weight = 0, tread = 1;
 };
-TrackCover tyreTrackCover(const MiningDumpLayout& L, std::uint64_t salted, double e, double n) {
+TrackCover tyreTrackCover(const MiningDumpLayout& L, std::uint64_t salted, double e, double n, bool tread) {
   const double az = L.azimuthDeg * std::numbers::pi / 180.0;
   const double de = e - L.centreE, dn = n - L.centreN;
   const double u = de * std::sin(az) + dn * std::cos(az), across = de * std::cos(az) - dn * std::sin(az) - L.rampV;
@@ -46,7 +46,7 @@ TrackCover tyreTrackCover(const MiningDumpLayout& L, std::uint64_t salted, doubl
       const double inside = 0.5 * kOrthoTrackWidthM - std::abs(across - centre);
       cover.weight = std::max(cover.weight, std::clamp(inside / kOrthoTrackEdgeM + 0.5, 0.0, 1.0));
     }
-  cover.tread = 1.0 + kOrthoTreadAmplitude * (std::sin(2 * std::numbers::pi * u / kOrthoTreadPitchM) > 0 ? 1 : -1);
+  if (tread) cover.tread = 1.0 + kOrthoTreadAmplitude * (std::sin(2 * std::numbers::pi * u / kOrthoTreadPitchM) > 0 ? 1 : -1);
   return cover;
 }
 
@@ -90,6 +90,7 @@ void writeFineMiningDumpOrtho(const std::string& out, const MiningDumpParams& pa
   const int n = generator.cols();
   const std::uint64_t salted = params.seed ^ kOrthoSeedSalt;
   const bool textured = pixel < kOrthoTextureBelowPixelM;
+  const bool tread = pixel <= kOrthoTreadBelowPixelM;
   SplitMix64 grain(salted ^ 0x6A7E);
   std::vector<float> heights;
   std::vector<DumpSurface> surfaces;
@@ -113,7 +114,7 @@ void writeFineMiningDumpOrtho(const std::string& out, const MiningDumpParams& pa
                         kOrthoGritAmplitude * valueNoise(salted ^ 2, x, y, kOrthoGritWavelengthM);
               const TrackCover track = surface == DumpSurface::Ramp
                                            ? tyreTrackCover(generator.layout(), salted, generator.originX() + x,
-                                                            generator.originY() + y)
+                                                            generator.originY() + y, tread)
                                            : TrackCover{};
               if (track.weight < 1 && surface != DumpSurface::Ground && surface != DumpSurface::Ditch &&
                   valueNoise(salted ^ 3, x, y, kOrthoStoneWavelengthM) > kOrthoStoneThreshold)

@@ -66,11 +66,14 @@ inline constexpr std::array<std::uint8_t, 3> kOrthoVegetationColour{72, 104, 48}
 /// kOrthoWheelGaugeM apart (centre to centre), kOrthoTrackWidthM wide (dual tyres), each path
 /// wandering by up to kOrthoTrackWanderM over kOrthoTrackWanderWavelengthM along the ramp and fading
 /// into the gravel beside it over kOrthoTrackEdgeM. In a track the surface is compacted: its colour
-/// times kOrthoTrackDarkening, tread lugs across it every kOrthoTreadPitchM (+- kOrthoTreadAmplitude),
-/// no stones. Metres and factors of the colour; a 40-tonne truck's dual tyres and lane.
+/// times kOrthoTrackDarkening, tread lugs across it every kOrthoTreadPitchM (+- kOrthoTreadAmplitude;
+/// at pixels up to kOrthoTreadBelowPixelM), no stones. Metres and factors of the colour; a 40-tonne truck's dual tyres and lane.
 inline constexpr double kOrthoLaneOffsetM = 5.0, kOrthoWheelGaugeM = 4.8, kOrthoTrackWidthM = 1.4;
 inline constexpr double kOrthoTrackWanderM = 0.3, kOrthoTrackWanderWavelengthM = 25.0, kOrthoTrackEdgeM = 0.2;
 inline constexpr double kOrthoTrackDarkening = 0.8, kOrthoTreadPitchM = 0.4, kOrthoTreadAmplitude = 0.06;
+/// Metres: the tread is drawn only at pixels this fine (4 a lug period); coarser pixels, sampling
+/// it at their centres, would show a beat pattern instead of the lugs.
+inline constexpr double kOrthoTreadBelowPixelM = kOrthoTreadPitchM / 4;
 
 /// The orthophoto's pixels: dump.cols x dump.rows, row-major from the north row, RGB interleaved.
 std::vector<std::uint8_t> miningDumpOrtho(const MiningDump& dump, std::uint64_t seed);

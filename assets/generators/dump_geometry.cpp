@@ -19,12 +19,10 @@ DumpGeometry dumpGeometry(const terrain::MiningDumpParams& p, const terrain::Min
   g.faceRun = p.benchHeight / std::tan(radians(p.faceSlopeDeg));
   g.period = g.faceRun + p.bermWidth;
   g.cornerRadius = std::min(0.3 * L.halfWidth, 60.0);
-  const double topHalfWidth = L.halfWidth - (g.benches - 1) * g.period - g.faceRun;
-  const double topHalfLength = L.halfLength - (g.benches - 1) * g.period - g.faceRun;
-  g.rampV = -0.6 * std::max(topHalfWidth, 5.0);
-  g.rampHalfWidth = 10.0;
-  g.rampStart = -L.halfLength - 40.0;
-  g.rampEnd = 0.3 * std::max(topHalfLength, 0.0);
+  g.rampV = L.rampV;  // the generator's own ramp (mining_dump.h)
+  g.rampHalfWidth = L.rampHalfWidth;
+  g.rampStart = L.rampStartU;
+  g.rampEnd = L.rampEndU;
   g.rampGrade = (L.topHeight - L.baseHeight) / (g.rampEnd - g.rampStart);
   return g;
 }

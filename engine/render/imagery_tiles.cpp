@@ -138,8 +138,11 @@ ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
       for (int k = 0; k < 3; ++k) p[k] = std::uint8_t(std::lround(a * p[k] + (1 - a) * 255.0 * ramp[k]));
       p[3] = 255;
     }
-  // Mip levels (see "Filtering" above): each texel the mean of the four under it, down to 1 x 1,
-  // after the tile's own texels in one buffer.
+  // The image's one buffer (tileBytes): the tile's texels, then its mip levels (see "Filtering"
+  // above), each texel the mean of the four under it, down to 1 x 1.
+  auto* data = new unsigned char[tileBytes(key)];
+  std::copy(rgba.begin(), rgba.end(), data);
+  rgba = {};
   osg::Image::MipmapDataType offsets;
   if (options_.mipmaps) {
     std::size_t at = 0;
@@ -147,20 +150,19 @@ ImageryTiles::Built ImageryTiles::build(const ImageryTileKey& key) const {
       const int h = s / 2;
       const std::size_t next = at + 4 * std::size_t(s) * std::size_t(s);
       offsets.push_back(unsigned(next));
-      rgba.resize(next + 4 * std::size_t(h) * std::size_t(h));
+      const unsigned char* above = data + at;
+      unsigned char* level = data + next;
       for (int j = 0; j < h; ++j)
         for (int i = 0; i < h; ++i)
           for (int k = 0; k < 4; ++k) {
-            auto texel = [&](int x, int y) { return unsigned(rgba[at + 4 * (std::size_t(y) * std::size_t(s) + std::size_t(x)) + std::size_t(k)]); };
-            rgba[next + 4 * (std::size_t(j) * std::size_t(h) + std::size_t(i)) + std::size_t(k)] =
-                std::uint8_t((texel(2 * i, 2 * j) + texel(2 * i + 1, 2 * j) + texel(2 * i, 2 * j + 1) + texel(2 * i + 1, 2 * j + 1) + 2) / 4);
+            auto texel = [&](int x, int y) { return unsigned(above[4 * (std::size_t(y) * std::size_t(s) + std::size_t(x)) + std::size_t(k)]); };
+            level[4 * (std::size_t(j) * std::size_t(h) + std::size_t(i)) + std::size_t(k)] =
+                static_cast<unsigned char>((texel(2 * i, 2 * j) + texel(2 * i + 1, 2 * j) + texel(2 * i, 2 * j + 1) + texel(2 * i + 1, 2 * j + 1) + 2) / 4);
           }
       at = next;
     }
   }
   osg::ref_ptr<osg::Image> image = new osg::Image;
-  auto* data = new unsigned char[rgba.size()];
-  std::copy(rgba.begin(), rgba.end(), data);
   image->setImage(side, side, 1, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, data, osg::Image::USE_NEW_DELETE);
   if (!offsets.empty()) image->setMipmapLevels(offsets);
   Built b;

@@ -28,7 +28,7 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
   };
   // The drawn parts' areas (mesh frame) and their tiles' texels.
   struct Area {
-    double x0, x1, y0, y1, texel, span;
+    double x0, x1, y0, y1, texelX, texelY;
   };
   std::vector<Area> areas;
   const double cells = paged.layout().chunkCells();
@@ -36,9 +36,8 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
     const double sx = cells * std::ldexp(terrain.dx(), part.key.level - 1);
     const double sy = cells * std::ldexp(terrain.dy(), part.key.level - 1);
     const double ax = (2 * part.key.x + (part.quadrant & 1)) * sx, ay = (2 * part.key.y + (part.quadrant >> 1)) * sy;
-    const ImageryTileKey& tile = part.imageryDrawn;
-    areas.push_back({ax, ax + sx, ay, ay + sy, tiles->texelSize(tile.texelLevel),
-                     tiles->texelSize(tile.areaLevel) * kImageryTileTexels});
+    const double texelX = tiles->texelSize(part.imageryDrawn.texelLevel);
+    areas.push_back({ax, ax + sx, ay, ay + sy, texelX, texelX * terrain.dy() / terrain.dx()});
   }
   const auto [eyeMap, unused] = renderer.pixelRay(0.5 * w, 0.5 * h);
   const Eigen::Vector3d eye = eyeMap - origin0;
@@ -46,24 +45,23 @@ void sampleTexelsPerPixel(const ViewRenderer& renderer, const terrain::Heightfie
     for (int x = pixelStep / 2; x < w; x += pixelStep) {
       const std::optional<Eigen::Vector3d> p = ground(x, y);
       if (!p) continue;
-      double footprint = 0;
-      for (int axis = 0; axis < 2 && std::isfinite(footprint); ++axis) {
-        double step = std::numeric_limits<double>::infinity();
-        for (int s : {-1, 1})
-          if (const auto q = axis == 0 ? ground(x + s, y) : ground(x, y + s)) step = std::min(step, (*q - *p).norm());
-        footprint = std::max(footprint, step);
-      }
-      if (!std::isfinite(footprint)) continue;
       const auto area = std::find_if(areas.begin(), areas.end(), [&](const Area& a) {
         return p->x() >= a.x0 && p->x() <= a.x1 && -p->y() >= a.y0 && -p->y() <= a.y1;
       });
       if (area == areas.end()) continue;
+      // The texture coordinates are the map's x and y (chunk_node.h), so a step counts the texels
+      // it crosses horizontally.
+      auto texels = [&](const Eigen::Vector3d& q) { return std::hypot((q.x() - p->x()) / area->texelX, (q.y() - p->y()) / area->texelY); };
+      double perPixel = 0;
+      for (int axis = 0; axis < 2 && std::isfinite(perPixel); ++axis) {
+        double step = std::numeric_limits<double>::infinity();
+        for (int s : {-1, 1})
+          if (const auto q = axis == 0 ? ground(x + s, y) : ground(x, y + s)) step = std::min(step, texels(*q));
+        perPixel = std::max(perPixel, step);
+      }
+      if (!std::isfinite(perPixel)) continue;
       const double distance = (*p - eye).norm();
-      // With mip levels the GL samples the level whose texel is the footprint (trilinear: between
-      // the two nearest), down to the tile's 1 x 1 level; without, the tile's own texels.
-      const double sampled = tiles->mipmaps() ? std::clamp(footprint, area->texel, area->span) : area->texel;
-      (distance < kTexelNearM ? into.near : distance < kTexelFarM ? into.middle : into.far)
-          .push_back(footprint / sampled);
+      (distance < kTexelNearM ? into.near : distance < kTexelFarM ? into.middle : into.far).push_back(perPixel);
     }
 }
 

@@ -2,16 +2,17 @@
 // against the screen, measured from the frame itself, not from the texel rule's boxes.
 //
 // At a pixel (x, y) of the last frame the ground point is the exact ray cast through the pixel's
-// centre (Heightfield::intersectRay); the pixel's footprint is, as a GPU's derivatives measure it,
-// the larger over the screen's two axes of the ground step to the neighbouring pixel (on each axis
-// the smaller of the two sides' steps, so that a step over a silhouette does not count). Texels per
-// pixel there is footprint / texel, the texel being the one the GL samples there: that of the tile
-// the drawn part holding the ground point was drawn with (DrawnPart::imageryDrawn), or, where the
-// tiles carry mip levels and the footprint is coarser than that, the footprint's own (trilinear
-// filtering samples the level of the footprint: OpenGL 4.6, 8.14), down to the tile's 1 x 1 level.
-// 1 is one texel per pixel; below 1 the tile is magnified (the imagery holds no finer detail, or the
-// tile is coarser than the view can show); above 1 several texels fall in a pixel (aliasing: only
-// without mip levels).
+// centre (Heightfield::intersectRay). Texels per pixel there is, as a GPU's derivatives measure a
+// pixel's footprint, the larger over the screen's two axes of the step to the neighbouring pixel's
+// ground point (on each axis the smaller of the two sides' steps, so that a step over a silhouette
+// does not count), counted in texels of the tile the drawn part holding the ground point was drawn
+// with (DrawnPart::imageryDrawn). Steps are horizontal: the texture coordinates are the map's x and
+// y (chunk_node.h), so on a steep face a pixel crosses fewer texels than its ground distance.
+// 1 is one of the tile's texels per pixel; below 1 the tile is magnified (the imagery holds no
+// finer detail, or the tile is coarser than the view can show); above 1 several of its texels fall
+// in a pixel: without mip levels they alias, with them (the default, imagery_tiles.h) the GL
+// samples the level of the footprint instead (OpenGL 4.6, 8.14), so the value then says how much
+// finer the tile is than the view needs there.
 //
 // Pixels are sampled every `pixelStep` pixels across and down and binned by the ground point's
 // distance from the eye: near (< kTexelNearM), middle (< kTexelFarM), far.

@@ -2,8 +2,6 @@
 // straight down every pixel covers the same ground, H * 2 tan(fovY / 2) / height metres on both
 // axes (the ground plane is parallel to the image plane, so ground offsets are linear in the
 // pixel), and the part under the eye is the nearest one, drawn with the finest texel of the frame.
-// Without mip levels the pixel samples that texel; with them (trilinear filtering) the texel of its
-// footprint where that is coarser, so never more than one texel a pixel.
 // Real llvmpipe, a 1 m DEM at UTM magnitudes (zone 33N, 69 degrees north), a 25 cm orthophoto.
 #include "nestwalk/render/texel_density.h"
 
@@ -51,9 +49,8 @@ class TexelDensity : public test::TempFolderTest {
     return loadScene((dir() / "scene.json").string());
   }
 
-  static RenderOptions options(bool mipmaps = true) {
+  static RenderOptions options() {
     RenderOptions o;
-    o.imageryMipmaps = mipmaps;
     o.width = o.height = kSide;
     o.terrainLoading = TerrainLoading::Complete;
     return o;
@@ -67,38 +64,33 @@ class TexelDensity : public test::TempFolderTest {
   }
 };
 
-TEST_F(TexelDensity, StraightDownOverFlatGroundIsTheAnalyticFootprintOverTheTexelSampled) {
+TEST_F(TexelDensity, StraightDownOverFlatGroundIsTheAnalyticFootprintOverTheFinestTexelDrawn) {
   const Scene scene = makeScene(true);
-  for (const bool mipmaps : {false, true}) {
-    ViewRenderer renderer(scene, options(mipmaps));
-    TexelsPerPixel all;
-    // 10 m: the near band; 50 m: the middle; 150 m and 600 m: far, the last over a coarser texel
-    // than the orthophoto's 25 cm and a footprint coarser still.
-    for (const double h : {10.0, 50.0, 150.0, 600.0}) {
-      const RenderFrameStats& stats = renderer.render(straightDown(h));
-      TexelsPerPixel one;
-      sampleTexelsPerPixel(renderer, *scene.terrain, kSide, one);
-      sampleTexelsPerPixel(renderer, *scene.terrain, kSide, all);
-      const std::vector<double>& band = h < kTexelNearM ? one.near : h < kTexelFarM ? one.middle : one.far;
-      ASSERT_EQ(one.near.size() + one.middle.size() + one.far.size(), 1u) << h << " m";
-      ASSERT_EQ(band.size(), 1u) << h << " m";
-      const double footprint = h * 2 * std::tan(0.5 * RenderOptions{}.fovYDegrees * M_PI / 180) / kSide;
-      const ImageryTiles& tiles = *renderer.graph().pagedTerrain().imageryTiles();
-      EXPECT_EQ(tiles.mipmaps(), mipmaps);
-      const double texel = tiles.texelSize(stats.terrain.finestTexelLevelDrawn);
-      const double expected = mipmaps ? std::min(footprint / texel, 1.0) : footprint / texel;
-      EXPECT_NEAR(band[0], expected, 1e-6 * expected) << h << " m: texel " << texel << " m";
-      if (h > 500) {
-        EXPECT_GT(texel, kOrthoPixelM);
-        EXPECT_GT(footprint, texel);
-      }
-      std::printf("%s mip levels, straight down from %.0f m: %.4f m a pixel, %.4f m texels, %.3f texels per pixel\n",
-                  mipmaps ? "with" : "without", h, footprint, texel, band[0]);
+  ViewRenderer renderer(scene, options());
+  TexelsPerPixel all;
+  // 10 m: the near band; 50 m: the middle; 150 m and 600 m: far, the last over a coarser texel than
+  // the orthophoto's 25 cm.
+  for (const double h : {10.0, 50.0, 150.0, 600.0}) {
+    const RenderFrameStats& stats = renderer.render(straightDown(h));
+    TexelsPerPixel one;
+    sampleTexelsPerPixel(renderer, *scene.terrain, kSide, one);
+    sampleTexelsPerPixel(renderer, *scene.terrain, kSide, all);
+    const std::vector<double>& band = h < kTexelNearM ? one.near : h < kTexelFarM ? one.middle : one.far;
+    ASSERT_EQ(one.near.size() + one.middle.size() + one.far.size(), 1u) << h << " m";
+    ASSERT_EQ(band.size(), 1u) << h << " m";
+    const double footprint = h * 2 * std::tan(0.5 * RenderOptions{}.fovYDegrees * M_PI / 180) / kSide;
+    const ImageryTiles& tiles = *renderer.graph().pagedTerrain().imageryTiles();
+    const double texel = tiles.texelSize(stats.terrain.finestTexelLevelDrawn);
+    EXPECT_NEAR(band[0], footprint / texel, 1e-6 * footprint / texel) << h << " m: texel " << texel << " m";
+    if (h > 500) {
+      EXPECT_GT(texel, kOrthoPixelM);
     }
-    EXPECT_EQ(all.near.size(), 1u);
-    EXPECT_EQ(all.middle.size(), 1u);
-    EXPECT_EQ(all.far.size(), 2u);
+    std::printf("straight down from %.0f m: %.4f m a pixel, %.4f m texels, %.3f texels per pixel\n", h, footprint,
+                texel, band[0]);
   }
+  EXPECT_EQ(all.near.size(), 1u);
+  EXPECT_EQ(all.middle.size(), 1u);
+  EXPECT_EQ(all.far.size(), 2u);
 }
 
 TEST_F(TexelDensity, NothingIsSampledWithoutImageryAndAStepBelowOneIsRefused) {

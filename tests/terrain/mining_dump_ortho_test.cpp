@@ -172,6 +172,51 @@ TEST(MiningDumpOrtho, SameSeedSameBytes) {
   EXPECT_THROW(terrain::miningDumpOrtho(broken, 7), std::invalid_argument);
 }
 
+/// Tyre tracks on the ramp (mining_dump_ortho.h) in an orthophoto read back: from the layout's ramp,
+/// the pixels surely inside a wheel path (within its half width less the wander and the fading edge
+/// of its nominal centre) against those surely between them (on a lane's centre line or the ramp's
+/// axis); in a track, the light of the tread's lugs against the gaps between them (by the pixel
+/// centre's distance along the ramp).
+struct TrackLight {
+  double darkening = 0, tread = 0;  // track / between; lugs / gaps
+  int trackPixels = 0, betweenPixels = 0;
+};
+TrackLight trackLight(const std::vector<std::uint8_t>& rgb, int n, double pixel, const terrain::MiningDumpGenerator& generator) {
+  std::vector<float> heights(std::size_t(n) * std::size_t(n));
+  std::vector<DumpSurface> surfaces(heights.size());
+  generator.generateRows(0, n, heights.data(), surfaces.data());
+  const terrain::MiningDumpLayout& L = generator.layout();
+  const double az = L.azimuthDeg * std::numbers::pi / 180.0;
+  const double sure = 0.5 * terrain::kOrthoTrackWidthM - terrain::kOrthoTrackWanderM - terrain::kOrthoTrackEdgeM;
+  double light[4] = {0, 0, 0, 0};  // track, between, lug, gap
+  int count[4] = {0, 0, 0, 0};
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const std::size_t at = std::size_t(y) * std::size_t(n) + std::size_t(x);
+      if (surfaces[at] != DumpSurface::Ramp) continue;
+      const double de = generator.originX() + x * pixel - L.centreE, dn = generator.originY() - y * pixel - L.centreN;
+      const double u = de * std::sin(az) + dn * std::cos(az), across = de * std::cos(az) - dn * std::sin(az) - L.rampV;
+      const double l = (rgb[3 * at] + rgb[3 * at + 1] + rgb[3 * at + 2]) / 3.0;
+      const double wheel = std::min(std::abs(std::abs(across) - (terrain::kOrthoLaneOffsetM - 0.5 * terrain::kOrthoWheelGaugeM)),
+                                    std::abs(std::abs(across) - (terrain::kOrthoLaneOffsetM + 0.5 * terrain::kOrthoWheelGaugeM)));
+      const double between = std::min(std::abs(across), std::abs(std::abs(across) - terrain::kOrthoLaneOffsetM));
+      if (wheel < sure) {
+        light[0] += l, ++count[0];
+        const int k = std::sin(2 * std::numbers::pi * u / terrain::kOrthoTreadPitchM) > 0 ? 2 : 3;
+        light[k] += l, ++count[k];
+      } else if (between < 0.5) {
+        light[1] += l, ++count[1];
+      }
+    }
+  for (int k = 0; k < 4; ++k) EXPECT_GT(count[k], 500) << k;
+  TrackLight t;
+  t.darkening = (light[0] / std::max(count[0], 1)) / (light[1] / std::max(count[1], 1));
+  t.tread = (light[2] / std::max(count[2], 1)) / (light[3] / std::max(count[3], 1));
+  t.trackPixels = count[0];
+  t.betweenPixels = count[1];
+  return t;
+}
+
 class FineMiningDumpOrtho : public TempFolderTest {};
 
 TEST_F(FineMiningDumpOrtho, ShowsTheGeneratorsMaterialsAtItsPixelsWithTexture) {
@@ -272,40 +317,34 @@ TEST_F(FineMiningDumpOrtho, ShowsTheGeneratorsMaterialsAtItsPixelsWithTexture) {
   EXPECT_GT(spread / spreadBlocks, 6.0) << "the faces show no texture within a metre";
   std::printf("light spread within a metre of face: %.1f levels\n", spread / spreadBlocks);
 
-  // Tyre tracks on the ramp: from the layout's ramp, the pixels surely inside a wheel path (within
-  // its half width less the wander and the fading edge of its nominal centre) against those surely
-  // between them (on a lane's centre line or the ramp's axis); in a track, the light of the tread's
-  // lugs against the gaps between them (by the pixel centre's distance along the ramp).
-  const terrain::MiningDumpLayout& L = generator.layout();
-  const double az = L.azimuthDeg * std::numbers::pi / 180.0;
-  const double sure = 0.5 * terrain::kOrthoTrackWidthM - terrain::kOrthoTrackWanderM - terrain::kOrthoTrackEdgeM;
-  double light[4] = {0, 0, 0, 0};  // track, between, lug, gap
-  int count[4] = {0, 0, 0, 0};
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const std::size_t at = std::size_t(y) * std::size_t(n) + std::size_t(x);
-      if (surfaces[at] != DumpSurface::Ramp) continue;
-      const double de = generator.originX() + x * kPixel - L.centreE, dn = generator.originY() - y * kPixel - L.centreN;
-      const double u = de * std::sin(az) + dn * std::cos(az), across = de * std::cos(az) - dn * std::sin(az) - L.rampV;
-      const double l = (rgb[3 * at] + rgb[3 * at + 1] + rgb[3 * at + 2]) / 3.0;
-      const double wheel = std::min(std::abs(std::abs(across) - (terrain::kOrthoLaneOffsetM - 0.5 * terrain::kOrthoWheelGaugeM)),
-                                    std::abs(std::abs(across) - (terrain::kOrthoLaneOffsetM + 0.5 * terrain::kOrthoWheelGaugeM)));
-      const double between = std::min(std::abs(across), std::abs(std::abs(across) - terrain::kOrthoLaneOffsetM));
-      if (wheel < sure) {
-        light[0] += l, ++count[0];
-        const int k = std::sin(2 * std::numbers::pi * u / terrain::kOrthoTreadPitchM) > 0 ? 2 : 3;
-        light[k] += l, ++count[k];
-      } else if (between < 0.5) {
-        light[1] += l, ++count[1];
-      }
-    }
-  for (int k = 0; k < 4; ++k) ASSERT_GT(count[k], 500) << k;
-  const double darkening = (light[0] / count[0]) / (light[1] / count[1]);
-  const double tread = (light[2] / count[2]) / (light[3] / count[3]);
-  std::printf("tyre tracks: %.3f of the light between them, lugs %.3f of the gaps (%d and %d pixels)\n", darkening,
-              tread, count[0], count[1]);
-  EXPECT_NEAR(darkening, terrain::kOrthoTrackDarkening, 0.05);
-  EXPECT_NEAR(tread, (1 + terrain::kOrthoTreadAmplitude) / (1 - terrain::kOrthoTreadAmplitude), 0.05);
+  const TrackLight tracks = trackLight(rgb, n, kPixel, generator);
+  std::printf("tyre tracks at %.2f m: %.3f of the light between them, lugs %.3f of the gaps (%d and %d pixels)\n", kPixel,
+              tracks.darkening, tracks.tread, tracks.trackPixels, tracks.betweenPixels);
+  EXPECT_NEAR(tracks.darkening, terrain::kOrthoTrackDarkening, 0.05);
+  EXPECT_NEAR(tracks.tread, 1.0, 0.02) << "a tread at 25 cm pixels, which would beat instead of showing lugs";
+}
+
+TEST_F(FineMiningDumpOrtho, TyreTracksShowTheirTreadAtTenCentimetres) {
+  terrain::MiningDumpParams params;
+  params.size = 250;
+  constexpr double kPixel = 0.1;
+  const std::string path = (dir() / "ortho.tif").string();
+  terrain::writeFineMiningDumpOrtho(path, params, kPixel, terrain::kMiningDumpCrs, false);
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  ASSERT_NE(ds, nullptr);
+  const int n = GDALGetRasterXSize(ds);
+  ASSERT_EQ(n, 2500);
+  std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3u);
+  int bands[3] = {1, 2, 3};
+  ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, n, n, rgb.data(), n, n, GDT_Byte, 3, bands, 3, 3 * n, 1), CE_None);
+  GDALClose(ds);
+  terrain::MiningDumpParams fine = params;
+  fine.cell = kPixel;
+  const TrackLight tracks = trackLight(rgb, n, kPixel, terrain::MiningDumpGenerator(fine));
+  std::printf("tyre tracks at %.2f m: %.3f of the light between them, lugs %.3f of the gaps (%d and %d pixels)\n", kPixel,
+              tracks.darkening, tracks.tread, tracks.trackPixels, tracks.betweenPixels);
+  EXPECT_NEAR(tracks.darkening, terrain::kOrthoTrackDarkening, 0.05);
+  EXPECT_NEAR(tracks.tread, (1 + terrain::kOrthoTreadAmplitude) / (1 - terrain::kOrthoTreadAmplitude), 0.05);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
+#include <cpl_error.h>
 #include <gdal.h>
 
 #include <algorithm>
@@ -271,8 +272,10 @@ TEST(ImportTerrain, ImageryIsImportedBesideTheTerrainAndKeptWithoutOverwrite) {
   GDALAllRegister();
   GDALDatasetH src = GDALOpen(made.c_str(), GA_ReadOnly);
   ASSERT_NE(src, nullptr);
-  GDALClose(GDALCreateCopy(GDALGetDriverByName("GTiff"), ortho.c_str(), src, FALSE, nullptr, nullptr, nullptr));
+  GDALDatasetH plain = GDALCreateCopy(GDALGetDriverByName("GTiff"), ortho.c_str(), src, FALSE, nullptr, nullptr, nullptr);
   GDALClose(src);
+  ASSERT_NE(plain, nullptr) << CPLGetLastErrorMsg();
+  GDALClose(plain);
   const fs::path out = folder / "dump.tif", imagery = folder / "dump_imagery.tif";
   const auto r = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(out) + " --imagery " + quoted(ortho));
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -303,6 +306,29 @@ TEST(ImportTerrain, ImageryThatIsAlreadyATiledGeoTiffReadyToDrapeIsCopiedAsItIs)
             std::string::npos) << r.out;
   EXPECT_EQ(readText(imagery), readText(ortho)) << "not the orthophoto's own bytes";
   EXPECT_EQ(fs::file_size(imagery), fs::file_size(ortho));
+
+  // Tiled, but its overviews in a .ovr beside it: a copy of the .tif alone would lose them, so it is
+  // encoded.
+  GDALAllRegister();
+  const fs::path tiled = folder / "tiled.tif";
+  GDALDatasetH src = GDALOpen(ortho.c_str(), GA_ReadOnly);
+  ASSERT_NE(src, nullptr);
+  const char* tiledOptions[] = {"TILED=YES", nullptr};
+  GDALDatasetH copy = GDALCreateCopy(GDALGetDriverByName("GTiff"), tiled.c_str(), src, FALSE,
+                                     const_cast<char**>(tiledOptions), nullptr, nullptr);
+  GDALClose(src);
+  ASSERT_NE(copy, nullptr) << CPLGetLastErrorMsg();
+  GDALClose(copy);
+  GDALDatasetH readOnly = GDALOpen(tiled.c_str(), GA_ReadOnly);  // read-only: the overviews go to tiled.tif.ovr
+  ASSERT_NE(readOnly, nullptr);
+  int levels[] = {2, 4};
+  ASSERT_EQ(GDALBuildOverviews(readOnly, "AVERAGE", 2, levels, 0, nullptr, nullptr, nullptr), CE_None);
+  GDALClose(readOnly);
+  ASSERT_TRUE(fs::exists(folder / "tiled.tif.ovr"));
+  const auto encoded = runNestwalk("import-terrain " + quoted(dem) + " " + quoted(folder / "second.tif") + " --imagery " +
+                                   quoted(tiled));
+  ASSERT_EQ(encoded.exitCode, 0) << encoded.err;
+  EXPECT_NE(encoded.out.find("2000 x 2000 pixels of 0.5, RGB, JPEG COG with"), std::string::npos) << encoded.out;
 }
 
 }  // namespace

@@ -82,12 +82,13 @@ void registerMakeScene(CLI::App& app) {
       "Generate the bundled mining-dump scene: terrain, equipment models (OSG native), scene.json and its scripts");
   cmd->add_option("DIR", args->dir, "Output folder; replaced only with --overwrite")->required();
   cmd->add_option("--seed", args->seed, "Random seed (same seed, same scene)")->default_val(1);
-  cmd->add_flag("--gis-inputs", args->gisInputs,
-                "Write GIS inputs for build-scene instead (DEM, GeoPackage, catalog, models, flythroughs)");
+  CLI::Option* gis = cmd->add_flag("--gis-inputs", args->gisInputs,
+                                    "Write GIS inputs for build-scene instead (DEM, GeoPackage, catalog, models, flythroughs)");
   cmd->add_option("--ortho-pixel", args->orthoPixel,
                   "ortho.tif's pixel in metres, finer than the terrain's cell: a drone's orthophoto with the ground's "
                   "texture (default: the terrain's grid)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber)
+      ->excludes(gis);
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing DIR");
   cmd->callback([args] { runMakeScene(*args); });
 }
