@@ -217,6 +217,14 @@ TrackLight trackLight(const std::vector<std::uint8_t>& rgb, int n, double pixel,
   return t;
 }
 
+/// The n x n RGB pixels of an orthophoto through GDAL (empty when they cannot be read).
+std::vector<std::uint8_t> readRgb(GDALDatasetH ds, int n) {
+  std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3u);
+  int bands[3] = {1, 2, 3};
+  if (GDALDatasetRasterIO(ds, GF_Read, 0, 0, n, n, rgb.data(), n, n, GDT_Byte, 3, bands, 3, 3 * n, 1) != CE_None) rgb.clear();
+  return rgb;
+}
+
 class FineMiningDumpOrtho : public TempFolderTest {};
 
 TEST_F(FineMiningDumpOrtho, ShowsTheGeneratorsMaterialsAtItsPixelsWithTexture) {
@@ -239,10 +247,9 @@ TEST_F(FineMiningDumpOrtho, ShowsTheGeneratorsMaterialsAtItsPixelsWithTexture) {
   EXPECT_DOUBLE_EQ(gt[1], kPixel);
   EXPECT_DOUBLE_EQ(gt[5], -kPixel);
   EXPECT_GT(GDALGetOverviewCount(GDALGetRasterBand(ds, 1)), 0);
-  std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3u);
-  int bands[3] = {1, 2, 3};
-  ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, n, n, rgb.data(), n, n, GDT_Byte, 3, bands, 3, 3 * n, 1), CE_None);
+  const std::vector<std::uint8_t> rgb = readRgb(ds, n);
   GDALClose(ds);
+  ASSERT_FALSE(rgb.empty());
 
   // The generator's own materials at the pixels' centres.
   terrain::MiningDumpParams fine = params;
@@ -334,10 +341,9 @@ TEST_F(FineMiningDumpOrtho, TyreTracksShowTheirTreadAtTenCentimetres) {
   ASSERT_NE(ds, nullptr);
   const int n = GDALGetRasterXSize(ds);
   ASSERT_EQ(n, 2500);
-  std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3u);
-  int bands[3] = {1, 2, 3};
-  ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, n, n, rgb.data(), n, n, GDT_Byte, 3, bands, 3, 3 * n, 1), CE_None);
+  const std::vector<std::uint8_t> rgb = readRgb(ds, n);
   GDALClose(ds);
+  ASSERT_FALSE(rgb.empty());
   terrain::MiningDumpParams fine = params;
   fine.cell = kPixel;
   const TrackLight tracks = trackLight(rgb, n, kPixel, terrain::MiningDumpGenerator(fine));
