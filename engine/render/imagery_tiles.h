@@ -82,7 +82,7 @@ class BuildQueue;
 inline constexpr int kImageryTileTexels = 256;
 
 /// The largest tile, texels a side (a level-0 quadrant at texel level areaLevel - 4): 4096 x 4096 x 4
-/// bytes, 64 MiB. A quadrant of 32 cells at 1 m then holds 8 mm texels; finer imagery over such a DEM
+/// bytes, 64 MiB, and 85 MiB with its mip levels. A quadrant of 32 cells at 1 m then holds 8 mm texels; finer imagery over such a DEM
 /// is drawn at 8 mm.
 inline constexpr int kMaxImageryTileTexels = 4096;
 
