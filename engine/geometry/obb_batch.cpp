@@ -40,26 +40,25 @@
 // (Measured on the former OBB-OBB batch, s = 64u: its exactness tests failed with s = 1u and passed
 // down to 4u.) Computing sep and band in float (relative error < 8u) is inside the margins.
 // kAbsSlack covers the absolute rounding errors of subnormal numbers (< 2^-149 per operation).
-// FMA contraction (the AVX2 path) only removes roundings: the bounds hold with or without it.
+// FMA contraction (the AVX2 and AVX-512 paths) only removes roundings: the bounds hold with or
+// without it.
 // The price of the epsilon term in the band: an edge axis of exactly parallel edges (|d| ~ 0,
 // r ~ 1e-6 S) is never "surely clear"; testBoxPairs skips the ones it can prove degenerate (below).
 //
-// Paths: the kernel is written once with GCC vector extensions and compiled twice, 4 lanes at a
-// time for the portable x86-64-v2 build (SSE) and 8 lanes with AVX2 + FMA, chosen at run time
-// (__builtin_cpu_supports); NESTWALK_SIMD=portable in the environment forces the SSE path. The
+// Paths: the kernel (obb_batch_kernel.h) is written once with GCC vector extensions and compiled
+// three times: 4 lanes at a time for the portable x86-64-v2 build (SSE), 8 with AVX2 + FMA and 16
+// with AVX-512 (obb_batch_avx512.cpp), the widest the processor has chosen at run time
+// (__builtin_cpu_supports); NESTWALK_SIMD=avx2 or =portable in the environment caps it. The
 // double fallback is testBoxPair itself, compiled for the base instruction set only (no FMA
-// contraction).
+// contraction). FMA contraction and AVX-512's wider registers change no bound above.
 #include "nestwalk/geometry/obb_batch.h"
 
-#include <algorithm>
+#include "nestwalk/geometry/obb_batch_kernel.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
 
 namespace nestwalk {
 
@@ -122,400 +121,39 @@ Aabb<float> toFloatConservative(const Aabb<double>& b) {
   return f;
 }
 
-
-namespace {
-
-// ---------------------------------------------------------------------------------------------
-// GCC vector extensions: the kernel's templates are always inlined, so each instantiation is
-// compiled for the instruction set of the function that calls it.
-
-// The helpers below return 32-byte vectors by value; they are always inlined, so the ABI note
-// GCC gives for them (AVX vectors in a function compiled without AVX) does not apply.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-typedef float v4f __attribute__((vector_size(16)));
-typedef std::int32_t v4i __attribute__((vector_size(16)));
-typedef float v8f __attribute__((vector_size(32)));
-typedef std::int32_t v8i __attribute__((vector_size(32)));
-
-// What the analysis assumes of sat.h: the float epsilon exceeds the error of a float R entry
-// (5.1u = 3.1e-7) plus the double epsilon, and the double test's slack is far below 1u.
-static_assert(kParallelEpsilon<float> - kParallelEpsilon<double> > 4e-7f);
-static_assert(kParallelEpsilon<float> <= 1e-5f);
-static_assert(kRoundingSlack<double> <= 1e-10);
-constexpr float kAbsSlack = 1e-30f;  // covers absolute rounding errors of subnormal numbers
-constexpr float kEpsF = kParallelEpsilon<float>;
-
-template <class V>
-[[gnu::always_inline]] inline V load(const float* p) {
-  V v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-template <class V, class VI>
-[[gnu::always_inline]] inline V vabs(const V& x) {
-  return reinterpret_cast<V>(reinterpret_cast<VI>(x) & 0x7fffffff);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define NESTWALK_HAVE_AVX2_PATH 1
-#endif
-
-}  // namespace
-
-bool obbBatchUsesAvx2() {
-#ifdef NESTWALK_HAVE_AVX2_PATH
-  static const bool avx2 = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  }();
-  if (!avx2) return false;
-  const char* env = std::getenv("NESTWALK_SIMD");
-  return !(env && std::strcmp(env, "portable") == 0);
-#else
-  return false;
-#endif
-}
-
-namespace {
-
-// ---------------------------------------------------------------------------------------------
-// testBoxPairs: testBoxPair's three stages per lane, with the first separating axis.
-//
-// Each stage runs its axes in testBoxPair's order and classifies each axis per lane with the
-// float error bound: g > sep, surely separating in double; g < -band, surely not; else open.
-// The lane's answer for a stage is sure when every axis before the first one that is not surely
-// clear is surely clear and that one surely separates (or every axis is surely clear: no
-// separating axis). The boxes are rounded to float here, cheaply: A's centre is the origin
-// (the pair's local frame, as testBoxPair), B's centre is fl(cB - cA), the axes are rounded to
-// nearest and every half extent becomes fl(e) + kGrowCentre |fl(c)|_1 + kGrowSize (sum fl(e)) +
-// kGrowAbs, computed in float. That exceeds toFloatConservative's enlargement 2 disp +
-// (4u + 1e-12) sum e (<= 2u |c|_1 + 7.5u sum e, see above) after the roundings of fl(e) (u e),
-// of the growth's own float arithmetic (< 6u of it) and of the sum (u), so the float box contains
-// the double one; and it is at most 2.6u C + 14u S (against 2u C + 9.5u S in the analysis above).
-// Error bounds per axis, g_float against g_double (M = 2C + SX + S, C = |fl(cB - cA)|_1, S the
-// four boxes' half extents: the two OBBs' and the two AABBs'):
-//  - stage 3 (OBB-OBB): the analysis above with the larger enlargement: < 40u M + 1e-6 S;
-//  - stage 2 (AABB-OBB): the AABB's half extents sum_j |fl(A)_kj| fe_j differ from the double
-//    ones (|A| e + aabbOf's padding, ~1e-15 relative) by <= sqrt3 (2.6u C + 14u S) + u S + 5.2u S
-//    < 4.5u C + 30.5u S each, i.e. < 7.8u C + 53u S on a radius (coefficients summing to
-//    <= sqrt3), on top of the stage-3 terms (R = Y exactly rounded, t = fl(c) with no rotation):
-//    < 100u M + 1e-6 S;
-//  - stage 1 (AABB-AABB, |c_k| against hA_k + hB_k): u C + 2 (4.5u C + 30.5u S) + 2u M < 70u M.
-// kPairSepRel = 256u keeps a margin of 2.5x on the worst (stage 2), and band = sep + 1e-6 S
-// covers the epsilon difference. The stage-2 AABB is A's (or B's, when only B is axis aligned:
-// testBoxPair then swaps the roles; the sign of t does not matter to |d|).
-// Exactly parallel edges: an edge axis A_i x B_j whose R(i1, j) and R(i2, j) are both exact zeros
-// in double has d = 0 and never separates there; the kernel skips it where the float data show it:
-// stage 2, R = the OBB's axes, is exact in float (fl(x) = 0 means |x| <= 2^-150, and then |d| in
-// double is < 1e-40 |t|, far below sat.h's slack 1e-12 |t|_1); stage 3 when every product of
-// R(i1, j) and R(i2, j) has a float factor that is zero (structural zeros: boxes turned about a
-// common axis, e.g. both about z). Without this, every overlapping pair of boxes turned about
-// the vertical would be left uncertain.
-
-constexpr float kPairSepRel = 256.0f * 0x1p-24f;  // 256u, see above (unitless, relative to M)
-constexpr float kGrowCentre = 2.5f * 0x1p-24f;    // growth of a half extent per |c|_1 (see above)
-constexpr float kGrowSize = 12.0f * 0x1p-24f;     // growth per metre of summed half extents
-constexpr float kGrowAbs = 1e-36f;                // m: covers float underflow of tiny half extents
-// Lanes outside these are answered in double: products stay finite, and the axes are orthonormal
-// to 1e-6 in double (the float check, accurate to ~5u = 3e-7, is kept at 5e-7).
-constexpr float kMaxCoordinateF = 1e18f;
-constexpr float kMaxFloatAxesError = 5e-7f;
-constexpr std::int32_t kUnsure = -2;  // a stage's lane code: no sure answer (else axis or kNoAxis)
-
-/// kBatchLanes pairs in A's local frame, rounded to float: row r holds field r of every lane, the
-/// fields in the memory order of Obb<double> (centre, axes column by column, half extents): rows
-/// 0..14 box A (its centre rows are not used: A's centre is the origin), rows 16..30 box B, with
-/// B's centre replaced by cB - cA (computed in double).
-struct alignas(32) PairBlock {
-  float row[32][kBatchLanes];
-};
-constexpr int kRowAxes = 3, kRowExtents = 12, kRowB = 16;  // (axes(r, c) at kRowAxes + 3 c + r)
-static_assert(sizeof(Obb<double>) == 15 * sizeof(double), "Obb<double>: centre, axes, half extents, unpadded");
-
-/// A stage's answer per lane from its axes' g = |d| - r in testing order: the first axis that is not
-/// surely clear (g >= -band) if it surely separates (g > sep), kNoAxis when every axis is surely
-/// clear, else kUnsure. Scanned backwards, two compares and two selects per axis. NaN: kUnsure.
-template <class V, class VI, int N>
-[[gnu::always_inline]] inline VI stageCode(const V (&g)[N], const V& sep, const V& negBand) {
-  VI code = VI{} + std::int32_t(kNoAxis);
-#pragma GCC unroll 15
-  for (int i = N - 1; i >= 0; --i) {
-    const VI candidate = g[i] > sep ? VI{} + i : VI{} + kUnsure;
-    code = g[i] < negBand ? code : candidate;
-  }
-  return code;
-}
-
-template <class VI>
-[[gnu::always_inline]] inline bool anyLane(const VI& m) {
-  for (int l = 0; l < int(sizeof(VI) / sizeof(std::int32_t)); ++l)
-    if (m[l]) return true;
-  return false;
-}
-
-/// g = |d| - (rA + rB) on the 15 axes of sat.h in its order (A's faces, B's faces, A_i x B_j), B
-/// given in A's frame by t and R; zero[i][j]: lanes where R(i, j) is an exact zero in double (see
-/// above), whose degenerate edge axes get g = -inf.
-template <class V, class VI>
-[[gnu::always_inline]] inline void sat15(V (&g)[15], const V (&t)[3], const V (&R)[3][3], const V (&a)[3],
-                                         const V (&b)[3], const VI (&zero)[3][3]) {
-  V q[3][3];
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i)
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) q[i][j] = vabs<V, VI>(R[i][j]) + kEpsF;
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i) g[i] = vabs<V, VI>(t[i]) - (a[i] + (b[0] * q[i][0] + b[1] * q[i][1] + b[2] * q[i][2]));
-#pragma GCC unroll 3
-  for (int j = 0; j < 3; ++j)
-    g[3 + j] = vabs<V, VI>(t[0] * R[0][j] + t[1] * R[1][j] + t[2] * R[2][j]) -
-               ((a[0] * q[0][j] + a[1] * q[1][j] + a[2] * q[2][j]) + b[j]);
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const V ra = a[i1] * q[i2][j] + a[i2] * q[i1][j];
-      const V rb = b[j1] * q[i][j2] + b[j2] * q[i][j1];
-      const V gij = vabs<V, VI>(t[i2] * R[i1][j] - t[i1] * R[i2][j]) - (ra + rb);
-      const VI degenerate = zero[i1][j] & zero[i2][j];
-      g[6 + 3 * i + j] = degenerate ? V{} - std::numeric_limits<float>::infinity() : gij;
-    }
-  }
-}
-
-/// Lanes whose float axes X are orthonormal to kMaxFloatAxesError.
-template <class V, class VI>
-[[gnu::always_inline]] inline VI orthonormal(const V (&x)[3][3]) {
-  VI ok = VI{} - 1;
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i)
-#pragma GCC unroll 3
-    for (int j = i; j < 3; ++j) {
-      const V dot = x[0][i] * x[0][j] + x[1][i] * x[1][j] + x[2][i] * x[2][j] - (i == j ? 1.0f : 0.0f);
-      ok &= vabs<V, VI>(dot) <= kMaxFloatAxesError;
-    }
-  return ok;
-}
-
-/// Lanes l0 .. l0 + W - 1 of a block: the codes of the three stages (codes[s][lane]) and whether the
-/// float analysis applies (ok[lane]). aAligned / bAligned: bit per lane, axes exactly the identity.
-template <class V, class VI>
-[[gnu::always_inline]] inline void pairLanes(const PairBlock& p, int l0, unsigned aAligned, unsigned bAligned,
-                                             std::int32_t (*codes)[kBatchLanes], std::int32_t* ok) {
-  constexpr int kW = int(sizeof(V) / sizeof(float));
-  V a[3][3], b[3][3], ea[3], eb[3], c[3];
-#pragma GCC unroll 3
-  for (int r = 0; r < 3; ++r)
-#pragma GCC unroll 3
-    for (int col = 0; col < 3; ++col) {
-      a[r][col] = load<V>(p.row[kRowAxes + 3 * col + r] + l0);
-      b[r][col] = load<V>(p.row[kRowB + kRowAxes + 3 * col + r] + l0);
-    }
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) {
-    ea[k] = load<V>(p.row[kRowExtents + k] + l0);
-    eb[k] = load<V>(p.row[kRowB + kRowExtents + k] + l0);
-    c[k] = load<V>(p.row[kRowB + k] + l0);
-  }
-  VI lanes, one = VI{} + 1;
-  for (int l = 0; l < kW; ++l) lanes[l] = std::int32_t(l0 + l);
-  const VI aAl = ((VI{} + std::int32_t(aAligned)) >> lanes & one) != 0;
-  const VI bAl = ((VI{} + std::int32_t(bAligned)) >> lanes & one) != 0;
-
-  // The float analysis applies: finite, bounded numbers, half extents >= 0, orthonormal axes.
-  VI good = orthonormal<V, VI>(a) & orthonormal<V, VI>(b);
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) {
-    good &= vabs<V, VI>(c[k]) <= kMaxCoordinateF;
-    good &= (ea[k] >= 0.0f) & (ea[k] <= kMaxCoordinateF) & (eb[k] >= 0.0f) & (eb[k] <= kMaxCoordinateF);
-  }
-  std::memcpy(ok + l0, &good, sizeof good);
-
-  // The outward rounding of the half extents, and the AABBs' half extents |A| e.
-  const V cmag = vabs<V, VI>(c[0]) + vabs<V, VI>(c[1]) + vabs<V, VI>(c[2]);
-  const V growA = kGrowSize * (ea[0] + ea[1] + ea[2]) + kGrowAbs;
-  const V growB = kGrowCentre * cmag + kGrowSize * (eb[0] + eb[1] + eb[2]) + kGrowAbs;
-  V ha[3], hb[3];
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) {
-    ea[k] += growA;
-    eb[k] += growB;
-  }
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) {
-    ha[k] = vabs<V, VI>(a[k][0]) * ea[0] + vabs<V, VI>(a[k][1]) * ea[1] + vabs<V, VI>(a[k][2]) * ea[2];
-    hb[k] = vabs<V, VI>(b[k][0]) * eb[0] + vabs<V, VI>(b[k][1]) * eb[1] + vabs<V, VI>(b[k][2]) * eb[2];
-  }
-  const V sizes = ((ea[0] + ea[1] + ea[2]) + (eb[0] + eb[1] + eb[2])) + ((ha[0] + ha[1] + ha[2]) + (hb[0] + hb[1] + hb[2]));
-  const V sep = kPairSepRel * ((cmag + cmag) + sizes) + kAbsSlack;
-  const V negBand = -(sep + kEpsF * sizes);
-
-  // Stage 1: the AABBs (A's centred on the origin, B's on c).
-  V g1[3];
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) g1[k] = vabs<V, VI>(c[k]) - (ha[k] + hb[k]);
-  const VI code1 = stageCode<V, VI>(g1, sep, negBand);
-  std::memcpy(codes[0] + l0, &code1, sizeof code1);
-
-  // Stage 2, where some lane gets there: AABB of A against B, or of B against A when only B is
-  // axis aligned (testBoxPair's swap; the axis is renamed by the caller).
-  const VI reach2 = (code1 == std::int32_t(kNoAxis)) & ~(aAl & bAl);
-  VI code2 = VI{} + kUnsure;
-  if (anyLane(reach2)) {
-    const VI swap = bAl & ~aAl;
-    V y[3][3], ey[3], hx[3];
-    VI zero[3][3];
-#pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {
-      ey[i] = swap ? ea[i] : eb[i];
-      hx[i] = swap ? hb[i] : ha[i];
-#pragma GCC unroll 3
-      for (int j = 0; j < 3; ++j) {
-        y[i][j] = swap ? a[i][j] : b[i][j];
-        zero[i][j] = y[i][j] == 0.0f;
-      }
-    }
-    V g[15];
-    sat15<V, VI>(g, c, y, hx, ey, zero);
-    code2 = stageCode<V, VI>(g, sep, negBand);
-  }
-  std::memcpy(codes[1] + l0, &code2, sizeof code2);
-
-  // Stage 3, where some lane gets there: the OBBs, t = A^T c, R = A^T B.
-  const VI reach3 = reach2 & (code2 == std::int32_t(kNoAxis)) & ~aAl & ~bAl;
-  VI code3 = VI{} + kUnsure;
-  if (anyLane(reach3)) {
-    V t[3], R[3][3];
-    VI zero[3][3];
-#pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {
-      t[i] = a[0][i] * c[0] + a[1][i] * c[1] + a[2][i] * c[2];
-#pragma GCC unroll 3
-      for (int j = 0; j < 3; ++j) {
-        R[i][j] = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
-        zero[i][j] = ((a[0][i] == 0.0f) | (b[0][j] == 0.0f)) & ((a[1][i] == 0.0f) | (b[1][j] == 0.0f)) &
-                     ((a[2][i] == 0.0f) | (b[2][j] == 0.0f));
-      }
-    }
-    V g[15];
-    sat15<V, VI>(g, t, R, ea, eb, zero);
-    code3 = stageCode<V, VI>(g, sep, negBand);
-  }
-  std::memcpy(codes[2] + l0, &code3, sizeof code3);
-}
-
-/// An axis of the test (B, A) renamed for (A, B), as testBoxPair does after its swap.
-constexpr std::int8_t kSwappedAxis[15] = {3, 4, 5, 0, 1, 2, 6, 9, 12, 7, 10, 13, 8, 11, 14};
-
-/// Double decision of one pair, kept out of line (testBoxPair is compiled for the base instruction set).
+namespace obb_batch_detail {
 [[gnu::noinline]] NestedResult boxPairInDouble(const Obb<double>& a, const Obb<double>& b) { return testBoxPair(a, b); }
+}  // namespace obb_batch_detail
 
-PairBlock paddingPairBlock() {
-  PairBlock p{};
-  for (int l = 0; l < kBatchLanes; ++l)
-    for (int k = 0; k < 3; ++k)
-      for (const int box : {0, kRowB}) {
-        p.row[box + kRowAxes + 4 * k][l] = 1.0f;
-        p.row[box + kRowExtents + k][l] = 1.0f;
-      }
-  return p;
+BatchKernel obbBatchKernel() {
+#ifdef NESTWALK_HAVE_AVX2_PATH
+  static const BatchKernel best = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
+      return BatchKernel::Avx512;
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return BatchKernel::Avx2;
+    return BatchKernel::Portable;
+  }();
+  const char* env = std::getenv("NESTWALK_SIMD");
+  if (env && std::strcmp(env, "portable") == 0) return BatchKernel::Portable;
+  if (env && std::strcmp(env, "avx2") == 0 && best == BatchKernel::Avx512) return BatchKernel::Avx2;
+  return best;
+#else
+  return BatchKernel::Portable;
+#endif
 }
 
-/// Axes exactly the identity (Obb::isAxisAligned), without branches.
-[[gnu::always_inline]] inline bool identityAxes(const Mat3<double>& m) {
-  const double* x = m.data();
-  return ((x[0] == 1.0) & (x[4] == 1.0) & (x[8] == 1.0) & (x[1] == 0.0) & (x[2] == 0.0) & (x[3] == 0.0) &
-          (x[5] == 0.0) & (x[6] == 0.0) & (x[7] == 0.0)) != 0;
-}
-
-/// The fields of one box (15 doubles from `d`, the Obb's memory order) into lane l of rows
-/// first..first + 14; B's centre as its difference from A's.
-[[gnu::always_inline]] inline void gatherLane(PairBlock& p, int l, const Obb<double>& A, const Obb<double>& B) {
-  const double* a = A.center.data();
-  const double* b = B.center.data();
-  for (int f = 0; f < 15; ++f) {
-    p.row[f][l] = float(a[f]);
-    p.row[kRowB + f][l] = float(f < 3 ? b[f] - a[f] : b[f]);
+const char* batchKernelName(BatchKernel k) {
+  switch (k) {
+    case BatchKernel::Avx512: return "avx512 (16 lanes)";
+    case BatchKernel::Avx2: return "avx2+fma (8 lanes)";
+    case BatchKernel::Portable: break;
   }
+  return "portable (SSE, 4 lanes)";
 }
 
-/// Gathers lanes [0, lanes) of the block from pairs base..: the portable way, field by field.
-/// Returns the identity-axes bits of A and B.
-[[gnu::always_inline]] inline void gatherScalar(const BoxPairsView& pairs, std::size_t base, int lanes, PairBlock& p,
-                                                unsigned& aAligned, unsigned& bAligned) {
-  aAligned = bAligned = 0;
-  for (int l = 0; l < lanes; ++l) {
-    const Obb<double>& A = pairs.first(base + std::size_t(l));
-    const Obb<double>& B = pairs.second(base + std::size_t(l));
-    gatherLane(p, l, A, B);
-    aAligned |= unsigned(identityAxes(A.axes)) << l;
-    bAligned |= unsigned(identityAxes(B.axes)) << l;
-  }
-}
-
-/// Reads a block's codes out in testBoxPair's order of stages; lanes without a sure answer are
-/// answered by testBoxPair. Returns how many.
-[[gnu::always_inline]] inline std::size_t answerBlock(const BoxPairsView& pairs, std::size_t base, int lanes,
-                                                      unsigned aAligned, unsigned bAligned,
-                                                      const std::int32_t (*codes)[kBatchLanes], const std::int32_t* ok,
-                                                      NestedResult* out) {
-  std::size_t uncertain = 0;
-  for (int l = 0; l < lanes; ++l) {
-    const std::size_t k = base + std::size_t(l);
-    const bool aAl = (aAligned >> l) & 1u, bAl = (bAligned >> l) & 1u;
-    const std::int32_t c1 = codes[0][l], c2 = codes[1][l], c3 = codes[2][l];
-    NestedResult r{true, OverlapStage::AabbAabb, std::int8_t(kNoAxis)};
-    bool sure = ok[l] != 0 && c1 != kUnsure;
-    if (sure) {
-      if (c1 >= 0 || (aAl && bAl)) {
-        r = {c1 < 0, OverlapStage::AabbAabb, std::int8_t(c1)};
-      } else if (c2 == kUnsure) {
-        sure = false;
-      } else if (bAl) {
-        r = {c2 < 0, OverlapStage::AabbObb, c2 < 0 ? std::int8_t(kNoAxis) : kSwappedAxis[c2]};
-      } else if (c2 >= 0 || aAl) {
-        r = {c2 < 0, OverlapStage::AabbObb, std::int8_t(c2)};
-      } else if (c3 == kUnsure) {
-        sure = false;
-      } else {
-        r = {c3 < 0, OverlapStage::ObbObb, std::int8_t(c3)};
-      }
-    }
-    if (!sure) {
-      r = boxPairInDouble(pairs.first(k), pairs.second(k));
-      ++uncertain;
-    }
-    out[k] = r;
-  }
-  return uncertain;
-}
-
-/// The whole run, W lanes at a time: per block, gather and round the pairs, run the kernel, answer.
-template <class V, class VI, class FullGather>
-[[gnu::always_inline]] inline std::size_t boxPairBlocks(const BoxPairsView& pairs, NestedResult* out,
-                                                        const FullGather& gatherFull) {
-  constexpr int kW = int(sizeof(V) / sizeof(float));
-  PairBlock p = paddingPairBlock();
-  alignas(32) std::int32_t codes[3][kBatchLanes], ok[kBatchLanes];
-  std::size_t uncertain = 0;
-  for (std::size_t base = 0; base < pairs.count; base += kBatchLanes) {
-    const int lanes = int(std::min<std::size_t>(kBatchLanes, pairs.count - base));
-    unsigned aAligned = 0, bAligned = 0;
-    if (lanes == kBatchLanes)
-      gatherFull(pairs, base, p, aAligned, bAligned);
-    else
-      gatherScalar(pairs, base, lanes, p, aAligned, bAligned);
-    for (int l0 = 0; l0 < kBatchLanes; l0 += kW) pairLanes<V, VI>(p, l0, aAligned, bAligned, codes, ok);
-    uncertain += answerBlock(pairs, base, lanes, aAligned, bAligned, codes, ok, out);
-  }
-  return uncertain;
-}
+namespace {
 
 std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
   return boxPairBlocks<v4f, v4i>(pairs, out,
@@ -525,63 +163,8 @@ std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
 }
 
 #ifdef NESTWALK_HAVE_AVX2_PATH
-/// A full block gathered with AVX2: each box's 15 doubles are loaded as four vectors (the last
-/// masked, so that nothing past the box is read), converted to float, and the 8 lanes' rows
-/// transposed in registers (the scalar gather costs about as much as the kernel). The identity
-/// test of the axes is made on the doubles.
-[[gnu::target("avx2,fma")]] inline void gatherAvx2(const BoxPairsView& v, std::size_t base, PairBlock& p,
-                                                   unsigned& aAligned, unsigned& bAligned) {
-  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
-  const __m256d keepLast = _mm256_castsi256_pd(_mm256_setr_epi64x(0, 0, 0, -1));
-  const __m256d ident0 = _mm256_setr_pd(0, 0, 0, 1);  // (c, c, c, A00) and (A10, A20, A01, A11), (A21, A02, A12, A22)
-  __m256 q[4][8];                                     // [A 0-7, A 8-15, B 0-7, B 8-15][lane]
-  aAligned = bAligned = 0;
-  for (int l = 0; l < 8; ++l) {
-    const double* a = v.first(base + std::size_t(l)).center.data();
-    const double* b = v.second(base + std::size_t(l)).center.data();
-    const __m256d a0 = _mm256_loadu_pd(a), a1 = _mm256_loadu_pd(a + 4), a2 = _mm256_loadu_pd(a + 8),
-                  a3 = _mm256_maskload_pd(a + 12, first3);
-    const __m256d b0 = _mm256_loadu_pd(b), b1 = _mm256_loadu_pd(b + 4), b2 = _mm256_loadu_pd(b + 8),
-                  b3 = _mm256_maskload_pd(b + 12, first3);
-    const __m256d d0 = _mm256_sub_pd(b0, _mm256_andnot_pd(keepLast, a0));  // (cB - cA, B00)
-    q[0][l] = _mm256_set_m128(_mm256_cvtpd_ps(a1), _mm256_cvtpd_ps(a0));
-    q[1][l] = _mm256_set_m128(_mm256_cvtpd_ps(a3), _mm256_cvtpd_ps(a2));
-    q[2][l] = _mm256_set_m128(_mm256_cvtpd_ps(b1), _mm256_cvtpd_ps(d0));
-    q[3][l] = _mm256_set_m128(_mm256_cvtpd_ps(b3), _mm256_cvtpd_ps(b2));
-    const int ia = (_mm256_movemask_pd(_mm256_cmp_pd(a0, ident0, _CMP_EQ_OQ)) & 8) &
-                   (_mm256_movemask_pd(_mm256_cmp_pd(a1, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0) &
-                   (_mm256_movemask_pd(_mm256_cmp_pd(a2, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0);
-    const int ib = (_mm256_movemask_pd(_mm256_cmp_pd(b0, ident0, _CMP_EQ_OQ)) & 8) &
-                   (_mm256_movemask_pd(_mm256_cmp_pd(b1, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0) &
-                   (_mm256_movemask_pd(_mm256_cmp_pd(b2, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0);
-    aAligned |= unsigned(ia != 0) << l;
-    bAligned |= unsigned(ib != 0) << l;
-  }
-  for (int g = 0; g < 4; ++g) {  // 8 x 8 transposes: row 8 g + i gets element i of every lane
-    const __m256* r = q[g];
-    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
-    const __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
-    const __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
-    const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
-    const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
-    const __m256 u4 = _mm256_shuffle_ps(t4, t6, 0x44), u5 = _mm256_shuffle_ps(t4, t6, 0xEE);
-    const __m256 u6 = _mm256_shuffle_ps(t5, t7, 0x44), u7 = _mm256_shuffle_ps(t5, t7, 0xEE);
-    float* out = p.row[8 * g];
-    _mm256_store_ps(out + 0 * kBatchLanes, _mm256_permute2f128_ps(u0, u4, 0x20));
-    _mm256_store_ps(out + 1 * kBatchLanes, _mm256_permute2f128_ps(u1, u5, 0x20));
-    _mm256_store_ps(out + 2 * kBatchLanes, _mm256_permute2f128_ps(u2, u6, 0x20));
-    _mm256_store_ps(out + 3 * kBatchLanes, _mm256_permute2f128_ps(u3, u7, 0x20));
-    _mm256_store_ps(out + 4 * kBatchLanes, _mm256_permute2f128_ps(u0, u4, 0x31));
-    _mm256_store_ps(out + 5 * kBatchLanes, _mm256_permute2f128_ps(u1, u5, 0x31));
-    _mm256_store_ps(out + 6 * kBatchLanes, _mm256_permute2f128_ps(u2, u6, 0x31));
-    _mm256_store_ps(out + 7 * kBatchLanes, _mm256_permute2f128_ps(u3, u7, 0x31));
-  }
-}
-
 [[gnu::target("avx2,fma")]] std::size_t boxPairsAvx2(const BoxPairsView& pairs, NestedResult* out) {
-  static_assert(kBatchLanes == 8, "gatherAvx2 transposes 8 lanes");
-  return boxPairBlocks<v8f, v8i>(pairs, out, gatherAvx2);
+  return boxPairBlocks<v8f, v8i>(pairs, out, gatherBlockAvx2);
 }
 #endif
 
@@ -589,7 +172,11 @@ std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
 
 std::size_t testBoxPairs(const BoxPairsView& pairs, NestedResult* out) {
 #ifdef NESTWALK_HAVE_AVX2_PATH
-  if (obbBatchUsesAvx2()) return boxPairsAvx2(pairs, out);
+  switch (obbBatchKernel()) {
+    case BatchKernel::Avx512: return obb_batch_detail::boxPairsAvx512(pairs, out);
+    case BatchKernel::Avx2: return boxPairsAvx2(pairs, out);
+    case BatchKernel::Portable: break;
+  }
 #endif
   return boxPairsPortable(pairs, out);
 }

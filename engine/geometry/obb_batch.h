@@ -1,5 +1,5 @@
 // Box pairs tested in float SIMD lanes: testBoxPairs, the batch form of testBoxPair (nested.h).
-// Who runs it: `nestwalk query overlap` (all its pairs, read whole, answered in one call); `bench
+// Who runs it: `nestwalk query overlap` (its pairs, 1,024 at a time as they are read); `bench
 // volumes` times it first among the pair tests, beside the scalar testBoxPair it replaced and the
 // peers (FCL, libccd, Bullet), and `bench walker` at the walker's candidate counts. The walker does
 // not: its few candidates per query are cheaper one at a time (collision_world.h gives the
@@ -7,8 +7,9 @@
 // benchmark and the tests only, and were removed.
 //
 // Layout: blocks of kBatchLanes pairs with all fields of a block stored together ("array of
-// structures of arrays"), so that one block is a few cache lines and the lanes map to SIMD
-// registers (2 x SSE on the portable x86-64-v2 build, 1 x AVX2 where chosen at run time).
+// structures of arrays"), so that the lanes map to SIMD registers (4 x SSE on the portable
+// x86-64-v2 build, 2 x AVX2 or 1 x AVX-512 where chosen at run time). The answers are also formed
+// in the lanes, so the only per-pair branch left is the rare one to testBoxPair.
 //
 // Exactness: the float kernel is a conservative filter. The boxes are rounded to float outward (a
 // float box contains its double original despite rounding), and every axis of every stage gets one
@@ -18,8 +19,8 @@
 // testBoxPair itself, so the answers returned are exactly testBoxPair's, field for field. (The
 // slacks and their justification are in obb_batch.cpp.)
 //
-// The AVX2 + FMA kernel is chosen at run time where the processor has it; setting the environment
-// variable NESTWALK_SIMD=portable forces the SSE one (the answers are the same).
+// The widest kernel the processor has (AVX-512, then AVX2 + FMA) is chosen at run time; the
+// environment variable NESTWALK_SIMD=avx2 or =portable caps it (the answers are the same).
 //
 // Thread safety: testBoxPairs is a pure function of its arguments (its scratch is on the stack);
 // `out` is the caller's. The kernel choice reads NESTWALK_SIMD with getenv on every call: do not
@@ -33,7 +34,7 @@
 
 namespace nestwalk {
 
-inline constexpr int kBatchLanes = 8;
+inline constexpr int kBatchLanes = 16;
 
 /// A float box that contains the double box `b` (given in a local frame): the center and axes are
 /// rounded to float and the half extents are enlarged by the largest displacement that rounding
@@ -41,10 +42,15 @@ inline constexpr int kBatchLanes = 8;
 Obb<float> toFloatConservative(const Obb<double>& b);
 Aabb<float> toFloatConservative(const Aabb<double>& b);
 
-/// Whether testBoxPairs runs its AVX2 + FMA form now: where the build has it and the processor has
-/// AVX2 and FMA, unless the environment variable NESTWALK_SIMD is "portable" (read on every call,
-/// so that tests and the benchmark can run both paths).
-bool obbBatchUsesAvx2();
+/// The instruction sets testBoxPairs can run: SSE (x86-64-v2, 4 lanes at a time), AVX2 + FMA (8)
+/// and AVX-512 F/VL/BW/DQ (16).
+enum class BatchKernel { Portable, Avx2, Avx512 };
+
+/// The form testBoxPairs runs now: the widest the processor has, unless the environment variable
+/// NESTWALK_SIMD is "portable" (SSE) or "avx2" (at most AVX2), read on every call so that tests and
+/// the benchmark can run every path.
+BatchKernel obbBatchKernel();
+const char* batchKernelName(BatchKernel kernel);  // e.g. "avx2+fma (8 lanes)"
 
 /// Pairs of boxes read where they lie: pair k is (a[k], b[k]) with a[k] the Obb at byte offset
 /// k * stride from `a` (likewise b), so that the boxes can be members of the caller's own records
@@ -54,6 +60,12 @@ struct BoxPairsView {
   const Obb<double>* b = nullptr;
   std::size_t count = 0;
   std::size_t stride = sizeof(Obb<double>);
+  /// True: the caller vouches that every box keeps Obb's contract on its axes (orthonormal to
+  /// kAxesTolerance<double>, volumes.h), as BoxPairsReader's boxes do, and the kernel skips its own
+  /// check of the float axes (about a tenth of its work). False (the default): a box whose axes
+  /// break the contract is found and answered by testBoxPair like any lane the float analysis does
+  /// not cover. With true, such a box may be answered wrongly.
+  bool orthonormalAxes = false;
 
   const Obb<double>& first(std::size_t k) const { return at(a, k); }
   const Obb<double>& second(std::size_t k) const { return at(b, k); }

@@ -8,8 +8,8 @@
 
 namespace nestwalk {
 
-/// Selects the SIMD path of the batches for the scope: "portable" forces SSE; null lets the
-/// library choose (AVX2 + FMA where available).
+/// Selects the SIMD path of the batches for the scope: "portable" forces SSE, "avx2" caps it at
+/// AVX2 + FMA; null lets the library choose (the widest the processor has).
 class ScopedSimd {
  public:
   explicit ScopedSimd(const char* value) {
@@ -31,7 +31,7 @@ class ScopedSimd {
 };
 
 /// Both paths: the library's choice (AVX2 + FMA where available), then the portable one.
-inline const std::array<const char*, 2> kSimdPaths = {nullptr, "portable"};
+inline const std::array<const char*, 3> kSimdPaths = {nullptr, "avx2", "portable"};
 inline const char* simdPathName(const char* p) { return p ? p : "auto"; }
 
 }  // namespace nestwalk

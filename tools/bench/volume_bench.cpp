@@ -195,14 +195,15 @@ constexpr auto kNestedVolume = [](const Obb<double>& b) { return NestedVolume<do
 
 /// The kernel testBoxPairs uses here (the 'portable' rows set NESTWALK_SIMD=portable while they run).
 std::string batchKernel() {
-  return obbBatchUsesAvx2() ? "avx2+fma (8 lanes, chosen at run time)" : "portable (SSE, 4 lanes)";
+  return batchKernelName(obbBatchKernel());
 }
 
 /// testBoxPairs over the pairs, the path of `query overlap` (stage and axis computed, the overlap
 /// kept as the verdict); its facts get the fraction of lanes it re-decided in double.
 Pass<std::uint8_t> boxPairsPass(const BoxSet& s, Facts& facts, bool portable) {
   auto results = std::make_shared<std::vector<NestedResult>>(s.n);
-  const BoxPairsView view{s.a.data(), s.b.data(), s.n, sizeof(Obb<double>)};
+  // Rotations from unit quaternions: the axes keep Obb's contract, as query overlap's reader ensures.
+  const BoxPairsView view{s.a.data(), s.b.data(), s.n, sizeof(Obb<double>), true};
   const ScopedEnvironment simd("NESTWALK_SIMD", "portable", portable);
   facts["uncertain_fraction"] = double(testBoxPairs(view, results->data())) / double(s.n);
   return [view, results, portable](std::uint8_t* verdicts) {

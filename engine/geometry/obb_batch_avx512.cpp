@@ -1,0 +1,24 @@
+// testBoxPairs' AVX-512 form (F, VL, BW, DQ): the kernel of obb_batch_kernel.h 16 lanes at a time,
+// with 32 vector registers (the AVX2 form spills about a third of its values to the stack). The
+// pairs are gathered 8 lanes at a time as in the AVX2 form: a 16-lane gather with 64-byte loads
+// (two per box, the second masked) was tried and cost more in `query overlap` (31-37 ns a pair
+// against 17-27, the boxes' records 272 bytes apart, so most 64-byte loads cross a cache line).
+// This file alone is compiled with the AVX-512 flags (engine/CMakeLists.txt): obb_batch.cpp calls
+// it only where the processor has those extensions (obbBatchKernel). It defines no inline function
+// of its own and the kernel's have internal linkage, so nothing compiled here can be picked by the
+// linker for the portable build's code.
+#include "nestwalk/geometry/obb_batch_kernel.h"
+
+#ifdef NESTWALK_HAVE_AVX2_PATH
+#if !defined(__AVX512F__) || !defined(__AVX512VL__) || !defined(__AVX512BW__) || !defined(__AVX512DQ__)
+#error "obb_batch_avx512.cpp is compiled with -mavx512f -mavx512vl -mavx512bw -mavx512dq (engine/CMakeLists.txt)"
+#endif
+
+namespace nestwalk::obb_batch_detail {
+
+std::size_t boxPairsAvx512(const BoxPairsView& pairs, NestedResult* out) {
+  return boxPairBlocks<v16f, v16i>(pairs, out, gatherBlockAvx2);
+}
+
+}  // namespace nestwalk::obb_batch_detail
+#endif
