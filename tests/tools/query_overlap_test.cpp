@@ -131,28 +131,20 @@ std::pair<std::string, std::vector<std::string>> hardPairs() {
   return {csv, expected};
 }
 
+// The batch answers as testBoxPair; so does --scalar, the timing reference (testBoxPair one pair at
+// a time), and the timing line names the path that ran.
 TEST(QueryOverlap, ThousandsOfHardPairsAnswerAsTestBoxPair) {
   const TempFolder folder;
   const fs::path dir = folder.path();
   const auto [csv, expected] = hardPairs();
   writeText(dir / "pairs.csv", csv);
-  const CommandResult r = runNestwalk("query overlap --timing '" + (dir / "pairs.csv").string() + "'");
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(lines(r.out), expected);
-  EXPECT_NE(r.err.find("query overlap: 3000 pairs;"), std::string::npos) << r.err;
-}
-
-// --scalar, the timing reference (testBoxPair one pair at a time), answers the same rows, and the
-// timing line names the path that ran.
-TEST(QueryOverlap, ScalarPathAnswersAsTheBatch) {
-  const TempFolder folder;
-  const fs::path dir = folder.path();
-  const auto [csv, expected] = hardPairs();
-  writeText(dir / "pairs.csv", csv);
-  const CommandResult r = runNestwalk("query overlap --scalar --timing '" + (dir / "pairs.csv").string() + "'");
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(lines(r.out), expected);
-  EXPECT_NE(r.err.find("testBoxPair one at a time"), std::string::npos) << r.err;
+  for (const std::string path : {"", "--scalar "}) {
+    const CommandResult r = runNestwalk("query overlap --timing " + path + "'" + (dir / "pairs.csv").string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << path << r.err;
+    EXPECT_EQ(lines(r.out), expected) << path;
+    EXPECT_NE(r.err.find("query overlap: 3000 pairs;"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("testBoxPair one at a time") != std::string::npos, !path.empty()) << r.err;
+  }
 }
 
 TEST(QueryOverlap, BadRowAfterSeveralChunksPrintsNothing) {
