@@ -3,6 +3,9 @@
 // pairs are gathered 8 lanes at a time as in the AVX2 form: a 16-lane gather with 64-byte loads
 // (two per box, the second masked) was tried and cost more in `query overlap` (31-37 ns a pair
 // against 17-27, the boxes' records 272 bytes apart, so most 64-byte loads cross a cache line).
+// So was a form that sends only the lanes stage 1 leaves open on to stages 2 and 3, 16 at a time
+// (compressed into a queue): 22 ns a pair against 14 on pairs half of which overlap, 15-16 against
+// 14-15 on sparse ones (the later stages are not where a block's time goes; the gather is).
 // This file alone is compiled with the AVX-512 flags (engine/CMakeLists.txt): obb_batch.cpp calls
 // it only where the processor has those extensions (obbBatchKernel). It defines no inline function
 // of its own and the kernel's have internal linkage, so nothing compiled here can be picked by the

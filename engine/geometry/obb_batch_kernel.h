@@ -218,116 +218,149 @@ template <class VI>
   return (code < 0 ? VI{} + 1 : VI{}) | (stage << 8) | ((code & 0xff) << 16);
 }
 
-/// Lanes l0 .. l0 + W - 1 of a block: each lane's answer packed (packedAnswer) into answer[lane],
-/// and unsure[lane] non-zero where testBoxPair must decide. aAligned / bAligned: bit per lane, axes
-/// exactly the identity. kCheckAxes: test the float axes' orthonormality (false where the caller
-/// vouches for it, BoxPairsView::orthonormalAxes).
+/// W lanes of boxes read from rows of floats (row r of field r, `stride` floats apart, from lane
+/// l0), with what every stage uses: the half extents rounded outward, the AABBs' half extents
+/// |A| e, the slacks, and whether the float analysis applies to the lane.
+template <class V, class VI>
+struct LaneBoxes {
+  V a[3][3], b[3][3], ea[3], eb[3], c[3];  // A's and B's axes (row, column), half extents; cB - cA
+  V ha[3], hb[3];                          // the AABBs' half extents
+  V sep, negBand;                          // a sure separation exceeds sep; a sure clearance is below negBand
+  VI good;                                 // the float analysis applies: finite, bounded, orthonormal
+};
+
+/// kCheckAxes: test the float axes' orthonormality (false where the caller vouches for it,
+/// BoxPairsView::orthonormalAxes).
 template <class V, class VI, bool kCheckAxes>
-[[gnu::always_inline]] inline void pairLanes(const PairBlock& p, int l0, unsigned aAligned, unsigned bAligned,
-                                             std::int32_t* answer, std::int32_t* unsure) {
-  constexpr int kW = int(sizeof(V) / sizeof(float));
-  V a[3][3], b[3][3], ea[3], eb[3], c[3];
+[[gnu::always_inline]] inline LaneBoxes<V, VI> laneBoxes(const float* rows, int stride, int l0) {
+  LaneBoxes<V, VI> L;
+  auto field = [&](int r) { return load<V>(rows + r * stride + l0); };
 #pragma GCC unroll 3
   for (int r = 0; r < 3; ++r)
 #pragma GCC unroll 3
     for (int col = 0; col < 3; ++col) {
-      a[r][col] = load<V>(p.row[kRowAxes + 3 * col + r] + l0);
-      b[r][col] = load<V>(p.row[kRowB + kRowAxes + 3 * col + r] + l0);
+      L.a[r][col] = field(kRowAxes + 3 * col + r);
+      L.b[r][col] = field(kRowB + kRowAxes + 3 * col + r);
     }
 #pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
-    ea[k] = load<V>(p.row[kRowExtents + k] + l0);
-    eb[k] = load<V>(p.row[kRowB + kRowExtents + k] + l0);
-    c[k] = load<V>(p.row[kRowB + k] + l0);
+    L.ea[k] = field(kRowExtents + k);
+    L.eb[k] = field(kRowB + kRowExtents + k);
+    L.c[k] = field(kRowB + k);
   }
-  VI lanes, one = VI{} + 1;
-  for (int l = 0; l < kW; ++l) lanes[l] = std::int32_t(l0 + l);
-  const VI aAl = ((VI{} + std::int32_t(aAligned)) >> lanes & one) != 0;
-  const VI bAl = ((VI{} + std::int32_t(bAligned)) >> lanes & one) != 0;
 
   // The float analysis applies: finite, bounded numbers, half extents >= 0, orthonormal axes.
-  VI good = VI{} - 1;
-  if constexpr (kCheckAxes) good = orthonormal<V, VI>(a) & orthonormal<V, VI>(b);
+  L.good = VI{} - 1;
+  if constexpr (kCheckAxes) L.good = orthonormal<V, VI>(L.a) & orthonormal<V, VI>(L.b);
 #pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
-    good &= vabs<V, VI>(c[k]) <= kMaxCoordinateF;
-    good &= (ea[k] >= 0.0f) & (ea[k] <= kMaxCoordinateF) & (eb[k] >= 0.0f) & (eb[k] <= kMaxCoordinateF);
+    L.good &= vabs<V, VI>(L.c[k]) <= kMaxCoordinateF;
+    L.good &= (L.ea[k] >= 0.0f) & (L.ea[k] <= kMaxCoordinateF) & (L.eb[k] >= 0.0f) & (L.eb[k] <= kMaxCoordinateF);
   }
 
   // The outward rounding of the half extents, and the AABBs' half extents |A| e.
-  const V cmag = vabs<V, VI>(c[0]) + vabs<V, VI>(c[1]) + vabs<V, VI>(c[2]);
-  const V growA = kGrowSize * (ea[0] + ea[1] + ea[2]) + kGrowAbs;
-  const V growB = kGrowCentre * cmag + kGrowSize * (eb[0] + eb[1] + eb[2]) + kGrowAbs;
-  V ha[3], hb[3];
+  const V cmag = vabs<V, VI>(L.c[0]) + vabs<V, VI>(L.c[1]) + vabs<V, VI>(L.c[2]);
+  const V growA = kGrowSize * (L.ea[0] + L.ea[1] + L.ea[2]) + kGrowAbs;
+  const V growB = kGrowCentre * cmag + kGrowSize * (L.eb[0] + L.eb[1] + L.eb[2]) + kGrowAbs;
 #pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
-    ea[k] += growA;
-    eb[k] += growB;
+    L.ea[k] += growA;
+    L.eb[k] += growB;
   }
 #pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
-    ha[k] = vabs<V, VI>(a[k][0]) * ea[0] + vabs<V, VI>(a[k][1]) * ea[1] + vabs<V, VI>(a[k][2]) * ea[2];
-    hb[k] = vabs<V, VI>(b[k][0]) * eb[0] + vabs<V, VI>(b[k][1]) * eb[1] + vabs<V, VI>(b[k][2]) * eb[2];
+    L.ha[k] = vabs<V, VI>(L.a[k][0]) * L.ea[0] + vabs<V, VI>(L.a[k][1]) * L.ea[1] + vabs<V, VI>(L.a[k][2]) * L.ea[2];
+    L.hb[k] = vabs<V, VI>(L.b[k][0]) * L.eb[0] + vabs<V, VI>(L.b[k][1]) * L.eb[1] + vabs<V, VI>(L.b[k][2]) * L.eb[2];
   }
-  const V sizes = ((ea[0] + ea[1] + ea[2]) + (eb[0] + eb[1] + eb[2])) + ((ha[0] + ha[1] + ha[2]) + (hb[0] + hb[1] + hb[2]));
-  const V sep = kPairSepRel * ((cmag + cmag) + sizes) + kAbsSlack;
-  const V negBand = -(sep + kEpsF * sizes);
+  const V sizes = ((L.ea[0] + L.ea[1] + L.ea[2]) + (L.eb[0] + L.eb[1] + L.eb[2])) +
+                  ((L.ha[0] + L.ha[1] + L.ha[2]) + (L.hb[0] + L.hb[1] + L.hb[2]));
+  L.sep = kPairSepRel * ((cmag + cmag) + sizes) + kAbsSlack;
+  L.negBand = -(L.sep + kEpsF * sizes);
+  return L;
+}
 
-  // Stage 1: the AABBs (A's centred on the origin, B's on c).
+/// Stage 1's code per lane: the AABBs (A's centred on the origin, B's on c).
+template <class V, class VI>
+[[gnu::always_inline]] inline VI stage1Code(const LaneBoxes<V, VI>& L) {
   V g1[3];
 #pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) g1[k] = vabs<V, VI>(c[k]) - (ha[k] + hb[k]);
-  const VI code1 = stageCode<V, VI>(g1, sep, negBand);
+  for (int k = 0; k < 3; ++k) g1[k] = vabs<V, VI>(L.c[k]) - (L.ha[k] + L.hb[k]);
+  return stageCode<V, VI>(g1, L.sep, L.negBand);
+}
 
-  // Stage 2, where some lane gets there: AABB of A against B, or of B against A when only B is
-  // axis aligned (testBoxPair's swap; the axis is renamed by the caller).
-  const VI reach2 = (code1 == std::int32_t(kNoAxis)) & ~(aAl & bAl);
-  VI code2 = VI{} + kUnsure;
+/// Stages 2 and 3's codes per lane, for the lanes in reach2 (stage 1 found no separation and the
+/// boxes are not both axis aligned); kUnsure elsewhere. Each stage runs only where a lane gets there.
+template <class V, class VI>
+[[gnu::always_inline]] inline void laterStageCodes(const LaneBoxes<V, VI>& L, const VI& aAl, const VI& bAl,
+                                                   const VI& reach2, VI& code2, VI& code3) {
+  // Stage 2: AABB of A against B, or of B against A when only B is axis aligned (testBoxPair's
+  // swap; the axis is renamed by packedAnswer).
+  code2 = VI{} + kUnsure;
   if (anyLane(reach2)) {
     const VI swap = bAl & ~aAl;
     V y[3][3], ey[3], hx[3];
     VI zero[3][3];
 #pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
-      ey[i] = swap ? ea[i] : eb[i];
-      hx[i] = swap ? hb[i] : ha[i];
+      ey[i] = swap ? L.ea[i] : L.eb[i];
+      hx[i] = swap ? L.hb[i] : L.ha[i];
 #pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) {
-        y[i][j] = swap ? a[i][j] : b[i][j];
+        y[i][j] = swap ? L.a[i][j] : L.b[i][j];
         zero[i][j] = y[i][j] == 0.0f;
       }
     }
     V g[15];
-    sat15<V, VI>(g, c, y, hx, ey, zero);
-    code2 = stageCode<V, VI>(g, sep, negBand);
+    sat15<V, VI>(g, L.c, y, hx, ey, zero);
+    code2 = stageCode<V, VI>(g, L.sep, L.negBand);
   }
 
-  // Stage 3, where some lane gets there: the OBBs, t = A^T c, R = A^T B.
+  // Stage 3: the OBBs, t = A^T c, R = A^T B.
   const VI reach3 = reach2 & (code2 == std::int32_t(kNoAxis)) & ~aAl & ~bAl;
-  VI code3 = VI{} + kUnsure;
+  code3 = VI{} + kUnsure;
   if (anyLane(reach3)) {
     V t[3], R[3][3];
     VI zero[3][3];
 #pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
-      t[i] = a[0][i] * c[0] + a[1][i] * c[1] + a[2][i] * c[2];
+      t[i] = L.a[0][i] * L.c[0] + L.a[1][i] * L.c[1] + L.a[2][i] * L.c[2];
 #pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) {
-        R[i][j] = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
-        zero[i][j] = ((a[0][i] == 0.0f) | (b[0][j] == 0.0f)) & ((a[1][i] == 0.0f) | (b[1][j] == 0.0f)) &
-                     ((a[2][i] == 0.0f) | (b[2][j] == 0.0f));
+        R[i][j] = L.a[0][i] * L.b[0][j] + L.a[1][i] * L.b[1][j] + L.a[2][i] * L.b[2][j];
+        zero[i][j] = ((L.a[0][i] == 0.0f) | (L.b[0][j] == 0.0f)) & ((L.a[1][i] == 0.0f) | (L.b[1][j] == 0.0f)) &
+                     ((L.a[2][i] == 0.0f) | (L.b[2][j] == 0.0f));
       }
     }
     V g[15];
-    sat15<V, VI>(g, t, R, ea, eb, zero);
-    code3 = stageCode<V, VI>(g, sep, negBand);
+    sat15<V, VI>(g, t, R, L.ea, L.eb, zero);
+    code3 = stageCode<V, VI>(g, L.sep, L.negBand);
   }
+}
+
+/// Lanes whose bit is set in `bits` (lane l of the vector is bit l0 + l).
+template <class VI>
+[[gnu::always_inline]] inline VI laneBits(unsigned bits, int l0) {
+  VI lanes;
+  for (int l = 0; l < int(sizeof(VI) / sizeof(std::int32_t)); ++l) lanes[l] = std::int32_t(l0 + l);
+  return ((VI{} + std::int32_t(bits)) >> lanes & 1) != 0;
+}
+
+/// Lanes l0 .. l0 + W - 1 of a block: each lane's answer packed (packedAnswer) into answer[lane],
+/// and unsure[lane] non-zero where testBoxPair must decide. aAligned / bAligned: bit per lane, axes
+/// exactly the identity.
+template <class V, class VI, bool kCheckAxes>
+[[gnu::always_inline]] inline void pairLanes(const PairBlock& p, int l0, unsigned aAligned, unsigned bAligned,
+                                             std::int32_t* answer, std::int32_t* unsure) {
+  const LaneBoxes<V, VI> L = laneBoxes<V, VI, kCheckAxes>(&p.row[0][0], kBatchLanes, l0);
+  const VI aAl = laneBits<VI>(aAligned, l0), bAl = laneBits<VI>(bAligned, l0);
+  const VI code1 = stage1Code(L);
+  VI code2, code3;
+  laterStageCodes(L, aAl, bAl, (code1 == std::int32_t(kNoAxis)) & ~(aAl & bAl), code2, code3);
   VI notSure;
-  const VI packed = packedAnswer(code1, code2, code3, good, aAl, bAl, notSure);
+  const VI packed = packedAnswer(code1, code2, code3, L.good, aAl, bAl, notSure);
   std::memcpy(answer + l0, &packed, sizeof packed);
   std::memcpy(unsure + l0, &notSure, sizeof notSure);
 }
-
 
 PairBlock paddingPairBlock() {
   PairBlock p{};
