@@ -2,10 +2,10 @@
 #include "tools/bench/render_bench.h"
 
 #include "tools/bench/bench_process.h"
+#include "tools/bench/record_statistics.h"
 #include "tools/bench/peers/osg_paged_lod_terrain.h"
 #include "tools/bench/render_terrain_sweep.h"
 
-#include "nestwalk/core/statistics.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/render/texel_density.h"
 #include "nestwalk/render/view_graph.h"
@@ -121,6 +121,17 @@ void printRenderSetup(Document& doc, const std::string& legend) {
   doc.text << legend;
 }
 
+std::pair<int, bool> settlePose(ViewRenderer& renderer, const ViewPose& pose, bool (*done)(const RenderFrameStats&),
+                                const std::function<void()>& wait, bool rendered) {
+  int frames = 1;
+  bool finished = done(rendered ? renderer.lastStats() : renderer.render(pose));
+  for (; !finished && wait && frames < kMaxSettleFrames; ++frames) {
+    wait();
+    finished = done(renderer.render(pose));
+  }
+  return {frames, finished};
+}
+
 namespace {
 
 /// Frees what the allocator keeps and restarts the process's peak resident memory (Linux 4.0+:
@@ -182,40 +193,28 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
   doc["route"] = offscreenRouteName(renderer.route());
   doc["gl_renderer"] = renderer.glRenderer();
   const double firstFrameMs = renderer.render(poses.front()).totalMs;  // warm-up, reported apart
-  std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
-  double maxErrorPx = 0, maxErrorM = 0;
-  int finestTexelLevel = std::numeric_limits<int>::max();  // drawn over the poses
-  TexelsPerPixel texelsPerPixel;                              // settled imagery rows, every kTexelPoseStep-th pose
+  std::vector<RenderFrameStats> frames;  // the timed frame of each pose
+  TexelsPerPixel texelsPerPixel;         // settled imagery rows, every kTexelPoseStep-th pose
   const bool measureTexels = c.settle && !c.osgPagedLod && renderer.graph().pagedTerrain().imageryTiles();
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
+  const std::function<void()> waitForPager = [&lod] { lod->waitUntilIdle(kSettleWaitSeconds); };
   std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
     if (c.settle) {
-      int n = 1;
-      bool done = complete(renderer.render(pose));
-      for (; !done && lod && n < kMaxSettleFrames; ++n) {
-        lod->waitUntilIdle(kSettleWaitSeconds);
-        done = complete(renderer.render(pose));
-      }
+      const auto [n, done] = settlePose(renderer, pose, complete, lod ? waitForPager : nullptr);
       settleFrames += std::size_t(n);
       unsettled += !done;
     }
     const RenderFrameStats& s = renderer.render(pose);
-    if (measureTexels && (total.size() % kTexelPoseStep) == 0)
+    if (measureTexels && (frames.size() % kTexelPoseStep) == 0)
       sampleTexelsPerPixel(renderer, *scene.terrain, kTexelPixelStep, texelsPerPixel);
-    total.push_back(s.totalMs);
-    cullMs.push_back(s.cullMs);
-    draw.push_back(s.drawMs);
-    readback.push_back(s.readbackMs);
-    triangles.push_back(double(s.triangles));
-    skirtTriangles.push_back(double(s.terrain.skirtTrianglesDrawn));
-    refinedTriangles.push_back(double(s.terrain.refinedTrianglesDrawn));
-    exactTriangles.push_back(double(s.terrain.exactTrianglesDrawn));
-    maxErrorPx = std::max(maxErrorPx, s.terrainErrorPx);
-    maxErrorM = std::max(maxErrorM, s.terrainErrorM);
-    finestTexelLevel = std::min(finestTexelLevel, s.terrain.finestTexelLevelDrawn);
+    frames.push_back(s);
     if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
   }
+  using F = RenderFrameStats;
+  using T = PagedTerrainStats;
+  auto p50 = [&frames](auto figure) { return percentileOf(frames, 50, figure); };
+  auto largest = [&frames](auto figure) { return percentileOf(frames, 100, figure); };
   Json row = {{"config", c.name},
           {"paging", c.osgPagedLod ? "osg-paged-lod" : "own-quadtree"},
           {"lod_max_px", c.lodPixels},
@@ -224,23 +223,25 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
           {"terrain_resident_mib", double(renderer.graph().terrainStats().residentBytes) / (1 << 20)},
           {"imagery_mib", double(renderer.graph().terrainStats().imageryBytes) / (1 << 20)},
           {"frames", poses.size()},
-          {"ms_p50", percentile(total, 50)},
-          {"ms_p95", percentile(total, 95)},
-          {"cull_ms_p50", percentile(cullMs, 50)},
-          {"draw_ms_p50", percentile(draw, 50)},
-          {"readback_ms_p50", percentile(readback, 50)},
-          {"fps_p50", 1000.0 / percentile(total, 50)},
-          {"mean_triangles", mean(triangles)},
-          {"max_triangles", percentile(triangles, 100)},
-          {"mean_skirt_triangles", mean(skirtTriangles)},
-          {"mean_refined_level0_triangles", mean(refinedTriangles)},
-          {"mean_exact_level0_triangles", mean(exactTriangles)},
-          {"max_terrain_error_px", maxErrorPx},
-          {"max_terrain_error_m", maxErrorM},
+          {"ms_p50", p50(&F::totalMs)},
+          {"ms_p95", percentileOf(frames, 95, &F::totalMs)},
+          {"cull_ms_p50", p50(&F::cullMs)},
+          {"draw_ms_p50", p50(&F::drawMs)},
+          {"readback_ms_p50", p50(&F::readbackMs)},
+          {"fps_p50", 1000.0 / p50(&F::totalMs)},
+          {"mean_triangles", meanOf(frames, &F::triangles)},
+          {"max_triangles", largest(&F::triangles)},
+          {"mean_skirt_triangles", meanOf(frames, terrainFigure(&T::skirtTrianglesDrawn))},
+          {"mean_refined_level0_triangles", meanOf(frames, terrainFigure(&T::refinedTrianglesDrawn))},
+          {"mean_exact_level0_triangles", meanOf(frames, terrainFigure(&T::exactTrianglesDrawn))},
+          {"max_terrain_error_px", largest(&F::terrainErrorPx)},
+          {"max_terrain_error_m", largest(&F::terrainErrorM)},
           {"first_frame_ms", firstFrameMs},
           {"setup_ms", setupMs}};
-  if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles())
-    row["finest_texel_cm"] = 100 * tiles->texelSize(finestTexelLevel);
+  if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles()) {
+    const double finest = percentileOf(frames, 0, terrainFigure(&T::finestTexelLevelDrawn));
+    row["finest_texel_cm"] = 100 * tiles->texelSize(int(finest));  // the finest level drawn over the poses
+  }
   auto median = [](const std::vector<double>& v) { return v.empty() ? Json() : Json(percentile(v, 50)); };
   if (measureTexels) {
     row["texels_per_px_near"] = median(texelsPerPixel.near);

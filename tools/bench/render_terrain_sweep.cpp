@@ -2,6 +2,7 @@
 #include "tools/bench/render_terrain_sweep.h"
 
 #include "tools/bench/bench_process.h"
+#include "tools/bench/record_statistics.h"
 
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/output_file.h"
@@ -31,7 +32,9 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <ostream>
 #include <sstream>
@@ -141,6 +144,9 @@ double groundNear(const terrain::Heightfield& hf, double x, double y) {
   const double cx = std::clamp(x, first.x(), last.x()), cy = std::clamp(y, last.y(), first.y());
   return hf.groundHeight(cx, cy).value_or(0.0);
 }
+
+/// Whether a frame's terrain wanted no more chunks (its 1 px cut complete).
+bool nothingWanted(const RenderFrameStats& s) { return s.terrain.chunksWanted == 0; }
 
 /// The request or result file (written by this program): ordered, as the rows keep its keys' order.
 Json readJson(const std::string& path) { return Json::parse(readJsonFile(path, "terrain sweep file")); }
@@ -277,54 +283,26 @@ int runTerrainSweepChild(const std::string& requestFile) {
   renderer.render(poses.front());
   const double firstFrameMs = secondsSince(firstStart) * 1000.0;
   PagedTerrain& paged = renderer.graph().pagedTerrain();
+  const std::function<void()> waitForLoader = [&paged] { paged.waitUntilIdle(); };
   // The first view, rendered until its 1 px cut is complete: seconds from the scene loaded.
-  bool firstViewSettled = renderer.lastStats().terrain.chunksWanted == 0;
-  for (int k = 0; !firstViewSettled && k < kMaxSettleFrames; ++k) {
-    paged.waitUntilIdle();
-    firstViewSettled = renderer.render(poses.front()).terrain.chunksWanted == 0;
-  }
+  const bool firstViewSettled = settlePose(renderer, poses.front(), nothingWanted, waitForLoader, true).second;
   const double firstViewSettledS = secondsSince(firstStart);
   const std::uint64_t loadedBefore = renderer.lastStats().terrain.chunksLoaded;
 
-  std::vector<double> frameMs;
-  double worstLoadingMs = -1;
-  std::size_t framesLoading = 0, chunksMax = 0, bytesMax = 0;
+  std::vector<RenderFrameStats> frames, loading;  // loading: the frames with chunks still wanted
   const auto runStart = std::chrono::steady_clock::now();
-  for (const ViewPose& pose : poses) {
-    const RenderFrameStats& s = renderer.render(pose);
-    frameMs.push_back(s.totalMs);
-    if (s.terrain.chunksWanted > 0) {
-      ++framesLoading;
-      worstLoadingMs = std::max(worstLoadingMs, s.totalMs);
-    }
-    chunksMax = std::max(chunksMax, s.terrain.chunksResident);
-    bytesMax = std::max(bytesMax, s.terrain.residentBytes);
-  }
+  for (const ViewPose& pose : poses) frames.push_back(renderer.render(pose));
   const double runS = secondsSince(runStart);
   const std::uint64_t loaded = renderer.lastStats().terrain.chunksLoaded - loadedBefore;
+  std::copy_if(frames.begin(), frames.end(), std::back_inserter(loading), std::not_fn(nothingWanted));
 
   // Settled: the last pose of each flythrough, rendered until nothing is wanted.
-  double settledErrorPx = 0;
   bool settled = true;
-  std::vector<double> settledMs, settledTriangles, settledSkirts, settledRefined, settledExact, settledQuadrants;
+  std::vector<RenderFrameStats> settledFrames;
   const auto settleStart = std::chrono::steady_clock::now();
   for (const Json& index : req["settle"]) {
-    const ViewPose& pose = poses.at(index.get<std::size_t>());
-    for (int k = 0; k < kMaxSettleFrames; ++k) {
-      const RenderFrameStats& s = renderer.render(pose);
-      if (s.terrain.chunksWanted == 0 || k + 1 == kMaxSettleFrames) {
-        settledErrorPx = std::max(settledErrorPx, s.terrain.maxErrorPx);
-        settledMs.push_back(s.totalMs);
-        settledTriangles.push_back(double(s.terrain.trianglesDrawn));
-        settledSkirts.push_back(double(s.terrain.skirtTrianglesDrawn));
-        settledRefined.push_back(double(s.terrain.refinedTrianglesDrawn));
-        settledExact.push_back(double(s.terrain.exactTrianglesDrawn));
-        settledQuadrants.push_back(double(s.terrain.chunksDrawn));
-        settled = settled && s.terrain.chunksWanted == 0;
-        break;
-      }
-      paged.waitUntilIdle();
-    }
+    settled = settlePose(renderer, poses.at(index.get<std::size_t>()), nothingWanted, waitForLoader).second && settled;
+    settledFrames.push_back(renderer.lastStats());
   }
   const double settleS = secondsSince(settleStart);
 
@@ -351,27 +329,30 @@ int runTerrainSweepChild(const std::string& requestFile) {
     }
   }
 
+  using F = RenderFrameStats;
+  using T = PagedTerrainStats;
+  auto settledP50 = [&settledFrames](auto figure) { return percentileOf(settledFrames, 50, figure); };
   Json result = {{"samples", std::uint64_t(hf.cols()) * std::uint64_t(hf.rows())},
                  {"dem_load_s", demLoadS},
                  {"first_frame_ms", firstFrameMs},
-                 {"frames", frameMs.size()},
-                 {"ms_p50", percentile(frameMs, 50)},
-                 {"ms_p95", percentile(frameMs, 95)},
-                 {"frames_loading", framesLoading},
-                 {"worst_loading_ms", framesLoading > 0 ? Json(worstLoadingMs) : Json(nullptr)},
-                 {"chunks_resident_max", chunksMax},
-                 {"resident_mib_max", double(bytesMax) / kBytesPerMiB},
+                 {"frames", frames.size()},
+                 {"ms_p50", percentileOf(frames, 50, &F::totalMs)},
+                 {"ms_p95", percentileOf(frames, 95, &F::totalMs)},
+                 {"frames_loading", loading.size()},
+                 {"worst_loading_ms", loading.empty() ? Json(nullptr) : Json(percentileOf(loading, 100, &F::totalMs))},
+                 {"chunks_resident_max", std::size_t(percentileOf(frames, 100, terrainFigure(&T::chunksResident)))},
+                 {"resident_mib_max", percentileOf(frames, 100, terrainFigure(&T::residentBytes)) / kBytesPerMiB},
                  {"chunks_loaded", loaded},
                  {"run_s", runS},
                  {"chunks_loaded_per_s", double(loaded) / runS},
-                 {"settled_error_px", settledErrorPx},
+                 {"settled_error_px", percentileOf(settledFrames, 100, terrainFigure(&T::maxErrorPx))},
                  {"settled", settled},
-                 {"settled_ms_p50", percentile(settledMs, 50)},
-                 {"settled_triangles_p50", percentile(settledTriangles, 50)},
-                 {"settled_skirt_triangles_p50", percentile(settledSkirts, 50)},
-                 {"settled_refined_level0_triangles_p50", percentile(settledRefined, 50)},
-                 {"settled_exact_level0_triangles_p50", percentile(settledExact, 50)},
-                 {"settled_quadrants_p50", percentile(settledQuadrants, 50)},
+                 {"settled_ms_p50", settledP50(&F::totalMs)},
+                 {"settled_triangles_p50", settledP50(terrainFigure(&T::trianglesDrawn))},
+                 {"settled_skirt_triangles_p50", settledP50(terrainFigure(&T::skirtTrianglesDrawn))},
+                 {"settled_refined_level0_triangles_p50", settledP50(terrainFigure(&T::refinedTrianglesDrawn))},
+                 {"settled_exact_level0_triangles_p50", settledP50(terrainFigure(&T::exactTrianglesDrawn))},
+                 {"settled_quadrants_p50", settledP50(terrainFigure(&T::chunksDrawn))},
                  {"settle_s", settleS},
                  {"first_view_settled_s", firstViewSettledS},
                  {"first_view_settled", firstViewSettled},

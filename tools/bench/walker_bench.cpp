@@ -3,6 +3,7 @@
 
 #include "tools/bench/bench_document.h"
 #include "tools/bench/broadphase_bench.h"
+#include "tools/bench/record_statistics.h"
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/random.h"
@@ -301,8 +302,7 @@ double nsPerQuery(std::size_t queries, const F& run) {
 /// size). A row of the narrow-phase table.
 Json narrowRow(const std::string& what, const CollisionWorld& world,
                const std::vector<CandidateRecorder::Query>& qs) {
-  std::vector<double> counts;
-  for (const auto& q : qs) counts.push_back(double(q.candidates.size()));
+  const std::vector<double> counts = figureOf(qs, [](const CandidateRecorder::Query& q) { return q.candidates.size(); });
   const double scalar = nsPerQuery(qs.size(), [&] {
     std::size_t hits = 0;
     for (const auto& q : qs)
