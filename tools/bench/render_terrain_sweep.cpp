@@ -90,50 +90,30 @@ constexpr double kLoadingNoteFraction = 0.5;
 /// The hidden option that makes `nestwalk bench render` a sweep child (bench_cli.cpp declares it).
 constexpr const char* kChildOption = "--terrain-sweep-child";
 
-/// Cells a side of a size (the generator rounds size / cell the same way).
-long cellsPerSide(double sizeM, double cellM = kCellM) { return std::lround(sizeM / cellM); }
-long cellsPerSide(const SweepTerrain& t) { return cellsPerSide(t.sizeM, t.cellM); }
+/// Cells a side of a terrain (the generator rounds size / cell the same way).
+long cellsPerSide(const SweepTerrain& t) { return std::lround(t.sizeM / t.cellM); }
 
-/// The finer sweep's terrains, checked and from coarse to fine (InputError naming --terrain-cells).
-std::vector<SweepTerrain> checkedCells(const RenderBenchOptions& o) {
-  if (!o.terrainSizes.empty()) throw InputError("--terrain-cells: give it or --terrain-sizes, not both");
-  std::vector<double> cells = o.terrainCells;
-  std::sort(cells.begin(), cells.end(), std::greater<>());
-  std::vector<SweepTerrain> out;
-  for (double c : cells) {
-    if (!(std::isfinite(c) && c > 0) || cellsPerSide(kFinerSizeM, c) < kMinCellsPerSide ||
-        double(cellsPerSide(kFinerSizeM, c)) * double(cellsPerSide(kFinerSizeM, c)) > kMaxSamples)
-      throw InputError("--terrain-cells: " + limitText(c) + " m gives the " + limitText(kFinerSizeM) +
-                       " m dump fewer than 16 or more than 65,536 cells a side");
-    if (!out.empty() && cellsPerSide(kFinerSizeM, c) == cellsPerSide(out.back()))
-      throw InputError("--terrain-cells: " + limitText(c) + " m is given twice (the same cells a side)");
-    out.push_back({kFinerSizeM, c, true});
-  }
-  return out;
-}
-
-/// The terrains to measure: the wider sweep's sizes at 1 m cells, checked and sorted (InputError
-/// naming --terrain-sizes), or the finer sweep's cells.
+/// The terrains to measure, checked (InputError naming the option): the wider sweep's sizes at 1 m
+/// cells from small to large, or the finer sweep's cells of its dump from coarse to fine.
 std::vector<SweepTerrain> checkedTerrains(const RenderBenchOptions& o) {
-  if (!o.terrainCells.empty()) return checkedCells(o);
-  std::vector<double> sizes = o.terrainSizes.empty() ? (o.quick ? kSweepQuickSizesM : kSweepDefaultSizesM)
-                                                     : o.terrainSizes;
-  const double maxSizeM = std::floor(std::sqrt(kMaxSamples)) * kCellM;
-  for (double s : sizes) {
-    if (!std::isfinite(s) || s < double(kMinCellsPerSide) * kCellM || cellsPerSide(s) < kMinCellsPerSide)
-      throw InputError("--terrain-sizes: " + limitText(s) + " m is below the generator's " +
-                       std::to_string(kMinCellsPerSide) + " cells of " + limitText(kCellM) + " m a side");
-    if (double(cellsPerSide(s)) * double(cellsPerSide(s)) > kMaxSamples)
-      throw InputError("--terrain-sizes: " + limitText(s) + " m is above the generator's 65,536 cells a side (" +
-                       limitText(maxSizeM) + " m at " + limitText(kCellM) + " m cells)");
-  }
-  std::sort(sizes.begin(), sizes.end());
-  for (std::size_t i = 1; i < sizes.size(); ++i)
-    if (cellsPerSide(sizes[i]) == cellsPerSide(sizes[i - 1]))
-      throw InputError("--terrain-sizes: " + limitText(sizes[i]) + " m is given twice (sizes round to whole " +
-                       limitText(kCellM) + " m cells)");
+  const bool finer = !o.terrainCells.empty();
+  const std::string option = finer ? "--terrain-cells: " : "--terrain-sizes: ";
+  if (finer && !o.terrainSizes.empty()) throw InputError(option + "give it or --terrain-sizes, not both");
+  std::vector<double> given = finer ? o.terrainCells : o.terrainSizes;
+  if (given.empty()) given = o.quick ? kSweepQuickSizesM : kSweepDefaultSizesM;
+  std::sort(given.begin(), given.end(), [finer](double a, double b) { return finer ? a > b : a < b; });
+  const std::string dump =
+      finer ? "the " + limitText(kFinerSizeM) + " m dump" : "a dump of " + limitText(kCellM) + " m cells";
   std::vector<SweepTerrain> out;
-  for (double s : sizes) out.push_back({double(cellsPerSide(s)) * kCellM, kCellM, false});
+  for (double m : given) {
+    const SweepTerrain t = finer ? SweepTerrain{kFinerSizeM, m, true} : SweepTerrain{m, kCellM, false};
+    const long cells = cellsPerSide(t);
+    if (!(std::isfinite(m) && m > 0) || cells < kMinCellsPerSide || double(cells) * double(cells) > kMaxSamples)
+      throw InputError(option + limitText(m) + " m gives " + dump + " fewer than 16 or more than 65,536 cells a side");
+    if (!out.empty() && cells == cellsPerSide(out.back()))
+      throw InputError(option + limitText(m) + " m is given twice (the same cells a side)");
+    out.push_back(finer ? t : SweepTerrain{double(cells) * kCellM, kCellM, false});  // whole cells
+  }
   return out;
 }
 
@@ -405,12 +385,11 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
   std::vector<Json> rows;
   for (std::size_t i = 0; i < terrains.size(); ++i) {
     const SweepTerrain& t = terrains[i];
-    const double sizeM = t.sizeM;
+    const std::string label = "size " + limitText(t.sizeM) + " m, cell " + limitText(t.cellM) + " m";
     const std::string dem = (fs::path(cache) / demFileName(t)).string();
     const auto [generated, generateS] = ensureDem(dem, t);
     const ImportCost imported = importCost(dem);
-    if (!imported.problem.empty())
-      doc.errors["import of size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = imported.problem;
+    if (!imported.problem.empty()) doc.errors["import of " + label] = imported.problem;
     const std::string request = (fs::path(run.tempPath()) / ("request_" + std::to_string(i) + ".json")).string();
     const std::string result = (fs::path(run.tempPath()) / ("result_" + std::to_string(i) + ".json")).string();
     writeFileAtomically(request, Json{{"terrain", dem},
@@ -422,16 +401,14 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
                                       {"settle", settle},
                                       {"result", result}}
                                      .dump());
-    std::cerr << "nestwalk: note: measuring the " << limitText(sizeM) << " m terrain at " << limitText(t.cellM) << " m ("
-              << poses.size()
-              << " frames at " << width << "x" << height << ")\n";
-    const std::string problem = runChild(request);
-    if (!problem.empty()) {
-      doc.errors["size " + limitText(sizeM) + " m, cell " + limitText(t.cellM) + " m"] = problem;
+    std::cerr << "nestwalk: note: measuring the " << limitText(t.sizeM) << " m terrain at " << limitText(t.cellM)
+              << " m (" << poses.size() << " frames at " << width << "x" << height << ")\n";
+    if (const std::string problem = runChild(request); !problem.empty()) {
+      doc.errors[label] = problem;
       continue;
     }
     Json r = readJson(result);
-    Json row = {{"size_m", sizeM},
+    Json row = {{"size_m", t.sizeM},
                 {"cell_m", t.cellM},
                 {"fine_relief", t.fine},
                 {"samples", r["samples"]},
@@ -521,34 +498,29 @@ int runTerrainSweep(const RenderBenchOptions& o, std::ostream& out) {
     const std::string vs = limitText(big["samples"].get<double>()) + " / " +
                            limitText(measured.front()["samples"].get<double>()) + " samples";
     const std::string at = " at " + limitText(big["samples"].get<double>()) + " samples";
-    const double p50 = big["ratio"]["p50"].get<double>(), p95 = big["ratio"]["p95"].get<double>();
-    const double rss = big["peak_rss_mib"].get<double>(), first = big["first_frame_ms"].get<double>();
+    const double rss = big["peak_rss_mib"].get<double>();
     // Timed frames that drew a terrain still loading are cheaper than the view they stand for: their
     // ratios cannot meet a target; the settled view's ratio is the comparable one.
     const bool loading = big["frames_loading"].get<double>() > 0 || measured.front()["frames_loading"].get<double>() > 0;
     const std::string caveat = loading ? " (timed frames still loading: not comparable)" : "";
-    doc.targets.push_back({"ms per frame p50, " + vs + caveat, "<= " + limitText(kTargetP50Ratio) + "x", p50,
-                           !loading && p50 <= kTargetP50Ratio});
-    doc.targets.push_back({"ms per frame p95, " + vs + caveat, "<= " + limitText(kTargetP95Ratio) + "x", p95,
-                           !loading && p95 <= kTargetP95Ratio});
+    doc.target("ms per frame p50, " + vs + caveat, "", big["ratio"]["p50"], "<=", kTargetP50Ratio, "x", !loading);
+    doc.target("ms per frame p95, " + vs + caveat, "", big["ratio"]["p95"], "<=", kTargetP95Ratio, "x", !loading);
     doc.targets.push_back({"peak RSS MiB" + at,
                            "<= " + limitText(std::floor(kTargetPeakRssBytes / kBytesPerMiB)) + " (" +
                                limitText(kTargetPeakRssBytes / 1e9) + " GB)",
                            rss, rss * kBytesPerMiB <= kTargetPeakRssBytes});
-    doc.target("scene opened s" + at, "", big["dem_load_s"].get<double>(), "<=", kTargetOpenS, "");
+    doc.target("scene opened s" + at, "", big["dem_load_s"], "<=", kTargetOpenS, "");
     doc.target("import M samples/s" + at, "", big["import_msamples_per_s"], ">=", kTargetImportMSamplesPerS, "");
     doc.target("import peak RSS MiB" + at, "", big["import_peak_mib"], "<=",
                std::floor(kTargetImportPeakBytes / kBytesPerMiB), " (2 GB)");
-    doc.target("first frame ms" + at, "", first, "<=", kTargetFirstFrameMs, " after the scene is loaded");
+    const std::string afterLoad = " after the scene is loaded";
+    doc.target("first frame ms" + at, "", big["first_frame_ms"], "<=", kTargetFirstFrameMs, afterLoad);
     // A first view that never settled (kMaxSettleFrames frames) does not meet it, however soon it stopped.
     const bool viewSettled = big["first_view_settled"].get<bool>();
-    const double viewS = big["first_view_settled_s"].get<double>();
-    doc.targets.push_back({"first view settled s" + at + (viewSettled ? "" : " (never settled)"),
-                           "<= " + limitText(kTargetSettleS) + " after the scene is loaded", viewS,
-                           viewSettled && viewS <= kTargetSettleS});
-    if (big["walker_step_us_p99"].is_number())
-      doc.target("walker step us p99" + at, "", big["walker_step_us_p99"].get<double>(), "<=", kTargetStepP99Us, "");
-    doc.target("ground reads waited for after the first step" + at, "", big["ground_waits"].get<double>(), "<=", 0.0,
+    doc.target("first view settled s" + at + (viewSettled ? "" : " (never settled)"), "", big["first_view_settled_s"],
+               "<=", kTargetSettleS, afterLoad, viewSettled);
+    doc.target("walker step us p99" + at, "", big["walker_step_us_p99"], "<=", kTargetStepP99Us, "");  // null: none
+    doc.target("ground reads waited for after the first step" + at, "", big["ground_waits"], "<=", 0.0,
                " (at " + limitText(kWalkPace) + "x the flythroughs' pace)");
     const double settled = big["settled_ms_p50"].get<double>() / measured.front()["settled_ms_p50"].get<double>();
     doc.target(std::string("settled view ms, ") + vs + (finer ? " (finer)" : " (wider)"), "", settled, "<=",
