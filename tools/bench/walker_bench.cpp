@@ -208,15 +208,24 @@ std::vector<std::pair<std::string, MethodSpec>> hierarchies(const MethodSpec& ba
   return out;
 }
 
+/// Parts 3 to 5's scene and flythroughs, each read once, and the walker's options for playing them
+/// (the scene's viewer, no timing of the step's parts).
+struct Flythroughs {
+  explicit Flythroughs(const WalkerBenchOptions& o) : scene(loadScene(o.scene)) {
+    for (const std::string& p : o.scripts) scripts.push_back(readScript(p));
+    walker.viewer = scene.spec.viewer;
+    walker.timeParts = false;
+  }
+  const Scene scene;
+  std::vector<Script> scripts;
+  WalkerOptions walker;
+};
+
 /// Part 3: the BV tests of every hierarchy on the flythroughs, fACT's Table 2. False when the
 /// hierarchies' contacts differ.
-bool table2(Document& doc, const WalkerBenchOptions& o) {
-  const Scene scene = loadScene(o.scene);
-  std::vector<Script> scripts;
-  for (const auto& p : o.scripts) scripts.push_back(readScript(p));
-  WalkerOptions wo;
-  wo.viewer = scene.spec.viewer;
-  wo.timeParts = false;
+bool table2(Document& doc, const WalkerBenchOptions& o, const Flythroughs& f) {
+  const Scene& scene = f.scene;
+  const std::vector<Script>& scripts = f.scripts;
   Table table;
   table.column({"hierarchy", "/hierarchy", 28});
   for (std::size_t i = 0; i < scripts.size(); ++i)
@@ -234,7 +243,7 @@ bool table2(Document& doc, const WalkerBenchOptions& o) {
     for (const Script& sc : scripts) {
       std::uint64_t node = 0, stage[3] = {0, 0, 0};
       std::string signature;
-      for (const auto& r : runFlythrough(scene, world, sc, wo).records) {
+      for (const auto& r : runFlythrough(scene, world, sc, f.walker).records) {
         node += r.nodeTests;
         for (int k = 0; k < 3; ++k) stage[k] += r.stageTests.values[std::size_t(k)];
         signature += r.blocked ? r.blockedBy + ";" : "-;";
@@ -331,16 +340,12 @@ Json narrowRow(const std::string& what, const CollisionWorld& world,
 /// Part 4: the walker's narrow phase at the candidate counts it sees on the bundled flythroughs,
 /// and at fixed counts (each recorded viewer against its k nearest units) to find where a batch
 /// pays. Recorded on the scene's own method and hierarchy.
-void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
-  const Scene scene = loadScene(o.scene);
-  WalkerOptions wo;
-  wo.viewer = scene.spec.viewer;
-  wo.timeParts = false;
-  CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
+void narrowPhase(Document& doc, const Flythroughs& f) {
+  CollisionWorld world = CollisionWorld::fromScene(f.scene, f.scene.spec.method);
   CandidateRecorder recorder(world);
   {
     const ObservedSweeps observed(world, recorder);
-    for (const auto& p : o.scripts) runFlythrough(scene, world, readScript(p), wo);
+    for (const Script& script : f.scripts) runFlythrough(f.scene, world, script, f.walker);
   }
   Table table;
   table.column({"queries", "/queries", 22, 0, true}).column({"count", "/count", 8});
@@ -368,21 +373,13 @@ void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
   doc.table("narrow_phase", table);
 }
 
-}  // namespace
-
 /// Part 5: what a run's results layers cost next to the whole headless run (each flythrough
 /// recorded as `nestwalk run` does), and a 10,000-fix GPS track turned into a script.
-void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
-  const std::filesystem::path folder = tempPathBeside(
-      (std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string(), "bench");
-  std::filesystem::create_directories(folder);
-  struct RemoveAtEnd {
-    std::filesystem::path folder;
-    ~RemoveAtEnd() {
-      std::error_code ec;
-      std::filesystem::remove_all(folder, ec);
-    }
-  } removeAtEnd{folder};  // also when a run or the route throws
+void routesAndResults(Document& doc, const WalkerBenchOptions& o, const Scene& scene) {
+  // The runs and the track in a folder of the benchmark's own, removed at the end (also when a run
+  // or the route throws).
+  const OutputFolder scratch((std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string());
+  const std::filesystem::path folder = scratch.tempPath();
   Table table;
   table.column({"flythrough", "/script", 22, 0, true}).column({"run s", "/run_s", 9, 3}).column({"layers s", "/layers_s", 10, 3});
   table.column({"%", "/layers_percent", 7, 1, false, false, "%"});
@@ -400,7 +397,6 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
                {"layers_s", r.layersSeconds}, {"layers_percent", 100.0 * r.layersSeconds / r.seconds}});
   }
   // A phone's track of kRouteFixes fixes, walking back and forth across the scene's middle.
-  const Scene scene = loadScene(o.scene);
   const terrain::Heightfield& hf = *scene.terrain;
   const Eigen::Vector2d mid = hf.samplePosition(hf.cols() / 2, hf.rows() / 2);
   assets::PhoneTrack track;
@@ -420,10 +416,11 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
   doc.text << "route: a " << gotos + 1 << "-fix GPX track into a timed script: " << routeSeconds << " s\n";
   doc.json["route_fixes"] = gotos + 1;
   doc.json["route_seconds"] = routeSeconds;
-  doc.targets.push_back({"results layers' share of the headless runs (%)", "<= " + std::to_string(int(kTargetLayersPercent)),
-                         100.0 * layers / run, 100.0 * layers / run <= kTargetLayersPercent});
-  doc.targets.push_back({"10,000-fix GPX track into a script (s)", "<= 1", routeSeconds, routeSeconds <= kTargetRouteSeconds});
+  doc.target("results layers' share of the headless runs (%)", "", 100.0 * layers / run, "<=", kTargetLayersPercent);
+  doc.target("10,000-fix GPX track into a script (s)", "", routeSeconds, "<=", kTargetRouteSeconds);
 }
+
+}  // namespace
 
 int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
   Document doc("nestwalk bench walker:"
@@ -438,10 +435,12 @@ int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
     doc.targets.insert(doc.targets.end(), bp.targets.begin(), bp.targets.end());
     for (const auto& [name, message] : bp.errors) doc.errors["broad phase: " + name] = message;
   }
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty() && !table2(doc, o))
-    doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) narrowPhase(doc, o);
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) routesAndResults(doc, o);
+  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) {
+    const Flythroughs flythroughs(o);
+    if (!table2(doc, o, flythroughs)) doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
+    narrowPhase(doc, flythroughs);
+    routesAndResults(doc, o, flythroughs.scene);
+  }
   return doc.write(out, o.json);
 }
 
