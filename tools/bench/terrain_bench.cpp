@@ -44,16 +44,6 @@ constexpr double kGroundVsEmbree = 15.0;   // target: Embree ns / groundHeight n
 constexpr double kObliqueVsEmbree = 1.0;   // target: Embree ns / intersectRay ns at least, oblique
 constexpr int kLevelChunkCells = 64;        // the level table's chunks (RenderOptions::terrainChunkCells)
 
-struct Config {
-  int grid = 2049;
-  std::size_t rays = 1'000'000;
-  std::size_t slowRays = 50'000;  // OSG on every set, Bullet on the oblique set
-};
-Config& config() {
-  static Config c;
-  return c;
-}
-
 /// A lattice point's value in [-1, 1], hashed from the point and the seed.
 double latticeValue(std::int64_t x, std::int64_t y, std::uint64_t seed) {
   SplitMix64 rng(seed ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full));
@@ -117,32 +107,10 @@ struct Terrain {
 
   const RayPeer& peer(const std::string& key, RayPeer (*make)(const HeightGrid&)) {
     auto it = peers.find(key);
-    if (it == peers.end()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      it = peers.emplace(key, make(grid)).first;
-      buildSeconds[key] = secondsSince(t0);
-    }
+    if (it == peers.end()) buildSeconds[key] = leastSeconds(1, [&] { it = peers.emplace(key, make(grid)).first; });
     return it->second;
   }
 };
-
-std::unique_ptr<Terrain>& currentTerrain() {
-  static std::unique_ptr<Terrain> t;
-  return t;
-}
-
-Terrain& terrainData() {
-  std::unique_ptr<Terrain>& t = currentTerrain();
-  if (!t || t->grid.n != config().grid) {
-    t = std::make_unique<Terrain>();
-    t->grid = makeGrid(config().grid);
-    const auto t0 = std::chrono::steady_clock::now();
-    t->hf = std::make_unique<terrain::Heightfield>(t->grid.n, t->grid.n, t->grid.heights, kOriginX, kOriginY, kSpacing,
-                                                   kSpacing);
-    t->buildSeconds["nestwalk"] = secondsSince(t0);
-  }
-  return *t;
-}
 
 // ------------------------------------------------------------------------------------------------
 // Ray sets, in the local frame; nestwalk gets the origins in map coordinates.
@@ -165,6 +133,32 @@ struct RaySet {
   std::vector<Eigen::Vector3d> mapOrigin;  // nestwalk's input
   std::vector<double> reference;           // nestwalk's answers (hit z, NaN on a miss); empty: not yet
 };
+
+/// What the run sets, and the data its benchmarks keep for the whole run.
+struct Config {
+  int grid = 2049;
+  std::size_t rays = 1'000'000;
+  std::size_t slowRays = 50'000;  // OSG on every set, Bullet on the oblique set
+  std::unique_ptr<Terrain> terrain;
+  std::map<std::string, RaySet> raySets;
+};
+Config& config() {
+  static Config c;
+  return c;
+}
+
+Terrain& terrainData() {
+  std::unique_ptr<Terrain>& t = config().terrain;
+  if (!t || t->grid.n != config().grid) {
+    t = std::make_unique<Terrain>();
+    t->grid = makeGrid(config().grid);
+    t->buildSeconds["nestwalk"] = leastSeconds(1, [&] {
+      t->hf = std::make_unique<terrain::Heightfield>(t->grid.n, t->grid.n, t->grid.heights, kOriginX, kOriginY,
+                                                     kSpacing, kSpacing);
+    });
+  }
+  return *t;
+}
 
 void makeRays(const SetSpec& spec, const Terrain& t, RaySet& s) {
   const HeightGrid& g = t.grid;
@@ -212,13 +206,8 @@ void makeRays(const SetSpec& spec, const Terrain& t, RaySet& s) {
   for (const Eigen::Vector3d& o : q.origin) s.mapOrigin.push_back(o + Eigen::Vector3d(kOriginX, kOriginY, 0));
 }
 
-std::map<std::string, RaySet>& raySets() {
-  static std::map<std::string, RaySet> s;
-  return s;
-}
-
 RaySet& raySet(const SetSpec& spec) {
-  RaySet& s = raySets()[spec.key];
+  RaySet& s = config().raySets[spec.key];
   if (s.n != config().rays) {
     s = RaySet{config().rays, {}, {}, {}};
     makeRays(spec, terrainData(), s);
@@ -442,17 +431,15 @@ void printLevels(Document& doc, const Terrain& t) {
 
 int runBenchmark(const TerrainBenchOptions& opts, std::ostream& out) {
   Config& c = config();
-  c.grid = opts.gridSamples > 0 ? opts.gridSamples : (opts.quick ? 257 : 2049);
-  c.rays = opts.rays ? opts.rays : (opts.quick ? 20'000 : 1'000'000);
+  c.grid = opts.orDefault(opts.gridSamples, 257, 2049);
+  c.rays = opts.orDefault(opts.rays, 20'000, 1'000'000);
   c.slowRays = std::min<std::size_t>(opts.slowRays ? opts.slowRays : 50'000, c.rays);
   const double minTime = opts.minTime(0.5);
   registerBenchmarks();
-  struct Release {  // the terrain, the peers' structures and the rays: a few GB at full size
-    ~Release() {
-      raySets().clear();
-      currentTerrain().reset();
-    }
-  } release;
+  const ReleaseAtEnd release([] {  // the terrain, the peers' structures and the rays: a few GB at full size
+    config().raySets.clear();
+    config().terrain.reset();
+  });
   Suite& s = suite();
   if (const std::optional<int> rc = s.run(opts, minTime, "^terrain/", out)) return *rc;
 

@@ -169,10 +169,8 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
 
 /// Part 1: the steps table.
 void walkerSteps(Document& doc, const WalkerBenchOptions& o) {
-  std::vector<std::size_t> sizes = o.sizes;
-  if (sizes.empty())
-    sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
-  const std::size_t steps = o.steps ? o.steps : (o.quick ? 5000 : 200000);
+  const std::vector<std::size_t> sizes = o.orDefault(o.sizes, {1000, 10000}, {1000, 100000, 1000000});
+  const std::size_t steps = o.orDefault(o.steps, 5000, 200000);
   Table table;
   table.column({"instances", "/instances", 10});
   for (const char* p : {"p50", "p99", "max", "mean"})  // µs per step
