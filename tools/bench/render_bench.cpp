@@ -57,24 +57,10 @@ struct Config {
   bool demImagery = false;   // the imagery at the DEM's resolution (its finest texel the DEM's spacing), no mip levels
 };
 
-/// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
+/// The view culling of the first configuration's timed frames, frame by frame: nested culling's
+/// counts, and OSG's bounding spheres' on the same frustum.
 struct CullComparison {
-  std::size_t frames = 0;
-  double nestedKept = 0, nestedAabbCulled = 0, nestedObbCulled = 0, nestedObbTested = 0, nestedMicros = 0;
-  double sphereKept = 0, sphereMicros = 0;
-  std::size_t framesNestedKeptMore = 0;
-
-  void add(const RenderFrameStats& s, const CullCounts& sphere) {
-    ++frames;
-    nestedKept += double(s.cull.visible);
-    nestedAabbCulled += double(s.cull.aabbOutside);
-    nestedObbTested += double(s.cull.obbTested);
-    nestedObbCulled += double(s.cull.obbOutside);
-    nestedMicros += s.cull.micros;
-    sphereKept += double(sphere.visible);
-    sphereMicros += sphere.micros;
-    framesNestedKeptMore += s.cull.visible > sphere.visible;
-  }
+  std::vector<CullCounts> nested, spheres;
 };
 
 }  // namespace
@@ -209,7 +195,10 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
     if (measureTexels && (frames.size() % kTexelPoseStep) == 0)
       sampleTexelsPerPixel(renderer, *scene.terrain, kTexelPixelStep, texelsPerPixel);
     frames.push_back(s);
-    if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
+    if (cull) {
+      cull->nested.push_back(s.cull);
+      cull->spheres.push_back(sphereCull(spheres, renderer.frustumLocal()));
+    }
   }
   using F = RenderFrameStats;
   using T = PagedTerrainStats;
@@ -323,7 +312,20 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
 
   printRenderSetup(doc, " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n");
   doc.table("configs", table);
-  const double n = double(std::max<std::size_t>(cull.frames, 1));
+  std::size_t keptMore = 0;  // frames where the nested volumes kept more than the spheres
+  for (std::size_t k = 0; k < cull.nested.size(); ++k) keptMore += cull.nested[k].visible > cull.spheres[k].visible;
+  using C = CullCounts;
+  const Json& v = j["view_culling"] = {{"frames", cull.nested.size()},
+                                       {"instances", scene.instances.size()},
+                                       {"nested_kept_mean", meanOf(cull.nested, &C::visible)},
+                                       {"nested_aabb_culled_mean", meanOf(cull.nested, &C::aabbOutside)},
+                                       {"nested_obb_tested_mean", meanOf(cull.nested, &C::obbTested)},
+                                       {"nested_obb_culled_mean", meanOf(cull.nested, &C::obbOutside)},
+                                       {"nested_us_mean", meanOf(cull.nested, &C::micros)},
+                                       {"osg_spheres_kept_mean", meanOf(cull.spheres, &C::visible)},
+                                       {"osg_spheres_us_mean", meanOf(cull.spheres, &C::micros)},
+                                       {"frames_nested_kept_more", keptMore}};
+  auto perFrame = [&v](const char* key) { return v[key].get<double>(); };
   char line[1024];
   std::snprintf(line, sizeof line,
                 "(cull: event, update and cull traversals; draw: until glFinish; readback: glReadPixels; "
@@ -338,20 +340,11 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
                 "  nested volumes: keep %.1f (outer AABB culls %.1f; %.1f undecided go to the inner OBB, which culls "
                 "%.2f), %.2f us\n"
                 "  OSG bounding spheres: keep %.1f, %.2f us; frames where nested kept more: %zu\n",
-                scene.instances.size(), cull.frames, cull.nestedKept / n, cull.nestedAabbCulled / n,
-                cull.nestedObbTested / n, cull.nestedObbCulled / n, cull.nestedMicros / n, cull.sphereKept / n,
-                cull.sphereMicros / n, cull.framesNestedKeptMore);
+                scene.instances.size(), cull.nested.size(), perFrame("nested_kept_mean"),
+                perFrame("nested_aabb_culled_mean"), perFrame("nested_obb_tested_mean"),
+                perFrame("nested_obb_culled_mean"), perFrame("nested_us_mean"), perFrame("osg_spheres_kept_mean"),
+                perFrame("osg_spheres_us_mean"), keptMore);
   doc.text << line;
-  j["view_culling"] = {{"frames", cull.frames},
-                       {"instances", scene.instances.size()},
-                       {"nested_kept_mean", cull.nestedKept / n},
-                       {"nested_aabb_culled_mean", cull.nestedAabbCulled / n},
-                       {"nested_obb_tested_mean", cull.nestedObbTested / n},
-                       {"nested_obb_culled_mean", cull.nestedObbCulled / n},
-                       {"nested_us_mean", cull.nestedMicros / n},
-                       {"osg_spheres_kept_mean", cull.sphereKept / n},
-                       {"osg_spheres_us_mean", cull.sphereMicros / n},
-                       {"frames_nested_kept_more", cull.framesNestedKeptMore}};
   doc.target("frame rate", "", table.rows().front()["fps_p50"], ">=", kTargetFps,
              " frames per second at " + std::to_string(width) + "x" + std::to_string(height) + " (LOD 1 px, median)");
   return doc.write(out, o.json);
