@@ -129,10 +129,13 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
   };
   newTarget();
   const std::size_t warmup = std::min<std::size_t>(1000, steps / 10);
-  std::vector<double> us;
-  us.reserve(steps);
-  std::size_t contacts = 0;
-  double nodeTests = 0, stageTests[3] = {0, 0, 0};
+  struct Step {
+    double us;
+    bool blocked;
+    CollisionCounters counters;
+  };
+  std::vector<Step> timed;
+  timed.reserve(steps);
   int blockedRun = 0;
   for (std::size_t i = 0; i < steps + warmup; ++i) {
     Eigen::Vector2d d = target - walker.state().feet.head<2>();
@@ -148,22 +151,18 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
     const StepReport r = walker.step(in);
     const double seconds = secondsSince(t0);
     blockedRun = walker.state().blocked ? blockedRun + 1 : 0;
-    if (i < warmup) continue;
-    us.push_back(1e6 * seconds);
-    contacts += walker.state().blocked;
-    nodeTests += double(r.counters.nodeTests);
-    for (int k = 0; k < 3; ++k) stageTests[k] += double(r.counters.stageTests.values[std::size_t(k)]);
+    if (i >= warmup) timed.push_back({1e6 * seconds, walker.state().blocked, r.counters});
   }
-  const double n = double(us.size());
+  auto stage = [](std::size_t k) { return [k](const Step& s) { return s.counters.stageTests.values[k]; }; };
   return {{"instances", w.world->size()},
-          {"steps", us.size()},
-          {"p50_us", percentile(us, 50)},
-          {"p99_us", percentile(us, 99)},
-          {"max_us", percentile(us, 100)},
-          {"mean_us", mean(us)},
-          {"contacts_per_1000", 1000.0 * double(contacts) / n},
-          {"node_tests_per_step", nodeTests / n},
-          {"stage_tests_per_step", {stageTests[0] / n, stageTests[1] / n, stageTests[2] / n}},
+          {"steps", timed.size()},
+          {"p50_us", percentileOf(timed, 50, &Step::us)},
+          {"p99_us", percentileOf(timed, 99, &Step::us)},
+          {"max_us", percentileOf(timed, 100, &Step::us)},
+          {"mean_us", meanOf(timed, &Step::us)},
+          {"contacts_per_1000", 1000.0 * meanOf(timed, &Step::blocked)},
+          {"node_tests_per_step", meanOf(timed, [](const Step& s) { return s.counters.nodeTests; })},
+          {"stage_tests_per_step", {meanOf(timed, stage(0)), meanOf(timed, stage(1)), meanOf(timed, stage(2))}},
           {"build_s", w.buildSeconds}};
 }
 
