@@ -37,11 +37,30 @@ CLI::Option* addCounts(CLI::App& cmd, const std::string& name, std::vector<std::
   return cmd.add_option(name, values, what)->delimiter(',')->check(CLI::Range(std::size_t(1), kMaxCount));
 }
 
+/// A list of metres (the sweep's terrains), at least `least` of them; given at all (even bare, when
+/// CLI11 hands the callback one empty value), it turns `on` on.
+CLI::Option* addMetres(CLI::App& cmd, const std::string& name, std::vector<double>& values, bool& on,
+                       const std::string& what, int least, const std::string& help) {
+  auto parse = [name, what, &values, &on](const std::vector<std::string>& given) {
+    on = true;
+    values.clear();
+    for (const std::string& v : given) {
+      if (v.empty()) continue;
+      double x = 0;
+      if (!CLI::detail::lexical_cast(v, x)) throw InputError(name + ": '" + v + "' is not " + what);
+      values.push_back(x);
+    }
+  };
+  return cmd.add_option_function<std::vector<std::string>>(name, parse, help)
+      ->expected(least, CLI::detail::expected_max_vector_size)
+      ->delimiter(',')
+      ->type_name("METRES");
+}
+
 void declareScene(CLI::App& cmd, std::string& scene, std::vector<std::string>& scripts, const std::string& use) {
   cmd.add_option("--scene", scene, "Scene file for " + use + " (default: the bundled mining dump)");
   cmd.add_option("--scripts", scripts, "Its flythroughs (default: the bundled ones)");
 }
-
 
 }  // namespace
 
@@ -82,36 +101,14 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
   cmd.add_option("--height", o.height, "Frame height (default 720)")->check(CLI::Range(16, 8192));
   cmd.add_option("--frames", o.framesPerScript, "Frames per flythrough (default 120)")->check(CLI::Range(1, 100000));
   declareScene(cmd, o.scene, o.scripts, "the flythroughs");
-  // Given bare, CLI11 hands the callback one empty value: the sweep with its default sizes.
-  // A list of metres (given bare, CLI11 hands the callback one empty value): the sweep's terrains.
-  auto metres = [&o](std::vector<double>& into, const char* name, const char* what) {
-    return [&o, &into, name, what](const std::vector<std::string>& values) {
-      o.terrainSweep = true;
-      into.clear();
-      for (const std::string& v : values) {
-        if (v.empty()) continue;
-        double x = 0;
-        if (!CLI::detail::lexical_cast(v, x)) throw InputError(std::string(name) + ": '" + v + "' is not " + what);
-        into.push_back(x);
-      }
-    };
-  };
-  cmd.add_option_function<std::vector<std::string>>("--terrain-sizes",
-                                                    metres(o.terrainSizes, "--terrain-sizes", "a size in metres"),
-         "Instead of the configurations, the terrain-size sweep: generated mining dumps of these sides in "
-         "metres at 1 m cells, each measured in a child process (given bare: 1000 4000 10000, 1 M, 16 M and "
-         "100 M samples)")
-      ->expected(0, CLI::detail::expected_max_vector_size)
-      ->delimiter(',')
-      ->type_name("METRES");
-  cmd.add_option_function<std::vector<std::string>>("--terrain-cells",
-                                                    metres(o.terrainCells, "--terrain-cells", "a cell size in metres"),
-         "Instead of the configurations, the finer terrain sweep (the drone case): the 1000 m mining dump with relief "
-         "down to the cell (make-terrain --fine-relief) at these cell sizes in metres, e.g. 1 0.1 0.032 (1 M, 100 M "
-         "and 1 G samples)")
-      ->expected(1, CLI::detail::expected_max_vector_size)
-      ->delimiter(',')
-      ->type_name("METRES");
+  addMetres(cmd, "--terrain-sizes", o.terrainSizes, o.terrainSweep, "a size in metres", 0,
+            "Instead of the configurations, the terrain-size sweep: generated mining dumps of these sides in "
+            "metres at 1 m cells, each measured in a child process (given bare: 1000 4000 10000, 1 M, 16 M and "
+            "100 M samples)");
+  addMetres(cmd, "--terrain-cells", o.terrainCells, o.terrainSweep, "a cell size in metres", 1,
+            "Instead of the configurations, the finer terrain sweep (the drone case): the 1000 m mining dump with "
+            "relief down to the cell (make-terrain --fine-relief) at these cell sizes in metres, e.g. 1 0.1 0.032 "
+            "(1 M, 100 M and 1 G samples)");
   cmd.add_option("--terrain-cache", o.terrainCache,
                  "Folder of the sweep's generated DEMs, reused while they exist (default: "
                  "nestwalk-terrain-cache in the system's temporary folder)");

@@ -82,10 +82,10 @@ std::string limitText(double value) {
 Document::Document(std::string title) : title_(std::move(title)) { json["machine"] = machineJson(); }
 
 void Document::target(const std::string& name, const std::string& what, const Json& value, const std::string& op,
-                      double limit, const std::string& unit) {
+                      double limit, const std::string& unit, bool comparable) {
   if (!value.is_number() || std::isnan(value.get<double>())) return;
   const double v = value.get<double>();
-  const bool met = op == ">=" ? v >= limit : op == "<=" ? v <= limit : v < limit;
+  const bool met = comparable && (op == ">=" ? v >= limit : op == "<=" ? v <= limit : v < limit);
   targets.push_back({name, (what.empty() ? "" : what + " ") + op + " " + limitText(limit) + unit, v, met});
 }
 

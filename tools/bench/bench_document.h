@@ -39,10 +39,11 @@ class Document {
   std::map<std::string, std::string> errors;
 
   /// Adds the target `name` when `value` is a number (null or NaN: not measured): met when value
-  /// `op` (">=", "<=" or "<") `limit`; its text "WHAT OP LIMIT UNIT" (limitText), e.g. "Embree /
+  /// `op` (">=", "<=" or "<") `limit`, and never when not `comparable` (the run measured something
+  /// other than the target's figure); its text "WHAT OP LIMIT UNIT" (limitText), e.g. "Embree /
   /// nestwalk >= 15" or, with no `what`, "<= 2 us". One statement of each limit, text and check.
   void target(const std::string& name, const std::string& what, const Json& value, const std::string& op,
-              double limit, const std::string& unit = "");
+              double limit, const std::string& unit = "", bool comparable = true);
 
   /// Records a Google Benchmark suite's run settings in json["machine"] (min_time_s, quick,
   /// repetitions) and returns them as text: "min time per benchmark: 0.02 s (quick)", with

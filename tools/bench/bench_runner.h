@@ -25,6 +25,13 @@ namespace nestwalk::bench {
 struct BenchOptions {
   bool json = false;   // print one JSON document instead of the tables
   bool quick = false;  // smoke run: small data sets, short runs
+
+  /// `given` when the command line set it (not 0, not empty), else the smoke run's default with
+  /// quick, else the full run's.
+  template <class T>
+  T orDefault(const T& given, const std::type_identity_t<T>& quickDefault, const std::type_identity_t<T>& full) const {
+    return given != T{} ? given : quick ? quickDefault : full;
+  }
 };
 
 /// What the Google Benchmark suites add.
@@ -161,6 +168,19 @@ void timePasses(benchmark::State& state, Facts& facts, std::size_t items, const 
   for (const auto& [key, value] : facts)
     if (!std::isnan(value)) state.counters[key] = value;
 }
+
+/// Calls `release` when it goes out of scope, also when the run throws: a suite frees the data its
+/// benchmarks kept (a few GB at full size) at the end of its run.
+class ReleaseAtEnd {
+ public:
+  explicit ReleaseAtEnd(std::function<void()> release) : release_(std::move(release)) {}
+  ~ReleaseAtEnd() { release_(); }
+  ReleaseAtEnd(const ReleaseAtEnd&) = delete;
+  ReleaseAtEnd& operator=(const ReleaseAtEnd&) = delete;
+
+ private:
+  std::function<void()> release_;
+};
 
 /// CPU time of this thread in seconds: build times measured like the queries' CPU times, unaffected
 /// by other processes on a shared machine (wall time there can be twice as long).

@@ -35,15 +35,6 @@ constexpr double kQueryVsDbvt = 2.0;           // target: btDbvt µs / nestwalk 
 constexpr double kBuildSeconds = 1.0;          // target: the default hierarchy's build of 1M boxes
 constexpr std::size_t kBuildTargetBoxes = 1'000'000;
 
-struct Config {
-  std::vector<std::size_t> sizes;
-  std::size_t queries = 100'000;
-};
-Config& config() {
-  static Config c;
-  return c;
-}
-
 struct MethodDef {
   const char* key;
   const char* label;
@@ -86,17 +77,18 @@ struct Scene {
   std::vector<Hits> reference;         // sorted hits per query of the default hierarchy
 };
 
-std::unique_ptr<Scene>& currentScene() {
-  static std::unique_ptr<Scene> s;
-  return s;
-}
-std::map<std::size_t, ReferenceCheck>& referenceChecks() {
-  static std::map<std::size_t, ReferenceCheck> r;
-  return r;
-}
-std::map<std::size_t, std::size_t>& fclMismatches() {
-  static std::map<std::size_t, std::size_t> m;
-  return m;
+/// What the run sets, the one size's data its benchmarks keep at a time, and what they found per
+/// size apart from the benchmarks' facts.
+struct Config {
+  std::vector<std::size_t> sizes;
+  std::size_t queries = 100'000;
+  std::unique_ptr<Scene> scene;
+  std::map<std::size_t, ReferenceCheck> referenceChecks;
+  std::map<std::size_t, std::size_t> fclMismatches;  // FCL's AABBs different from the boxes
+};
+Config& config() {
+  static Config c;
+  return c;
 }
 
 void makeBoxes(Scene& s) {
@@ -145,7 +137,7 @@ void makeQueries(Scene& s) {
 }
 
 Scene& scene(std::size_t n) {
-  std::unique_ptr<Scene>& s = currentScene();
+  std::unique_ptr<Scene>& s = config().scene;
   if (!s || s->n != n || s->queries.size() != config().queries) {
     s.reset();  // free the previous size first
     s = std::make_unique<Scene>();
@@ -186,7 +178,7 @@ const Pass<Hits>& pass(Scene& s, const MethodDef& m) {
   if (m.degree > 0) return s.passes[m.key] = treePass(s, m, built);
   BroadPhasePeer peer = m.peer(s.boxes, s.queries);
   built["build_s"] = peer.buildSeconds;
-  if (&m == &kFcl) fclMismatches()[s.n] = peer.aabbMismatches;
+  if (&m == &kFcl) config().fclMismatches[s.n] = peer.aabbMismatches;
   return s.passes[m.key] = std::move(peer.pass);
 }
 
@@ -197,7 +189,7 @@ const std::vector<Hits>& reference(Scene& s) {
   s.reference.resize(s.queries.size());
   pass(s, kDefaultTree)(s.reference.data());
   for (Hits& h : s.reference) std::sort(h.begin(), h.end());
-  ReferenceCheck& c = referenceChecks()[s.n];
+  ReferenceCheck& c = config().referenceChecks[s.n];
   c.queries = std::min(s.queries.size(), std::max<std::size_t>(10, std::size_t(kBruteForceBoxTests / double(s.n))));
   for (std::size_t k = 0; k < c.queries; ++k) {
     Hits h;
@@ -283,17 +275,11 @@ void printBuildTimes(std::ostream& out) {
 
 Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   Config& c = config();
-  c.sizes = !opts.sizes.empty() ? opts.sizes
-            : opts.quick        ? std::vector<std::size_t>{1000, 10000}
-                                : std::vector<std::size_t>{1000, 10000, 100000, 1000000};
-  c.queries = opts.queries ? opts.queries : (opts.quick ? 10'000 : 100'000);
+  c.sizes = opts.orDefault(opts.sizes, {1000, 10000}, {1000, 10000, 100000, 1000000});
+  c.queries = opts.orDefault(opts.queries, 10'000, 100'000);
   const double minTime = opts.minTime(0.3);
   registerBenchmarks();
-  struct Release {
-    ~Release() { currentScene().reset(); }
-  } release;
-  referenceChecks().clear();
-  fclMismatches().clear();
+  const ReleaseAtEnd release([] { config() = {}; });
   std::string sizes;
   for (std::size_t n : c.sizes) sizes += (sizes.empty() ? "" : "|") + std::to_string(n);
   Document doc("nestwalk bench broadphase: µs per query (CPU time);"
@@ -340,14 +326,14 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
               "fACT's Table 2)\n"
               "brute-force check of nestwalk d=8:";
   Json checks = Json::array();
-  for (const auto& [n, check] : referenceChecks()) {
+  for (const auto& [n, check] : c.referenceChecks) {
     doc.text << " n=" << n << " " << check.differ << "/" << check.queries << " differ;";
     checks.push_back({{"boxes", n}, {"queries", check.queries}, {"differing", check.differ}});
     differing += check.differ;
   }
   doc.json["brute_force_check"] = checks;
   doc.text << " FCL AABBs different from the boxes:";
-  for (const auto& [n, count] : fclMismatches()) {
+  for (const auto& [n, count] : c.fclMismatches) {
     doc.text << " n=" << n << " " << count << ";";
     doc.json["fcl_aabb_mismatches"][std::to_string(n)] = count;
   }

@@ -2,10 +2,10 @@
 #include "tools/bench/render_bench.h"
 
 #include "tools/bench/bench_process.h"
+#include "tools/bench/record_statistics.h"
 #include "tools/bench/peers/osg_paged_lod_terrain.h"
 #include "tools/bench/render_terrain_sweep.h"
 
-#include "nestwalk/core/statistics.h"
 #include "nestwalk/render/paged_terrain.h"
 #include "nestwalk/render/texel_density.h"
 #include "nestwalk/render/view_graph.h"
@@ -57,24 +57,10 @@ struct Config {
   bool demImagery = false;   // the imagery at the DEM's resolution (its finest texel the DEM's spacing), no mip levels
 };
 
-/// The view culling of the first configuration's frames, summed: nested volumes and OSG's spheres.
+/// The view culling of the first configuration's timed frames, frame by frame: nested culling's
+/// counts, and OSG's bounding spheres' on the same frustum.
 struct CullComparison {
-  std::size_t frames = 0;
-  double nestedKept = 0, nestedAabbCulled = 0, nestedObbCulled = 0, nestedObbTested = 0, nestedMicros = 0;
-  double sphereKept = 0, sphereMicros = 0;
-  std::size_t framesNestedKeptMore = 0;
-
-  void add(const RenderFrameStats& s, const CullCounts& sphere) {
-    ++frames;
-    nestedKept += double(s.cull.visible);
-    nestedAabbCulled += double(s.cull.aabbOutside);
-    nestedObbTested += double(s.cull.obbTested);
-    nestedObbCulled += double(s.cull.obbOutside);
-    nestedMicros += s.cull.micros;
-    sphereKept += double(sphere.visible);
-    sphereMicros += sphere.micros;
-    framesNestedKeptMore += s.cull.visible > sphere.visible;
-  }
+  std::vector<CullCounts> nested, spheres;
 };
 
 }  // namespace
@@ -119,6 +105,17 @@ void printRenderSetup(Document& doc, const std::string& legend) {
   doc.text << "\nframes:";
   for (const Json& f : doc.json["flythroughs"]) doc.text << " " << f["script"].get<std::string>() << " " << f["frames"];
   doc.text << legend;
+}
+
+std::pair<int, bool> settlePose(ViewRenderer& renderer, const ViewPose& pose, bool (*done)(const RenderFrameStats&),
+                                const std::function<void()>& wait, bool rendered) {
+  int frames = 1;
+  bool finished = done(rendered ? renderer.lastStats() : renderer.render(pose));
+  for (; !finished && wait && frames < kMaxSettleFrames; ++frames) {
+    wait();
+    finished = done(renderer.render(pose));
+  }
+  return {frames, finished};
 }
 
 namespace {
@@ -182,40 +179,31 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
   doc["route"] = offscreenRouteName(renderer.route());
   doc["gl_renderer"] = renderer.glRenderer();
   const double firstFrameMs = renderer.render(poses.front()).totalMs;  // warm-up, reported apart
-  std::vector<double> total, cullMs, draw, readback, triangles, skirtTriangles, refinedTriangles, exactTriangles;
-  double maxErrorPx = 0, maxErrorM = 0;
-  int finestTexelLevel = std::numeric_limits<int>::max();  // drawn over the poses
-  TexelsPerPixel texelsPerPixel;                              // settled imagery rows, every kTexelPoseStep-th pose
+  std::vector<RenderFrameStats> frames;  // the timed frame of each pose
+  TexelsPerPixel texelsPerPixel;         // settled imagery rows, every kTexelPoseStep-th pose
   const bool measureTexels = c.settle && !c.osgPagedLod && renderer.graph().pagedTerrain().imageryTiles();
   const std::vector<osg::BoundingSphere> spheres = renderer.instanceSpheres();
+  const std::function<void()> waitForPager = [&lod] { lod->waitUntilIdle(kSettleWaitSeconds); };
   std::size_t settleFrames = 0, unsettled = 0;
   for (const ViewPose& pose : poses) {
     if (c.settle) {
-      int n = 1;
-      bool done = complete(renderer.render(pose));
-      for (; !done && lod && n < kMaxSettleFrames; ++n) {
-        lod->waitUntilIdle(kSettleWaitSeconds);
-        done = complete(renderer.render(pose));
-      }
+      const auto [n, done] = settlePose(renderer, pose, complete, lod ? waitForPager : nullptr);
       settleFrames += std::size_t(n);
       unsettled += !done;
     }
     const RenderFrameStats& s = renderer.render(pose);
-    if (measureTexels && (total.size() % kTexelPoseStep) == 0)
+    if (measureTexels && (frames.size() % kTexelPoseStep) == 0)
       sampleTexelsPerPixel(renderer, *scene.terrain, kTexelPixelStep, texelsPerPixel);
-    total.push_back(s.totalMs);
-    cullMs.push_back(s.cullMs);
-    draw.push_back(s.drawMs);
-    readback.push_back(s.readbackMs);
-    triangles.push_back(double(s.triangles));
-    skirtTriangles.push_back(double(s.terrain.skirtTrianglesDrawn));
-    refinedTriangles.push_back(double(s.terrain.refinedTrianglesDrawn));
-    exactTriangles.push_back(double(s.terrain.exactTrianglesDrawn));
-    maxErrorPx = std::max(maxErrorPx, s.terrainErrorPx);
-    maxErrorM = std::max(maxErrorM, s.terrainErrorM);
-    finestTexelLevel = std::min(finestTexelLevel, s.terrain.finestTexelLevelDrawn);
-    if (cull) cull->add(s, sphereCull(spheres, renderer.frustumLocal()));
+    frames.push_back(s);
+    if (cull) {
+      cull->nested.push_back(s.cull);
+      cull->spheres.push_back(sphereCull(spheres, renderer.frustumLocal()));
+    }
   }
+  using F = RenderFrameStats;
+  using T = PagedTerrainStats;
+  auto p50 = [&frames](auto figure) { return percentileOf(frames, 50, figure); };
+  auto largest = [&frames](auto figure) { return percentileOf(frames, 100, figure); };
   Json row = {{"config", c.name},
           {"paging", c.osgPagedLod ? "osg-paged-lod" : "own-quadtree"},
           {"lod_max_px", c.lodPixels},
@@ -224,23 +212,25 @@ Json renderConfig(const Scene& sceneAsLoaded, const Config& c, int width, int he
           {"terrain_resident_mib", double(renderer.graph().terrainStats().residentBytes) / (1 << 20)},
           {"imagery_mib", double(renderer.graph().terrainStats().imageryBytes) / (1 << 20)},
           {"frames", poses.size()},
-          {"ms_p50", percentile(total, 50)},
-          {"ms_p95", percentile(total, 95)},
-          {"cull_ms_p50", percentile(cullMs, 50)},
-          {"draw_ms_p50", percentile(draw, 50)},
-          {"readback_ms_p50", percentile(readback, 50)},
-          {"fps_p50", 1000.0 / percentile(total, 50)},
-          {"mean_triangles", mean(triangles)},
-          {"max_triangles", percentile(triangles, 100)},
-          {"mean_skirt_triangles", mean(skirtTriangles)},
-          {"mean_refined_level0_triangles", mean(refinedTriangles)},
-          {"mean_exact_level0_triangles", mean(exactTriangles)},
-          {"max_terrain_error_px", maxErrorPx},
-          {"max_terrain_error_m", maxErrorM},
+          {"ms_p50", p50(&F::totalMs)},
+          {"ms_p95", percentileOf(frames, 95, &F::totalMs)},
+          {"cull_ms_p50", p50(&F::cullMs)},
+          {"draw_ms_p50", p50(&F::drawMs)},
+          {"readback_ms_p50", p50(&F::readbackMs)},
+          {"fps_p50", 1000.0 / p50(&F::totalMs)},
+          {"mean_triangles", meanOf(frames, &F::triangles)},
+          {"max_triangles", largest(&F::triangles)},
+          {"mean_skirt_triangles", meanOf(frames, terrainFigure(&T::skirtTrianglesDrawn))},
+          {"mean_refined_level0_triangles", meanOf(frames, terrainFigure(&T::refinedTrianglesDrawn))},
+          {"mean_exact_level0_triangles", meanOf(frames, terrainFigure(&T::exactTrianglesDrawn))},
+          {"max_terrain_error_px", largest(&F::terrainErrorPx)},
+          {"max_terrain_error_m", largest(&F::terrainErrorM)},
           {"first_frame_ms", firstFrameMs},
           {"setup_ms", setupMs}};
-  if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles())
-    row["finest_texel_cm"] = 100 * tiles->texelSize(finestTexelLevel);
+  if (const ImageryTiles* tiles = c.osgPagedLod ? nullptr : renderer.graph().pagedTerrain().imageryTiles()) {
+    const double finest = percentileOf(frames, 0, terrainFigure(&T::finestTexelLevelDrawn));
+    row["finest_texel_cm"] = 100 * tiles->texelSize(int(finest));  // the finest level drawn over the poses
+  }
   auto median = [](const std::vector<double>& v) { return v.empty() ? Json() : Json(percentile(v, 50)); };
   if (measureTexels) {
     row["texels_per_px_near"] = median(texelsPerPixel.near);
@@ -322,7 +312,20 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
 
   printRenderSetup(doc, " (poses sampled evenly along each flythrough; the first frame is a warm-up, shown apart)\n\n");
   doc.table("configs", table);
-  const double n = double(std::max<std::size_t>(cull.frames, 1));
+  std::size_t keptMore = 0;  // frames where the nested volumes kept more than the spheres
+  for (std::size_t k = 0; k < cull.nested.size(); ++k) keptMore += cull.nested[k].visible > cull.spheres[k].visible;
+  using C = CullCounts;
+  const Json& v = j["view_culling"] = {{"frames", cull.nested.size()},
+                                       {"instances", scene.instances.size()},
+                                       {"nested_kept_mean", meanOf(cull.nested, &C::visible)},
+                                       {"nested_aabb_culled_mean", meanOf(cull.nested, &C::aabbOutside)},
+                                       {"nested_obb_tested_mean", meanOf(cull.nested, &C::obbTested)},
+                                       {"nested_obb_culled_mean", meanOf(cull.nested, &C::obbOutside)},
+                                       {"nested_us_mean", meanOf(cull.nested, &C::micros)},
+                                       {"osg_spheres_kept_mean", meanOf(cull.spheres, &C::visible)},
+                                       {"osg_spheres_us_mean", meanOf(cull.spheres, &C::micros)},
+                                       {"frames_nested_kept_more", keptMore}};
+  auto perFrame = [&v](const char* key) { return v[key].get<double>(); };
   char line[1024];
   std::snprintf(line, sizeof line,
                 "(cull: event, update and cull traversals; draw: until glFinish; readback: glReadPixels; "
@@ -337,20 +340,11 @@ int runBenchmark(const RenderBenchOptions& o, std::ostream& out) {
                 "  nested volumes: keep %.1f (outer AABB culls %.1f; %.1f undecided go to the inner OBB, which culls "
                 "%.2f), %.2f us\n"
                 "  OSG bounding spheres: keep %.1f, %.2f us; frames where nested kept more: %zu\n",
-                scene.instances.size(), cull.frames, cull.nestedKept / n, cull.nestedAabbCulled / n,
-                cull.nestedObbTested / n, cull.nestedObbCulled / n, cull.nestedMicros / n, cull.sphereKept / n,
-                cull.sphereMicros / n, cull.framesNestedKeptMore);
+                scene.instances.size(), cull.nested.size(), perFrame("nested_kept_mean"),
+                perFrame("nested_aabb_culled_mean"), perFrame("nested_obb_tested_mean"),
+                perFrame("nested_obb_culled_mean"), perFrame("nested_us_mean"), perFrame("osg_spheres_kept_mean"),
+                perFrame("osg_spheres_us_mean"), keptMore);
   doc.text << line;
-  j["view_culling"] = {{"frames", cull.frames},
-                       {"instances", scene.instances.size()},
-                       {"nested_kept_mean", cull.nestedKept / n},
-                       {"nested_aabb_culled_mean", cull.nestedAabbCulled / n},
-                       {"nested_obb_tested_mean", cull.nestedObbTested / n},
-                       {"nested_obb_culled_mean", cull.nestedObbCulled / n},
-                       {"nested_us_mean", cull.nestedMicros / n},
-                       {"osg_spheres_kept_mean", cull.sphereKept / n},
-                       {"osg_spheres_us_mean", cull.sphereMicros / n},
-                       {"frames_nested_kept_more", cull.framesNestedKeptMore}};
   doc.target("frame rate", "", table.rows().front()["fps_p50"], ">=", kTargetFps,
              " frames per second at " + std::to_string(width) + "x" + std::to_string(height) + " (LOD 1 px, median)");
   return doc.write(out, o.json);

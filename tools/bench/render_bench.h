@@ -15,11 +15,16 @@
 #include "tools/bench/bench_runner.h"
 #include "tools/bench/bench_document.h"
 
+#include "nestwalk/render/frame_stats.h"
+
+#include <functional>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nestwalk {
+class ViewRenderer;
 struct Scene;
 struct ViewPose;
 }  // namespace nestwalk
@@ -64,6 +69,20 @@ Document renderDocument(const std::string& title, const std::string& benchmark, 
 /// them: "320x180, llvmpipe (...) (pbuffer)"), and of the frames each flythrough gave ("frames:
 /// SCRIPT N ..."), then `legend`.
 void printRenderSetup(Document& doc, const std::string& legend);
+
+/// A figure of a frame's paged terrain (PagedTerrainStats::*), read from the frame's statistics
+/// (for record_statistics.h).
+template <class T>
+auto terrainFigure(T PagedTerrainStats::*figure) {
+  return [figure](const RenderFrameStats& s) { return s.terrain.*figure; };
+}
+
+/// Settles a pose: renders it until done(frame) or kMaxSettleFrames frames, calling wait() (the
+/// pager's or loader's) between two frames; without a wait, one frame. With `rendered`, the
+/// renderer's last frame is the pose's first. Returns the frames and whether the last was done
+/// (its figures: renderer.lastStats()).
+std::pair<int, bool> settlePose(ViewRenderer& renderer, const ViewPose& pose, bool (*done)(const RenderFrameStats&),
+                                const std::function<void()>& wait, bool rendered = false);
 
 /// Renders the configurations (quick: the first two) and prints their table, the culling
 /// comparison and the target (or one JSON document) to `out`. Returns 0. With terrainSweep (or

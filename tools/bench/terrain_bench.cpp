@@ -12,6 +12,7 @@
 #include "tools/bench/bench_document.h"
 #include "tools/bench/peers/terrain_peers.h"
 
+#include "nestwalk/core/output_file.h"
 #include "nestwalk/core/random.h"
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/core/number_text.h"
@@ -29,8 +30,6 @@
 #include <numbers>
 #include <ostream>
 
-#include <unistd.h>
-
 namespace nestwalk::bench {
 namespace {
 
@@ -43,16 +42,6 @@ constexpr double kGroundVsDirect = 1.2;    // target: groundHeight ns / direct l
 constexpr double kGroundVsEmbree = 15.0;   // target: Embree ns / groundHeight ns at least
 constexpr double kObliqueVsEmbree = 1.0;   // target: Embree ns / intersectRay ns at least, oblique
 constexpr int kLevelChunkCells = 64;        // the level table's chunks (RenderOptions::terrainChunkCells)
-
-struct Config {
-  int grid = 2049;
-  std::size_t rays = 1'000'000;
-  std::size_t slowRays = 50'000;  // OSG on every set, Bullet on the oblique set
-};
-Config& config() {
-  static Config c;
-  return c;
-}
 
 /// A lattice point's value in [-1, 1], hashed from the point and the seed.
 double latticeValue(std::int64_t x, std::int64_t y, std::uint64_t seed) {
@@ -91,58 +80,32 @@ struct Terrain {
   std::map<std::string, RayPeer> peers;
   std::map<std::string, double> buildSeconds;
   /// The same grid paged (terrain/paged_heightfield.h) from a terrain file and its pyramid written
-  /// to a temporary folder on first use (the write not timed); the default tile budget holds it all,
-  /// so the rows measure a paged query's own cost once its tiles are read.
+  /// to a temporary folder on first use (the write not timed; the folder removed after the paged
+  /// field, with the terrain); the default tile budget holds it all, so the rows measure a paged
+  /// query's own cost once its tiles are read.
+  std::unique_ptr<const OutputFolder> pagedFolder;
   std::unique_ptr<terrain::Heightfield> paged;
-  std::filesystem::path pagedFolder;
-  ~Terrain() {
-    paged.reset();
-    std::error_code ec;
-    if (!pagedFolder.empty()) std::filesystem::remove_all(pagedFolder, ec);
-  }
   const terrain::Heightfield& pagedField() {
     if (!paged) {
-      pagedFolder = std::filesystem::temp_directory_path() / ("nestwalk-bench-paged-" + std::to_string(::getpid()));
-      std::filesystem::create_directories(pagedFolder);
-      const std::string path = (pagedFolder / "grid.tif").string();
+      pagedFolder = std::make_unique<const OutputFolder>(
+          (std::filesystem::temp_directory_path() / "nestwalk-bench-paged").string());
+      const std::string path = (std::filesystem::path(pagedFolder->tempPath()) / "grid.tif").string();
       terrain::writeTerrainCog(path, grid.n, grid.n, grid.heights, kOriginX, kOriginY, kSpacing, kSpacing, "EPSG:32633",
                                true);
-      const auto t0 = std::chrono::steady_clock::now();
-      paged = std::make_unique<terrain::Heightfield>(
-          terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(path)));
-      buildSeconds["nestwalk_paged_open"] = secondsSince(t0);
+      buildSeconds["nestwalk_paged_open"] = leastSeconds(1, [&] {
+        paged = std::make_unique<terrain::Heightfield>(
+            terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(path)));
+      });
     }
     return *paged;
   }
 
   const RayPeer& peer(const std::string& key, RayPeer (*make)(const HeightGrid&)) {
     auto it = peers.find(key);
-    if (it == peers.end()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      it = peers.emplace(key, make(grid)).first;
-      buildSeconds[key] = secondsSince(t0);
-    }
+    if (it == peers.end()) buildSeconds[key] = leastSeconds(1, [&] { it = peers.emplace(key, make(grid)).first; });
     return it->second;
   }
 };
-
-std::unique_ptr<Terrain>& currentTerrain() {
-  static std::unique_ptr<Terrain> t;
-  return t;
-}
-
-Terrain& terrainData() {
-  std::unique_ptr<Terrain>& t = currentTerrain();
-  if (!t || t->grid.n != config().grid) {
-    t = std::make_unique<Terrain>();
-    t->grid = makeGrid(config().grid);
-    const auto t0 = std::chrono::steady_clock::now();
-    t->hf = std::make_unique<terrain::Heightfield>(t->grid.n, t->grid.n, t->grid.heights, kOriginX, kOriginY, kSpacing,
-                                                   kSpacing);
-    t->buildSeconds["nestwalk"] = secondsSince(t0);
-  }
-  return *t;
-}
 
 // ------------------------------------------------------------------------------------------------
 // Ray sets, in the local frame; nestwalk gets the origins in map coordinates.
@@ -165,6 +128,32 @@ struct RaySet {
   std::vector<Eigen::Vector3d> mapOrigin;  // nestwalk's input
   std::vector<double> reference;           // nestwalk's answers (hit z, NaN on a miss); empty: not yet
 };
+
+/// What the run sets, and the data its benchmarks keep for the whole run.
+struct Config {
+  int grid = 2049;
+  std::size_t rays = 1'000'000;
+  std::size_t slowRays = 50'000;  // OSG on every set, Bullet on the oblique set
+  std::unique_ptr<Terrain> terrain;
+  std::map<std::string, RaySet> raySets;
+};
+Config& config() {
+  static Config c;
+  return c;
+}
+
+Terrain& terrainData() {
+  std::unique_ptr<Terrain>& t = config().terrain;
+  if (!t || t->grid.n != config().grid) {
+    t = std::make_unique<Terrain>();
+    t->grid = makeGrid(config().grid);
+    t->buildSeconds["nestwalk"] = leastSeconds(1, [&] {
+      t->hf = std::make_unique<terrain::Heightfield>(t->grid.n, t->grid.n, t->grid.heights, kOriginX, kOriginY,
+                                                     kSpacing, kSpacing);
+    });
+  }
+  return *t;
+}
 
 void makeRays(const SetSpec& spec, const Terrain& t, RaySet& s) {
   const HeightGrid& g = t.grid;
@@ -212,13 +201,8 @@ void makeRays(const SetSpec& spec, const Terrain& t, RaySet& s) {
   for (const Eigen::Vector3d& o : q.origin) s.mapOrigin.push_back(o + Eigen::Vector3d(kOriginX, kOriginY, 0));
 }
 
-std::map<std::string, RaySet>& raySets() {
-  static std::map<std::string, RaySet> s;
-  return s;
-}
-
 RaySet& raySet(const SetSpec& spec) {
-  RaySet& s = raySets()[spec.key];
+  RaySet& s = config().raySets[spec.key];
   if (s.n != config().rays) {
     s = RaySet{config().rays, {}, {}, {}};
     makeRays(spec, terrainData(), s);
@@ -442,17 +426,15 @@ void printLevels(Document& doc, const Terrain& t) {
 
 int runBenchmark(const TerrainBenchOptions& opts, std::ostream& out) {
   Config& c = config();
-  c.grid = opts.gridSamples > 0 ? opts.gridSamples : (opts.quick ? 257 : 2049);
-  c.rays = opts.rays ? opts.rays : (opts.quick ? 20'000 : 1'000'000);
+  c.grid = opts.orDefault(opts.gridSamples, 257, 2049);
+  c.rays = opts.orDefault(opts.rays, 20'000, 1'000'000);
   c.slowRays = std::min<std::size_t>(opts.slowRays ? opts.slowRays : 50'000, c.rays);
   const double minTime = opts.minTime(0.5);
   registerBenchmarks();
-  struct Release {  // the terrain, the peers' structures and the rays: a few GB at full size
-    ~Release() {
-      raySets().clear();
-      currentTerrain().reset();
-    }
-  } release;
+  const ReleaseAtEnd release([] {  // the terrain, the peers' structures and the rays: a few GB at full size
+    config().raySets.clear();
+    config().terrain.reset();
+  });
   Suite& s = suite();
   if (const std::optional<int> rc = s.run(opts, minTime, "^terrain/", out)) return *rc;
 

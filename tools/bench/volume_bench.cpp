@@ -34,14 +34,6 @@ constexpr int kScaleHalvings = 50;    // bisection steps of the pairs' centre-di
 constexpr double kMaxScale = 1e6;     // m, where the search for the scale's upper bound gives up
 constexpr double kBoxPairsVsScalar = 5.0; // target: testBoxPair ns / testBoxPairs ns (query overlap)
 
-struct Config {
-  std::size_t pairs = 1'000'000;
-};
-Config& config() {
-  static Config c;
-  return c;
-}
-
 /// SplitMix64 with random directions and rotations.
 class Rng : public SplitMix64 {
  public:
@@ -129,14 +121,19 @@ void makePairs(BoxSet& s, Rng& rng) {
   }
 }
 
-std::unique_ptr<BoxSet>& currentSet() {
-  static std::unique_ptr<BoxSet> s;
-  return s;
+/// What the run sets, and the one set its benchmarks keep at a time.
+struct Config {
+  std::size_t pairs = 1'000'000;
+  std::unique_ptr<BoxSet> set;
+};
+Config& config() {
+  static Config c;
+  return c;
 }
 
 /// The set of `spec` at the configured size; only one set is kept at a time.
 BoxSet& boxSet(const SetSpec& spec) {
-  std::unique_ptr<BoxSet>& s = currentSet();
+  std::unique_ptr<BoxSet>& s = config().set;
   const std::size_t n = config().pairs;
   if (!s || s->spec != &spec || s->n != n) {
     s.reset();
@@ -323,12 +320,10 @@ void printDisagreements(std::ostream& out, const Table& table) {
 }  // namespace
 
 int runBenchmark(const VolumeBenchOptions& opts, std::ostream& out) {
-  config().pairs = opts.pairs ? opts.pairs : (opts.quick ? 20'000 : 1'000'000);
+  config().pairs = opts.orDefault(opts.pairs, 20'000, 1'000'000);
   const double minTime = opts.minTime(0.5);
   registerBenchmarks();
-  struct Release {  // the data sets take up to a few GB at 1M pairs
-    ~Release() { currentSet().reset(); }
-  } release;
+  const ReleaseAtEnd release([] { config().set.reset(); });  // the data sets take up to a few GB at 1M pairs
   Suite& s = suite();
   if (const std::optional<int> rc = s.run(opts, minTime, "^volumes/", out)) return *rc;
 

@@ -3,6 +3,7 @@
 
 #include "tools/bench/bench_document.h"
 #include "tools/bench/broadphase_bench.h"
+#include "tools/bench/record_statistics.h"
 
 #include "nestwalk/core/angles.h"
 #include "nestwalk/core/random.h"
@@ -128,10 +129,13 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
   };
   newTarget();
   const std::size_t warmup = std::min<std::size_t>(1000, steps / 10);
-  std::vector<double> us;
-  us.reserve(steps);
-  std::size_t contacts = 0;
-  double nodeTests = 0, stageTests[3] = {0, 0, 0};
+  struct Step {
+    double us;
+    bool blocked;
+    CollisionCounters counters;
+  };
+  std::vector<Step> timed;
+  timed.reserve(steps);
   int blockedRun = 0;
   for (std::size_t i = 0; i < steps + warmup; ++i) {
     Eigen::Vector2d d = target - walker.state().feet.head<2>();
@@ -147,31 +151,25 @@ Json timeSteps(const World& w, std::size_t steps, std::uint64_t seed) {
     const StepReport r = walker.step(in);
     const double seconds = secondsSince(t0);
     blockedRun = walker.state().blocked ? blockedRun + 1 : 0;
-    if (i < warmup) continue;
-    us.push_back(1e6 * seconds);
-    contacts += walker.state().blocked;
-    nodeTests += double(r.counters.nodeTests);
-    for (int k = 0; k < 3; ++k) stageTests[k] += double(r.counters.stageTests.values[std::size_t(k)]);
+    if (i >= warmup) timed.push_back({1e6 * seconds, walker.state().blocked, r.counters});
   }
-  const double n = double(us.size());
+  auto stage = [](std::size_t k) { return [k](const Step& s) { return s.counters.stageTests.values[k]; }; };
   return {{"instances", w.world->size()},
-          {"steps", us.size()},
-          {"p50_us", percentile(us, 50)},
-          {"p99_us", percentile(us, 99)},
-          {"max_us", percentile(us, 100)},
-          {"mean_us", mean(us)},
-          {"contacts_per_1000", 1000.0 * double(contacts) / n},
-          {"node_tests_per_step", nodeTests / n},
-          {"stage_tests_per_step", {stageTests[0] / n, stageTests[1] / n, stageTests[2] / n}},
+          {"steps", timed.size()},
+          {"p50_us", percentileOf(timed, 50, &Step::us)},
+          {"p99_us", percentileOf(timed, 99, &Step::us)},
+          {"max_us", percentileOf(timed, 100, &Step::us)},
+          {"mean_us", meanOf(timed, &Step::us)},
+          {"contacts_per_1000", 1000.0 * meanOf(timed, &Step::blocked)},
+          {"node_tests_per_step", meanOf(timed, [](const Step& s) { return s.counters.nodeTests; })},
+          {"stage_tests_per_step", {meanOf(timed, stage(0)), meanOf(timed, stage(1)), meanOf(timed, stage(2))}},
           {"build_s", w.buildSeconds}};
 }
 
 /// Part 1: the steps table.
 void walkerSteps(Document& doc, const WalkerBenchOptions& o) {
-  std::vector<std::size_t> sizes = o.sizes;
-  if (sizes.empty())
-    sizes = o.quick ? std::vector<std::size_t>{1000, 10000} : std::vector<std::size_t>{1000, 100000, 1000000};
-  const std::size_t steps = o.steps ? o.steps : (o.quick ? 5000 : 200000);
+  const std::vector<std::size_t> sizes = o.orDefault(o.sizes, {1000, 10000}, {1000, 100000, 1000000});
+  const std::size_t steps = o.orDefault(o.steps, 5000, 200000);
   Table table;
   table.column({"instances", "/instances", 10});
   for (const char* p : {"p50", "p99", "max", "mean"})  // µs per step
@@ -207,15 +205,24 @@ std::vector<std::pair<std::string, MethodSpec>> hierarchies(const MethodSpec& ba
   return out;
 }
 
+/// Parts 3 to 5's scene and flythroughs, each read once, and the walker's options for playing them
+/// (the scene's viewer, no timing of the step's parts).
+struct Flythroughs {
+  explicit Flythroughs(const WalkerBenchOptions& o) : scene(loadScene(o.scene)) {
+    for (const std::string& p : o.scripts) scripts.push_back(readScript(p));
+    walker.viewer = scene.spec.viewer;
+    walker.timeParts = false;
+  }
+  const Scene scene;
+  std::vector<Script> scripts;
+  WalkerOptions walker;
+};
+
 /// Part 3: the BV tests of every hierarchy on the flythroughs, fACT's Table 2. False when the
 /// hierarchies' contacts differ.
-bool table2(Document& doc, const WalkerBenchOptions& o) {
-  const Scene scene = loadScene(o.scene);
-  std::vector<Script> scripts;
-  for (const auto& p : o.scripts) scripts.push_back(readScript(p));
-  WalkerOptions wo;
-  wo.viewer = scene.spec.viewer;
-  wo.timeParts = false;
+bool table2(Document& doc, const WalkerBenchOptions& o, const Flythroughs& f) {
+  const Scene& scene = f.scene;
+  const std::vector<Script>& scripts = f.scripts;
   Table table;
   table.column({"hierarchy", "/hierarchy", 28});
   for (std::size_t i = 0; i < scripts.size(); ++i)
@@ -233,7 +240,7 @@ bool table2(Document& doc, const WalkerBenchOptions& o) {
     for (const Script& sc : scripts) {
       std::uint64_t node = 0, stage[3] = {0, 0, 0};
       std::string signature;
-      for (const auto& r : runFlythrough(scene, world, sc, wo).records) {
+      for (const auto& r : runFlythrough(scene, world, sc, f.walker).records) {
         node += r.nodeTests;
         for (int k = 0; k < 3; ++k) stage[k] += r.stageTests.values[std::size_t(k)];
         signature += r.blocked ? r.blockedBy + ";" : "-;";
@@ -301,8 +308,7 @@ double nsPerQuery(std::size_t queries, const F& run) {
 /// size). A row of the narrow-phase table.
 Json narrowRow(const std::string& what, const CollisionWorld& world,
                const std::vector<CandidateRecorder::Query>& qs) {
-  std::vector<double> counts;
-  for (const auto& q : qs) counts.push_back(double(q.candidates.size()));
+  const std::vector<double> counts = figureOf(qs, [](const CandidateRecorder::Query& q) { return q.candidates.size(); });
   const double scalar = nsPerQuery(qs.size(), [&] {
     std::size_t hits = 0;
     for (const auto& q : qs)
@@ -331,16 +337,12 @@ Json narrowRow(const std::string& what, const CollisionWorld& world,
 /// Part 4: the walker's narrow phase at the candidate counts it sees on the bundled flythroughs,
 /// and at fixed counts (each recorded viewer against its k nearest units) to find where a batch
 /// pays. Recorded on the scene's own method and hierarchy.
-void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
-  const Scene scene = loadScene(o.scene);
-  WalkerOptions wo;
-  wo.viewer = scene.spec.viewer;
-  wo.timeParts = false;
-  CollisionWorld world = CollisionWorld::fromScene(scene, scene.spec.method);
+void narrowPhase(Document& doc, const Flythroughs& f) {
+  CollisionWorld world = CollisionWorld::fromScene(f.scene, f.scene.spec.method);
   CandidateRecorder recorder(world);
   {
     const ObservedSweeps observed(world, recorder);
-    for (const auto& p : o.scripts) runFlythrough(scene, world, readScript(p), wo);
+    for (const Script& script : f.scripts) runFlythrough(f.scene, world, script, f.walker);
   }
   Table table;
   table.column({"queries", "/queries", 22, 0, true}).column({"count", "/count", 8});
@@ -368,21 +370,13 @@ void narrowPhase(Document& doc, const WalkerBenchOptions& o) {
   doc.table("narrow_phase", table);
 }
 
-}  // namespace
-
 /// Part 5: what a run's results layers cost next to the whole headless run (each flythrough
 /// recorded as `nestwalk run` does), and a 10,000-fix GPS track turned into a script.
-void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
-  const std::filesystem::path folder = tempPathBeside(
-      (std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string(), "bench");
-  std::filesystem::create_directories(folder);
-  struct RemoveAtEnd {
-    std::filesystem::path folder;
-    ~RemoveAtEnd() {
-      std::error_code ec;
-      std::filesystem::remove_all(folder, ec);
-    }
-  } removeAtEnd{folder};  // also when a run or the route throws
+void routesAndResults(Document& doc, const WalkerBenchOptions& o, const Scene& scene) {
+  // The runs and the track in a folder of the benchmark's own, removed at the end (also when a run
+  // or the route throws).
+  const OutputFolder scratch((std::filesystem::temp_directory_path() / "nestwalk-bench-routes").string());
+  const std::filesystem::path folder = scratch.tempPath();
   Table table;
   table.column({"flythrough", "/script", 22, 0, true}).column({"run s", "/run_s", 9, 3}).column({"layers s", "/layers_s", 10, 3});
   table.column({"%", "/layers_percent", 7, 1, false, false, "%"});
@@ -400,7 +394,6 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
                {"layers_s", r.layersSeconds}, {"layers_percent", 100.0 * r.layersSeconds / r.seconds}});
   }
   // A phone's track of kRouteFixes fixes, walking back and forth across the scene's middle.
-  const Scene scene = loadScene(o.scene);
   const terrain::Heightfield& hf = *scene.terrain;
   const Eigen::Vector2d mid = hf.samplePosition(hf.cols() / 2, hf.rows() / 2);
   assets::PhoneTrack track;
@@ -420,10 +413,11 @@ void routesAndResults(Document& doc, const WalkerBenchOptions& o) {
   doc.text << "route: a " << gotos + 1 << "-fix GPX track into a timed script: " << routeSeconds << " s\n";
   doc.json["route_fixes"] = gotos + 1;
   doc.json["route_seconds"] = routeSeconds;
-  doc.targets.push_back({"results layers' share of the headless runs (%)", "<= " + std::to_string(int(kTargetLayersPercent)),
-                         100.0 * layers / run, 100.0 * layers / run <= kTargetLayersPercent});
-  doc.targets.push_back({"10,000-fix GPX track into a script (s)", "<= 1", routeSeconds, routeSeconds <= kTargetRouteSeconds});
+  doc.target("results layers' share of the headless runs (%)", "", 100.0 * layers / run, "<=", kTargetLayersPercent);
+  doc.target("10,000-fix GPX track into a script (s)", "", routeSeconds, "<=", kTargetRouteSeconds);
 }
+
+}  // namespace
 
 int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
   Document doc("nestwalk bench walker:"
@@ -438,10 +432,12 @@ int runBenchmark(const WalkerBenchOptions& o, std::ostream& out) {
     doc.targets.insert(doc.targets.end(), bp.targets.begin(), bp.targets.end());
     for (const auto& [name, message] : bp.errors) doc.errors["broad phase: " + name] = message;
   }
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty() && !table2(doc, o))
-    doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) narrowPhase(doc, o);
-  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) routesAndResults(doc, o);
+  if (o.table2 && !o.scene.empty() && !o.scripts.empty()) {
+    const Flythroughs flythroughs(o);
+    if (!table2(doc, o, flythroughs)) doc.errors["table2"] = "the hierarchies' contacts differ on the flythroughs";
+    narrowPhase(doc, flythroughs);
+    routesAndResults(doc, o, flythroughs.scene);
+  }
   return doc.write(out, o.json);
 }
 
