@@ -12,7 +12,8 @@
 //   Sa = a0 + a1 + a2, Sb = b0 + b1 + b2   (float half extents, inflated)
 //   C  = |cA|_1 + |cB|_1      (magnitude of the coordinates; testBoxPairs has cA = 0)
 //   M  = tn + Sa + Sb + C.
-// Sources of difference, for boxes whose axes are orthonormal to 1e-6 (checked, see below):
+// Sources of difference, for boxes whose axes are orthonormal to 1e-6 (checked by the kernel, or
+// vouched for by the caller: BoxPairsView::orthonormalAxes):
 //  - R = A^T B: entries of A and B rounded (u relative each), 3-term float dot products (3u of
 //    sum |A||B| <= 1): |dR| <= 5.1u.
 //  - cB - cA: centres rounded (u |c|), float subtraction (u |diff|); t = A^T diff: axes rounded
@@ -129,12 +130,15 @@ BatchKernel obbBatchKernel() {
 #ifdef NESTWALK_HAVE_AVX2_PATH
   static const BatchKernel best = [] {
     __builtin_cpu_init();
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return BatchKernel::Portable;
+#ifdef NESTWALK_OBB_BATCH_AVX512
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
       return BatchKernel::Avx512;
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return BatchKernel::Avx2;
-    return BatchKernel::Portable;
+#endif
+    return BatchKernel::Avx2;
   }();
+  // Other values of NESTWALK_SIMD are ignored: the widest kernel runs.
   const char* env = std::getenv("NESTWALK_SIMD");
   if (env && std::strcmp(env, "portable") == 0) return BatchKernel::Portable;
   if (env && std::strcmp(env, "avx2") == 0 && best == BatchKernel::Avx512) return BatchKernel::Avx2;
@@ -155,16 +159,19 @@ const char* batchKernelName(BatchKernel k) {
 
 namespace {
 
+void gatherBlockScalar(const BoxPairsView& v, std::size_t base, PairBlock& p, unsigned& aAligned, unsigned& bAligned) {
+  gatherScalar(v, base, kBatchLanes, p, aAligned, bAligned);
+}
+
 std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
-  return boxPairBlocks<v4f, v4i>(pairs, out,
-                                 [](const BoxPairsView& v, std::size_t base, PairBlock& p, unsigned& aAl, unsigned& bAl) {
-                                   gatherScalar(v, base, kBatchLanes, p, aAl, bAl);
-                                 });
+  return pairs.orthonormalAxes ? boxPairBlocks<v4f, v4i, false>(pairs, out, gatherBlockScalar)
+                               : boxPairBlocks<v4f, v4i, true>(pairs, out, gatherBlockScalar);
 }
 
 #ifdef NESTWALK_HAVE_AVX2_PATH
 [[gnu::target("avx2,fma")]] std::size_t boxPairsAvx2(const BoxPairsView& pairs, NestedResult* out) {
-  return boxPairBlocks<v8f, v8i>(pairs, out, gatherBlockAvx2);
+  return pairs.orthonormalAxes ? boxPairBlocks<v8f, v8i, false>(pairs, out, gatherBlockAvx2)
+                               : boxPairBlocks<v8f, v8i, true>(pairs, out, gatherBlockAvx2);
 }
 #endif
 
@@ -173,7 +180,11 @@ std::size_t boxPairsPortable(const BoxPairsView& pairs, NestedResult* out) {
 std::size_t testBoxPairs(const BoxPairsView& pairs, NestedResult* out) {
 #ifdef NESTWALK_HAVE_AVX2_PATH
   switch (obbBatchKernel()) {
+#ifdef NESTWALK_OBB_BATCH_AVX512
     case BatchKernel::Avx512: return obb_batch_detail::boxPairsAvx512(pairs, out);
+#else
+    case BatchKernel::Avx512: break;  // not built: obbBatchKernel never chooses it
+#endif
     case BatchKernel::Avx2: return boxPairsAvx2(pairs, out);
     case BatchKernel::Portable: break;
   }

@@ -61,10 +61,11 @@ struct BoxPairsView {
   std::size_t count = 0;
   std::size_t stride = sizeof(Obb<double>);
   /// True: the caller vouches that every box keeps Obb's contract on its axes (orthonormal to
-  /// kAxesTolerance<double>, volumes.h), as BoxPairsReader's boxes do, and the kernel skips its own
-  /// check of the float axes (about a tenth of its work). False (the default): a box whose axes
-  /// break the contract is found and answered by testBoxPair like any lane the float analysis does
-  /// not cover. With true, such a box may be answered wrongly.
+  /// kAxesTolerance<double> = 1e-13, volumes.h), as BoxPairsReader's boxes do, and the kernel skips
+  /// its own check of the float axes (about a tenth of its work). The float analysis needs the
+  /// axes orthonormal to about 1e-6. False (the default): the kernel checks the float axes to 5e-7
+  /// and sends a box further off to testBoxPair, like any lane the analysis does not cover. With
+  /// true, a box off by more than about 1e-6 may be answered wrongly.
   bool orthonormalAxes = false;
 
   const Obb<double>& first(std::size_t k) const { return at(a, k); }

@@ -1,21 +1,27 @@
 // The float kernel of testBoxPairs (obb_batch.h), private to the geometry module: included by
 // obb_batch.cpp (the SSE and AVX2 forms) and obb_batch_avx512.cpp (the AVX-512 form, a file of its
 // own because GCC 12 scalarises 64-byte vector compares in a function given AVX-512 by a target
-// attribute; that file is compiled with the AVX-512 flags instead). Everything here has internal
-// linkage (an unnamed namespace), so no inline function compiled for AVX-512 can stand in for the
-// portable build's. The error analysis behind the slacks is at the top of obb_batch.cpp.
+// attribute; that file is compiled with the AVX-512 flags instead). Everything defined here has
+// internal linkage (an unnamed namespace), and the kernel calls no inline function from another
+// header (the pairs' fields are read by pointer arithmetic; no std::min, no Eigen accessor), so
+// even an unoptimised build compiles nothing for AVX-512 that the linker could pick for the
+// portable build's code; the test ObbBatch.Avx512FileDefinesOnlyItsEntryPoint checks the object.
+// The error analysis behind the slacks is at the top of obb_batch.cpp.
 #pragma once
 
 #include "nestwalk/geometry/obb_batch.h"
 
-#include <algorithm>
+#include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 
+// The AVX2 form is built on x86-64 with GCC or Clang (a target attribute); the AVX-512 form where
+// CMake compiles obb_batch_avx512.cpp with the AVX-512 flags and says so with
+// NESTWALK_OBB_BATCH_AVX512 (engine/CMakeLists.txt). Both are chosen at run time.
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
-#define NESTWALK_HAVE_AVX2_PATH 1  // the AVX2 and AVX-512 forms are built (chosen at run time)
+#define NESTWALK_HAVE_AVX2_PATH 1
 #endif
 
 namespace nestwalk {
@@ -80,12 +86,13 @@ template <class V, class VI>
 // (the pair's local frame, as testBoxPair), B's centre is fl(cB - cA), the axes are rounded to
 // nearest and every half extent becomes fl(e) + kGrowCentre |fl(c)|_1 + kGrowSize (sum fl(e)) +
 // kGrowAbs, computed in float. That exceeds toFloatConservative's enlargement 2 disp +
-// (4u + 1e-12) sum e (<= 2u |c|_1 + 7.5u sum e, see above) after the roundings of fl(e) (u e),
+// (4u + 1e-12) sum e (<= 2u |c|_1 + 7.5u sum e, obb_batch.cpp) after the roundings of fl(e) (u e),
 // of the growth's own float arithmetic (< 6u of it) and of the sum (u), so the float box contains
-// the double one; and it is at most 2.6u C + 14u S (against 2u C + 9.5u S in the analysis above).
+// the double one; and it is at most 2.6u C + 14u S (against 2u C + 9.5u S in obb_batch.cpp's
+// analysis).
 // Error bounds per axis, g_float against g_double (M = 2C + SX + S, C = |fl(cB - cA)|_1, S the
 // four boxes' half extents: the two OBBs' and the two AABBs'):
-//  - stage 3 (OBB-OBB): the analysis above with the larger enlargement: < 40u M + 1e-6 S;
+//  - stage 3 (OBB-OBB): obb_batch.cpp's analysis with the larger enlargement: < 40u M + 1e-6 S;
 //  - stage 2 (AABB-OBB): the AABB's half extents sum_j |fl(A)_kj| fe_j differ from the double
 //    ones (|A| e + aabbOf's padding, ~1e-15 relative) by <= sqrt3 (2.6u C + 14u S) + u S + 5.2u S
 //    < 4.5u C + 30.5u S each, i.e. < 7.8u C + 53u S on a radius (coefficients summing to
@@ -103,15 +110,20 @@ template <class V, class VI>
 // common axis, e.g. both about z). Without this, every overlapping pair of boxes turned about
 // the vertical would be left uncertain.
 
-constexpr float kPairSepRel = 256.0f * 0x1p-24f;  // 256u, see above (unitless, relative to M)
-constexpr float kGrowCentre = 2.5f * 0x1p-24f;    // growth of a half extent per |c|_1 (see above)
+constexpr float kPairSepRel = 256.0f * 0x1p-24f;  // 256u, as above (unitless, relative to M)
+constexpr float kGrowCentre = 2.5f * 0x1p-24f;    // growth of a half extent per |c|_1 (as above)
 constexpr float kGrowSize = 12.0f * 0x1p-24f;     // growth per metre of summed half extents
 constexpr float kGrowAbs = 1e-36f;                // m: covers float underflow of tiny half extents
 // Lanes outside these are answered in double: products stay finite, and the axes are orthonormal
-// to 1e-6 in double (the float check, accurate to ~5u = 3e-7, is kept at 5e-7).
+// to 1e-6 in double (the float check, accurate to ~5u = 3e-7, is kept at 5e-7), or the caller
+// vouches for Obb's contract (BoxPairsView::orthonormalAxes), which is far inside that.
 constexpr float kMaxCoordinateF = 1e18f;
 constexpr float kMaxFloatAxesError = 5e-7f;
 constexpr std::int32_t kUnsure = -2;  // a stage's lane code: no sure answer (else axis or kNoAxis)
+static_assert(kAxesTolerance<double> < 1e-6, "BoxPairsView::orthonormalAxes: Obb's contract within the analysis");
+// The pairs' fields are read as doubles in Obb's memory order: no padding, no over-alignment
+// (Eigen's vectorisation, on in the AVX-512 file, must not change the layout).
+static_assert(alignof(Obb<double>) == alignof(double), "Obb<double>: a plain array of 15 doubles");
 
 /// kBatchLanes pairs in A's local frame, rounded to float: row r holds field r of every lane, the
 /// fields in the memory order of Obb<double> (centre, axes column by column, half extents): rows
@@ -171,7 +183,7 @@ template <class V, class VI>
       const V rb = b[j1] * q[i][j2] + b[j2] * q[i][j1];
       const V gij = vabs<V, VI>(t[i2] * R[i1][j] - t[i1] * R[i2][j]) - (ra + rb);
       const VI degenerate = zero[i1][j] & zero[i2][j];
-      g[6 + 3 * i + j] = degenerate ? V{} - std::numeric_limits<float>::infinity() : gij;
+      g[6 + 3 * i + j] = degenerate ? V{} - __builtin_inff() : gij;
     }
   }
 }
@@ -202,8 +214,8 @@ template <class VI>
 
 /// One lane's answer packed as the bytes of a NestedResult (overlap, stage, axis; little endian),
 /// from the three stages' codes in testBoxPair's order of stages, and the lanes that the float
-/// analysis leaves to testBoxPair (unsure). (answerBlock's reference form is the scalar logic in
-/// git history; the tests compare every field with testBoxPair.)
+/// analysis leaves to testBoxPair (unsure). (tests/geometry/obb_batch_answer_test.cpp checks it
+/// against the scalar reading of the codes on every combination.)
 template <class VI>
 [[gnu::always_inline]] inline VI packedAnswer(const VI& c1, const VI& c2, const VI& c3, const VI& good, const VI& aAl,
                                               const VI& bAl, VI& unsure) {
@@ -215,7 +227,8 @@ template <class VI>
   const VI code = use1 ? c1 : (use2 ? c2Named : c3);
   const VI stage = use1 ? VI{} + int(OverlapStage::AabbAabb)
                         : (use2 ? VI{} + int(OverlapStage::AabbObb) : VI{} + int(OverlapStage::ObbObb));
-  return (code < 0 ? VI{} + 1 : VI{}) | (stage << 8) | ((code & 0xff) << 16);
+  return (code < 0 ? VI{} + 1 : VI{}) | (stage << (8 * offsetof(NestedResult, stage))) |
+         ((code & 0xff) << (8 * offsetof(NestedResult, axis)));
 }
 
 /// W lanes of boxes read from rows of floats (row r of field r, `stride` floats apart, from lane
@@ -362,29 +375,40 @@ template <class V, class VI, bool kCheckAxes>
   std::memcpy(unsure + l0, &notSure, sizeof notSure);
 }
 
-PairBlock paddingPairBlock() {
+// packedAnswer's int32 holds a NestedResult in its first three bytes, as memory holds it.
+static_assert(std::endian::native == std::endian::little, "packedAnswer: little-endian lanes");
+static_assert(sizeof(NestedResult) == 3 && offsetof(NestedResult, overlap) == 0, "NestedResult: three bytes");
+
+inline PairBlock paddingPairBlock() {
   PairBlock p{};
   for (int l = 0; l < kBatchLanes; ++l)
     for (int k = 0; k < 3; ++k)
-      for (const int box : {0, kRowB}) {
+      for (int box = 0; box <= kRowB; box += kRowB) {  // (no initializer_list: see the top)
         p.row[box + kRowAxes + 4 * k][l] = 1.0f;
         p.row[box + kRowExtents + k][l] = 1.0f;
       }
   return p;
 }
 
-/// Axes exactly the identity (Obb::isAxisAligned), without branches.
-[[gnu::always_inline]] inline bool identityAxes(const Mat3<double>& m) {
-  const double* x = m.data();
+/// Box k of a pair array (first box at `base`, `stride` bytes apart) as its 15 doubles: the centre,
+/// the axes column by column, the half extents (Obb<double>'s memory order).
+[[gnu::always_inline]] inline const double* boxFields(const Obb<double>* base, std::size_t stride, std::size_t k) {
+  return reinterpret_cast<const double*>(reinterpret_cast<const char*>(base) + k * stride);
+}
+[[gnu::always_inline]] inline const Obb<double>& boxAt(const Obb<double>* base, std::size_t stride, std::size_t k) {
+  return *reinterpret_cast<const Obb<double>*>(boxFields(base, stride, k));
+}
+
+/// Axes exactly the identity (Obb::isAxisAligned), without branches; `box`: the box's fields.
+[[gnu::always_inline]] inline bool identityAxes(const double* box) {
+  const double* x = box + 3;
   return ((x[0] == 1.0) & (x[4] == 1.0) & (x[8] == 1.0) & (x[1] == 0.0) & (x[2] == 0.0) & (x[3] == 0.0) &
           (x[5] == 0.0) & (x[6] == 0.0) & (x[7] == 0.0)) != 0;
 }
 
-/// The fields of one box (15 doubles from `d`, the Obb's memory order) into lane l of rows
-/// first..first + 14; B's centre as its difference from A's.
-[[gnu::always_inline]] inline void gatherLane(PairBlock& p, int l, const Obb<double>& A, const Obb<double>& B) {
-  const double* a = A.center.data();
-  const double* b = B.center.data();
+/// The fields of a pair's boxes (15 doubles each, boxFields) into lane l of rows 0..14 and
+/// 16..30; B's centre as its difference from A's.
+[[gnu::always_inline]] inline void gatherLane(PairBlock& p, int l, const double* a, const double* b) {
   for (int f = 0; f < 15; ++f) {
     p.row[f][l] = float(a[f]);
     p.row[kRowB + f][l] = float(f < 3 ? b[f] - a[f] : b[f]);
@@ -397,11 +421,11 @@ PairBlock paddingPairBlock() {
                                                 unsigned& aAligned, unsigned& bAligned) {
   aAligned = bAligned = 0;
   for (int l = 0; l < lanes; ++l) {
-    const Obb<double>& A = pairs.first(base + std::size_t(l));
-    const Obb<double>& B = pairs.second(base + std::size_t(l));
-    gatherLane(p, l, A, B);
-    aAligned |= unsigned(identityAxes(A.axes)) << l;
-    bAligned |= unsigned(identityAxes(B.axes)) << l;
+    const double* a = boxFields(pairs.a, pairs.stride, base + std::size_t(l));
+    const double* b = boxFields(pairs.b, pairs.stride, base + std::size_t(l));
+    gatherLane(p, l, a, b);
+    aAligned |= unsigned(identityAxes(a)) << l;
+    bAligned |= unsigned(identityAxes(b)) << l;
   }
 }
 
@@ -410,20 +434,20 @@ PairBlock paddingPairBlock() {
 [[gnu::always_inline]] inline std::size_t answerBlock(const BoxPairsView& pairs, std::size_t base, int lanes,
                                                       const std::int32_t* answer, const std::int32_t* unsure,
                                                       NestedResult* out) {
-  static_assert(sizeof(NestedResult) == 3, "packedAnswer: a NestedResult is its three bytes");
   std::size_t uncertain = 0;
   for (int l = 0; l < lanes; ++l) std::memcpy(&out[base + std::size_t(l)], &answer[l], sizeof(NestedResult));
   for (int l = 0; l < lanes; ++l)
     if (unsure[l]) {
       const std::size_t k = base + std::size_t(l);
-      out[k] = boxPairInDouble(pairs.first(k), pairs.second(k));
+      out[k] = boxPairInDouble(boxAt(pairs.a, pairs.stride, k), boxAt(pairs.b, pairs.stride, k));
       ++uncertain;
     }
   return uncertain;
 }
 
 /// The whole run, W lanes at a time: per block, gather and round the pairs, run the kernel, answer.
-template <class V, class VI, class FullGather>
+/// kCheckAxes: false where the caller vouches for the axes (BoxPairsView::orthonormalAxes).
+template <class V, class VI, bool kCheckAxes, class FullGather>
 [[gnu::always_inline]] inline std::size_t boxPairBlocks(const BoxPairsView& pairs, NestedResult* out,
                                                         const FullGather& gatherFull) {
   constexpr int kW = int(sizeof(V) / sizeof(float));
@@ -431,37 +455,33 @@ template <class V, class VI, class FullGather>
   alignas(64) std::int32_t answer[kBatchLanes], unsure[kBatchLanes];
   std::size_t uncertain = 0;
   for (std::size_t base = 0; base < pairs.count; base += kBatchLanes) {
-    const int lanes = int(std::min<std::size_t>(kBatchLanes, pairs.count - base));
+    const int lanes = pairs.count - base < std::size_t(kBatchLanes) ? int(pairs.count - base) : kBatchLanes;
     unsigned aAligned = 0, bAligned = 0;
     if (lanes == kBatchLanes)
       gatherFull(pairs, base, p, aAligned, bAligned);
     else
       gatherScalar(pairs, base, lanes, p, aAligned, bAligned);
-    for (int l0 = 0; l0 < kBatchLanes; l0 += kW) {
-      if (pairs.orthonormalAxes)
-        pairLanes<V, VI, false>(p, l0, aAligned, bAligned, answer, unsure);
-      else
-        pairLanes<V, VI, true>(p, l0, aAligned, bAligned, answer, unsure);
-    }
+    for (int l0 = 0; l0 < kBatchLanes; l0 += kW)
+      pairLanes<V, VI, kCheckAxes>(p, l0, aAligned, bAligned, answer, unsure);
     uncertain += answerBlock(pairs, base, lanes, answer, unsure, out);
   }
   return uncertain;
 }
 
 #ifdef NESTWALK_HAVE_AVX2_PATH
-/// Eight lanes of a block (lanes first .. first + 7) gathered with AVX2: each box's 15 doubles are loaded as four vectors (the last
+/// Eight lanes of a block (lanes firstLane .. firstLane + 7) gathered with AVX2: each box's 15 doubles are loaded as four vectors (the last
 /// masked, so that nothing past the box is read), converted to float, and the 8 lanes' rows
 /// transposed in registers (the scalar gather costs about as much as the kernel). The identity
 /// test of the axes is made on the doubles.
-[[gnu::target("avx2,fma")]] inline void gatherAvx2(const BoxPairsView& v, std::size_t base, int first, PairBlock& p,
+[[gnu::target("avx2,fma")]] inline void gatherAvx2(const BoxPairsView& v, std::size_t base, int firstLane, PairBlock& p,
                                                    unsigned& aAligned, unsigned& bAligned) {
   const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
   const __m256d keepLast = _mm256_castsi256_pd(_mm256_setr_epi64x(0, 0, 0, -1));
   const __m256d ident0 = _mm256_setr_pd(0, 0, 0, 1);  // (c, c, c, A00) and (A10, A20, A01, A11), (A21, A02, A12, A22)
   __m256 q[4][8];                                     // [A 0-7, A 8-15, B 0-7, B 8-15][lane]
   for (int l = 0; l < 8; ++l) {
-    const double* a = v.first(base + std::size_t(first + l)).center.data();
-    const double* b = v.second(base + std::size_t(first + l)).center.data();
+    const double* a = boxFields(v.a, v.stride, base + std::size_t(firstLane + l));
+    const double* b = boxFields(v.b, v.stride, base + std::size_t(firstLane + l));
     const __m256d a0 = _mm256_loadu_pd(a), a1 = _mm256_loadu_pd(a + 4), a2 = _mm256_loadu_pd(a + 8),
                   a3 = _mm256_maskload_pd(a + 12, first3);
     const __m256d b0 = _mm256_loadu_pd(b), b1 = _mm256_loadu_pd(b + 4), b2 = _mm256_loadu_pd(b + 8),
@@ -477,8 +497,8 @@ template <class V, class VI, class FullGather>
     const int ib = (_mm256_movemask_pd(_mm256_cmp_pd(b0, ident0, _CMP_EQ_OQ)) & 8) &
                    (_mm256_movemask_pd(_mm256_cmp_pd(b1, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0) &
                    (_mm256_movemask_pd(_mm256_cmp_pd(b2, ident0, _CMP_EQ_OQ)) == 15 ? 8 : 0);
-    aAligned |= unsigned(ia != 0) << (first + l);
-    bAligned |= unsigned(ib != 0) << (first + l);
+    aAligned |= unsigned(ia != 0) << (firstLane + l);
+    bAligned |= unsigned(ib != 0) << (firstLane + l);
   }
   for (int g = 0; g < 4; ++g) {  // 8 x 8 transposes: row 8 g + i gets element i of every lane
     const __m256* r = q[g];
@@ -490,7 +510,7 @@ template <class V, class VI, class FullGather>
     const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
     const __m256 u4 = _mm256_shuffle_ps(t4, t6, 0x44), u5 = _mm256_shuffle_ps(t4, t6, 0xEE);
     const __m256 u6 = _mm256_shuffle_ps(t5, t7, 0x44), u7 = _mm256_shuffle_ps(t5, t7, 0xEE);
-    float* out = p.row[8 * g] + first;
+    float* out = p.row[8 * g] + firstLane;
     _mm256_storeu_ps(out + 0 * kBatchLanes, _mm256_permute2f128_ps(u0, u4, 0x20));
     _mm256_storeu_ps(out + 1 * kBatchLanes, _mm256_permute2f128_ps(u1, u5, 0x20));
     _mm256_storeu_ps(out + 2 * kBatchLanes, _mm256_permute2f128_ps(u2, u6, 0x20));
@@ -507,7 +527,7 @@ template <class V, class VI, class FullGather>
                                                         unsigned& aAligned, unsigned& bAligned) {
   static_assert(kBatchLanes % 8 == 0, "gatherAvx2 transposes 8 lanes");
   aAligned = bAligned = 0;
-  for (int first = 0; first < kBatchLanes; first += 8) gatherAvx2(v, base, first, p, aAligned, bAligned);
+  for (int firstLane = 0; firstLane < kBatchLanes; firstLane += 8) gatherAvx2(v, base, firstLane, p, aAligned, bAligned);
 }
 #endif  // NESTWALK_HAVE_AVX2_PATH
 

@@ -2,9 +2,11 @@
 # while the rest of the build is portable. A weak (inline, template) symbol defined there could be
 # chosen by the linker for every caller and run AVX-512 instructions on a processor without them,
 # so the file may define exactly its one entry point: checked on the module's static library.
+# Weak data objects (nm's V and v: typeinfo the sanitizers emit, the personality routine's
+# reference) hold no instructions and are allowed.
 #   cmake -DNM=nm -DLIBRARY=libnestwalk_geometry.a -P avx512_symbols.cmake
 # Fails naming each other symbol the member defines; prints the one it found otherwise.
-cmake_minimum_required(VERSION 3.25)
+cmake_minimum_required(VERSION 3.22)
 if(NOT NM OR NOT LIBRARY)
   message(FATAL_ERROR "avx512_symbols.cmake: NM and LIBRARY must be set")
 endif()
@@ -22,7 +24,7 @@ foreach(line ${lines})
   elseif(member MATCHES "obb_batch_avx512" AND line MATCHES "^[0-9a-f]* ([A-Za-z]) (.*)$")
     set(kind "${CMAKE_MATCH_1}")
     set(name "${CMAKE_MATCH_2}")
-    if(kind MATCHES "^[trbd]$")  # local to the file: text, read-only data, bss, data
+    if(kind MATCHES "^[trbdnVv]$")  # local to the file (text, data), or weak data
       continue()
     elseif(kind STREQUAL "T" AND name MATCHES "^nestwalk::obb_batch_detail::boxPairsAvx512\\(")
       list(APPEND found "${name}")

@@ -1,9 +1,10 @@
 // Tests of testBoxPairs (engine/geometry/obb_batch.h), the batch form of testBoxPair that
 // `nestwalk query overlap` runs: every field of every answer (overlap, deciding stage, first
-// separating axis) must be the scalar double testBoxPair's, on both SIMD paths, for random pairs,
+// separating axis) must be the scalar double testBoxPair's, on every SIMD path, for random pairs,
 // near-touching ones, parallel, identity, vertical and one-aligned axes, flat boxes and huge
 // aspect ratios, near the origin and at UTM-like magnitudes, and for data outside the float
-// analysis. Each check prints how many lanes the float kernel left to double.
+// analysis, with the axes checked by the kernel and vouched for by the caller. Each check prints
+// the kernel that ran and how many lanes it left to double.
 #include "nestwalk/geometry/obb_batch.h"
 #include "tests/geometry/box_pair_generators.h"
 #include "tests/geometry/scoped_simd.h"
@@ -34,60 +35,72 @@ struct Checked {
   std::size_t uncertain = 0;  // lanes re-decided in double (first SIMD path)
   std::size_t stage[kStageCount] = {};  // answers per deciding stage
   std::size_t overlaps = 0;
+  std::size_t vouched = 0;  // pairs also run with the caller vouching for the axes
 };
 
-/// Runs testBoxPairs on `pairs` (read in place from the pairs, and from two separate arrays; and,
-/// where every box keeps Obb's axes contract, with the caller vouching for the axes) on every SIMD
-/// path and expects testBoxPair's answers field for field.
+/// testBoxPairs on `pairs`, read in place (or from two separate arrays), with the axes checked by
+/// the kernel or vouched for by the caller; expects `expected` field for field and writes nothing
+/// past the last answer. Returns the lanes re-decided in double.
+std::size_t runBatch(const std::vector<Pair>& pairs, const std::vector<NestedResult>& expected, bool separateArrays,
+                     bool vouched, const std::string& what) {
+  std::vector<Obb<double>> as, bs;
+  for (const auto& [a, b] : pairs) {
+    as.push_back(a);
+    bs.push_back(b);
+  }
+  BoxPairsView view;
+  view.count = pairs.size();
+  view.orthonormalAxes = vouched;
+  if (separateArrays) {
+    view.a = as.data();
+    view.b = bs.data();
+  } else if (!pairs.empty()) {
+    view.a = &pairs[0].first;
+    view.b = &pairs[0].second;
+    view.stride = sizeof(Pair);
+  }
+  const NestedResult marker{true, OverlapStage::ObbObb, 99};
+  std::vector<NestedResult> out(pairs.size() + 1, marker);
+  const std::size_t uncertain = testBoxPairs(view, out.data());
+  const std::string where = what + " [" + batchKernelName(obbBatchKernel()) + (separateArrays ? ", two arrays" : "") +
+                            (vouched ? ", axes vouched" : "") + "]";
+  EXPECT_TRUE(same(out.back(), marker)) << where << ": wrote past the end";
+  std::size_t mismatches = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (!same(out[k], expected[k]) && mismatches++ < 3)
+      ADD_FAILURE() << where << " pair " << k << ": " << text(out[k]) << ", testBoxPair: " << text(expected[k]);
+  EXPECT_EQ(mismatches, 0u) << where;
+  EXPECT_LE(uncertain, pairs.size());
+  return uncertain;
+}
+
+/// Runs testBoxPairs on `pairs` on every SIMD path, read in place and from two separate arrays,
+/// and the pairs whose boxes keep Obb's axes contract again with the caller vouching for the axes;
+/// expects testBoxPair's answers field for field.
 Checked checkPairs(const std::vector<Pair>& pairs, const std::string& what) {
   Checked c;
-  std::vector<NestedResult> expected;
-  std::vector<Obb<double>> as, bs;
+  std::vector<NestedResult> expected, keptExpected;
+  std::vector<Pair> kept;  // both boxes' axes orthonormal to kAxesTolerance
   for (const auto& [a, b] : pairs) {
     expected.push_back(testBoxPair(a, b));
     ++c.stage[int(expected.back().stage)];
     c.overlaps += expected.back().overlap;
-    as.push_back(a);
-    bs.push_back(b);
+    if (axesError(a.axes) <= kAxesTolerance<double> && axesError(b.axes) <= kAxesTolerance<double>) {
+      kept.push_back({a, b});
+      keptExpected.push_back(expected.back());
+    }
   }
-  bool contract = true;  // every box's axes orthonormal to kAxesTolerance
-  for (const auto& [a, b] : pairs)
-    contract = contract && axesError(a.axes) <= kAxesTolerance<double> && axesError(b.axes) <= kAxesTolerance<double>;
-  const NestedResult marker{true, OverlapStage::ObbObb, 99};
   for (const char* path : kSimdPaths) {
     ScopedSimd simd(path);
-    for (const int form : {0, 1, 2}) {  // in place; two arrays; in place with the axes vouched for
-      const bool separateArrays = form == 1;
-      if (form == 2 && !contract) continue;
-      BoxPairsView view;
-      view.count = pairs.size();
-      view.orthonormalAxes = form == 2;
-      if (separateArrays) {
-        view.a = as.data();
-        view.b = bs.data();
-      } else if (!pairs.empty()) {
-        view.a = &pairs[0].first;
-        view.b = &pairs[0].second;
-        view.stride = sizeof(Pair);
-      }
-      std::vector<NestedResult> out(pairs.size() + 1, marker);
-      const std::size_t uncertain = testBoxPairs(view, out.data());
-      EXPECT_TRUE(same(out.back(), marker)) << what << ": wrote past the end";
-      std::size_t mismatches = 0;
-      for (std::size_t k = 0; k < pairs.size(); ++k)
-        if (!same(out[k], expected[k]) && mismatches++ < 3)
-          ADD_FAILURE() << what << " [" << simdPathName(path) << (form == 2 ? ", axes vouched" : "") << "] pair " << k
-                        << ": " << text(out[k])
-                        << ", testBoxPair: " << text(expected[k]);
-      EXPECT_EQ(mismatches, 0u) << what << " [" << simdPathName(path) << "] form " << form;
-      EXPECT_LE(uncertain, pairs.size());
-      if (path == kSimdPaths[0] && form == 0) c.uncertain = uncertain;
-      if (form == 0)
-        std::printf("  %-26s %-9s %7zu pairs, %5.1f%% overlap, stages %6zu/%6zu/%6zu, %5zu re-decided (%.2e)\n",
-                    what.c_str(), simdPathName(path), pairs.size(),
-                    100.0 * double(c.overlaps) / double(std::max<std::size_t>(1, pairs.size())), c.stage[0], c.stage[1],
-                    c.stage[2], uncertain, double(uncertain) / double(std::max<std::size_t>(1, pairs.size())));
-    }
+    const std::size_t uncertain = runBatch(pairs, expected, false, false, what);
+    runBatch(pairs, expected, true, false, what);
+    runBatch(kept, keptExpected, false, true, what);
+    if (path == kSimdPaths[0]) c.uncertain = uncertain;
+    c.vouched = kept.size();
+    std::printf("  %-26s %-20s %7zu pairs (%zu vouched), %5.1f%% overlap, stages %6zu/%6zu/%6zu, %5zu re-decided (%.2e)\n",
+                what.c_str(), batchKernelName(obbBatchKernel()), pairs.size(), kept.size(),
+                100.0 * double(c.overlaps) / double(std::max<std::size_t>(1, pairs.size())), c.stage[0], c.stage[1],
+                c.stage[2], uncertain, double(uncertain) / double(std::max<std::size_t>(1, pairs.size())));
   }
   return c;
 }
@@ -137,6 +150,7 @@ TEST(TestBoxPairs, EqualsTestBoxPairFieldForField) {
       for (int k = 0; k < count; ++k) pairs.push_back(c.make(g, origins[o]));
       const Checked r = checkPairs(pairs, std::string(c.name) + (o == 0 ? "" : o == 1 ? " @5e5,7e6" : " @-4.9e5,6.9e6"));
       EXPECT_LE(double(r.uncertain), c.maxUncertain * double(pairs.size())) << c.name;
+      EXPECT_EQ(r.vouched, pairs.size()) << c.name << ": generated boxes keep Obb's axes contract";
       total += pairs.size();
       uncertain += r.uncertain;
       if (std::string(c.name) == "random") {
@@ -156,6 +170,36 @@ TEST(TestBoxPairs, SizesAndPaddingLanes) {
                       : k % 3 == 1 ? verticalPair(g, Vec3<double>::Zero(), k % 2 == 0)
                                    : oneAlignedPair(g, Vec3<double>::Zero(), k % 2 == 0));
     checkPairs(pairs, "n=" + std::to_string(n));
+  }
+}
+
+// NESTWALK_SIMD caps the kernel; unset, the widest the processor has runs (AVX-512 where it is
+// built and the processor has F, VL, BW and DQ; AVX2 where it has AVX2 and FMA).
+TEST(TestBoxPairs, SimdSettingChoosesTheKernel) {
+  BatchKernel widest = BatchKernel::Portable;
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    widest = BatchKernel::Avx2;
+#ifdef NESTWALK_OBB_BATCH_AVX512
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
+      widest = BatchKernel::Avx512;
+#endif
+  }
+#endif
+  std::printf("  widest kernel here: %s\n", batchKernelName(widest));
+  {
+    ScopedSimd simd(nullptr);
+    EXPECT_EQ(obbBatchKernel(), widest);
+  }
+  {
+    ScopedSimd simd("avx2");
+    EXPECT_EQ(obbBatchKernel(), widest == BatchKernel::Avx512 ? BatchKernel::Avx2 : widest);
+  }
+  {
+    ScopedSimd simd("portable");
+    EXPECT_EQ(obbBatchKernel(), BatchKernel::Portable);
   }
 }
 

@@ -30,8 +30,8 @@ class ScopedSimd {
   std::optional<std::string> old_;
 };
 
-/// Both paths: the library's choice (AVX2 + FMA where available), then the portable one.
+/// Every path: the library's choice (the widest the processor has), at most AVX2 + FMA, then the
+/// portable one (on a processor without AVX-512 the first two are the same kernel).
 inline const std::array<const char*, 3> kSimdPaths = {nullptr, "avx2", "portable"};
-inline const char* simdPathName(const char* p) { return p ? p : "auto"; }
 
 }  // namespace nestwalk

@@ -16,6 +16,7 @@
 #include "nestwalk/geometry/sat.h"
 #include "nestwalk/geometry/swept.h"
 #include "tests/geometry/sat_reference.h"
+#include "tests/geometry/scoped_simd.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -58,18 +59,28 @@ bool floatPathOverlaps(const Obb<double>& a, const Obb<double>& b) {
   return satObbObb(toFloatConservative(shifted(a, -c)), toFloatConservative(shifted(b, -c))).overlap;
 }
 
-/// The pair through testBoxPairs (query overlap's batch), as the only pair of its call and as one
-/// lane of a full block of copies; both answers must be testBoxPair's, field for field.
+/// The pair through testBoxPairs (query overlap's batch) on every SIMD path, with the axes checked
+/// by the kernel and (where they keep Obb's contract) vouched for by the caller, as the only pair of
+/// its call and as one lane of a full block of copies; every answer must be testBoxPair's, field
+/// for field.
 NestedResult batchResult(const Obb<double>& a, const Obb<double>& b) {
   const NestedResult want = testBoxPair(a, b);
+  const bool contract = axesError(a.axes) <= kAxesTolerance<double> && axesError(b.axes) <= kAxesTolerance<double>;
   std::vector<Obb<double>> as(kBatchLanes, a), bs(kBatchLanes, b);
-  for (const std::size_t n : {std::size_t(1), std::size_t(kBatchLanes)}) {
-    std::vector<NestedResult> out(n);
-    testBoxPairs({as.data(), bs.data(), n}, out.data());
-    for (const NestedResult& r : out) {
-      EXPECT_EQ(r.overlap, want.overlap);
-      EXPECT_EQ(r.stage, want.stage);
-      EXPECT_EQ(r.axis, want.axis);
+  for (const char* path : kSimdPaths) {
+    const ScopedSimd simd(path);
+    for (const bool vouched : {false, true}) {
+      if (vouched && !contract) continue;
+      for (const std::size_t n : {std::size_t(1), std::size_t(kBatchLanes)}) {
+        std::vector<NestedResult> out(n);
+        testBoxPairs({.a = as.data(), .b = bs.data(), .count = n, .orthonormalAxes = vouched}, out.data());
+        for (const NestedResult& r : out) {
+          const std::string where = std::string(batchKernelName(obbBatchKernel())) + (vouched ? ", axes vouched" : "");
+          EXPECT_EQ(r.overlap, want.overlap) << where;
+          EXPECT_EQ(r.stage, want.stage) << where;
+          EXPECT_EQ(r.axis, want.axis) << where;
+        }
+      }
     }
   }
   return want;

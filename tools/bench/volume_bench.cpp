@@ -200,7 +200,7 @@ std::string batchKernel() {
 Pass<std::uint8_t> boxPairsPass(const BoxSet& s, Facts& facts, bool portable) {
   auto results = std::make_shared<std::vector<NestedResult>>(s.n);
   // Rotations from unit quaternions: the axes keep Obb's contract, as query overlap's reader ensures.
-  const BoxPairsView view{s.a.data(), s.b.data(), s.n, sizeof(Obb<double>), true};
+  const BoxPairsView view{.a = s.a.data(), .b = s.b.data(), .count = s.n, .orthonormalAxes = true};
   const ScopedEnvironment simd("NESTWALK_SIMD", "portable", portable);
   facts["uncertain_fraction"] = double(testBoxPairs(view, results->data())) / double(s.n);
   return [view, results, portable](std::uint8_t* verdicts) {

@@ -3,8 +3,8 @@
 // Output: id,overlap,stage,axis (see testBoxPair in engine/geometry/nested.h).
 // The pairs are read kChunkPairs at a time and each chunk is answered by testBoxPairs (obb_batch.h:
 // float SIMD lanes, the lanes it cannot vouch for answered by testBoxPair itself; the answers are
-// testBoxPair's) while it is still in the cache. Nothing is printed before the last row has been
-// read and checked.
+// testBoxPair's) while it is still in the cache; --scalar tests them one at a time with testBoxPair
+// instead (the timing reference). Nothing is printed before the last row has been read and checked.
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/core/stopwatch.h"
 #include "nestwalk/geometry/box_pairs_csv.h"
@@ -52,7 +52,9 @@ void runQueryOverlap(const QueryOverlapOptions& options) {
       for (std::size_t k = 0; k < pairs.size(); ++k) results[k] = testBoxPair(pairs[k].a, pairs[k].b);
     else
       // The reader's boxes are orthonormal to kAxesTolerance (box_pairs_csv.h).
-      uncertain += testBoxPairs({&pairs[0].a, &pairs[0].b, pairs.size(), sizeof(BoxPair), true}, results.data());
+      uncertain += testBoxPairs(
+          {.a = &pairs[0].a, .b = &pairs[0].b, .count = pairs.size(), .stride = sizeof(BoxPair), .orthonormalAxes = true},
+          results.data());
     const auto tested = std::chrono::steady_clock::now();
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       const NestedResult& r = results[k];
