@@ -103,8 +103,8 @@ void declareOptions(CLI::App& cmd, RenderBenchOptions& o) {
   declareScene(cmd, o.scene, o.scripts, "the flythroughs");
   addMetres(cmd, "--terrain-sizes", o.terrainSizes, o.terrainSweep, "a size in metres", 0,
             "Instead of the configurations, the terrain-size sweep: generated mining dumps of these sides in "
-            "metres at 1 m cells, each measured in a child process (given bare: 1000 4000 10000, 1 M, 16 M and "
-            "100 M samples)");
+            "metres at 1 m cells (sizes round to whole cells), each measured in a child process (given bare: 1000 "
+            "4000 10000, 1 M, 16 M and 100 M samples)");
   addMetres(cmd, "--terrain-cells", o.terrainCells, o.terrainSweep, "a cell size in metres", 1,
             "Instead of the configurations, the finer terrain sweep (the drone case): the 1000 m mining dump with "
             "relief down to the cell (make-terrain --fine-relief) at these cell sizes in metres, e.g. 1 0.1 0.032 "

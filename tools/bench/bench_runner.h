@@ -3,7 +3,9 @@
 // pass of a method over a whole data set per iteration), the facts of a benchmark (counted once, on
 // the answers of one pass, outside the timed loop) and the running of the benchmarks that match a
 // filter with a collecting reporter: ns per item from items_per_second, the median over
-// repetitions, and the errors.
+// repetitions, and the errors. Each suite keeps its run's settings and data in one static Config of
+// its own file; the data are freed at the end of the run by a ReleaseAtEnd. BenchOptions::orDefault
+// (also used by bench walker) picks an option's given value, else its quick or full default.
 #pragma once
 
 #include <benchmark/benchmark.h>

@@ -279,7 +279,11 @@ Document measureBroadPhase(const BroadPhaseBenchOptions& opts) {
   c.queries = opts.orDefault(opts.queries, 10'000, 100'000);
   const double minTime = opts.minTime(0.3);
   registerBenchmarks();
-  const ReleaseAtEnd release([] { config() = {}; });
+  const ReleaseAtEnd release([] {  // the scene and the checks kept for the table (the settings stay)
+    config().scene.reset();
+    config().referenceChecks.clear();
+    config().fclMismatches.clear();
+  });
   std::string sizes;
   for (std::size_t n : c.sizes) sizes += (sizes.empty() ? "" : "|") + std::to_string(n);
   Document doc("nestwalk bench broadphase: µs per query (CPU time);"

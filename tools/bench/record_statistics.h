@@ -1,6 +1,7 @@
-// Order statistics of one figure of a benchmark's records (its frames, steps or queries): the figure
-// read from every record by a member pointer or a function, then core/statistics.h's percentile or
-// mean. A benchmark keeps its records whole instead of one list per figure it reports.
+// Percentiles and means of one figure of a benchmark's records (its frames, steps or queries): the
+// figure read from every record by a member pointer or a function, as a double (integers exactly up
+// to 2^53) in the record's own unit, then core/statistics.h's percentile (nearest rank) or mean. A
+// benchmark keeps its records whole instead of one list per figure it reports.
 // Thread safety: pure functions.
 #pragma once
 

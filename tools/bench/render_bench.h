@@ -79,8 +79,9 @@ auto terrainFigure(T PagedTerrainStats::*figure) {
 
 /// Settles a pose: renders it until done(frame) or kMaxSettleFrames frames, calling wait() (the
 /// pager's or loader's) between two frames; without a wait, one frame. With `rendered`, the
-/// renderer's last frame is the pose's first. Returns the frames and whether the last was done
-/// (its figures: renderer.lastStats()).
+/// renderer's last frame is the pose's first and up to kMaxSettleFrames more are rendered. Returns
+/// the frames (that one included) and whether the last was done (its figures:
+/// renderer.lastStats()).
 std::pair<int, bool> settlePose(ViewRenderer& renderer, const ViewPose& pose, bool (*done)(const RenderFrameStats&),
                                 const std::function<void()>& wait, bool rendered = false);
 

@@ -101,15 +101,23 @@ std::vector<SweepTerrain> checkedTerrains(const RenderBenchOptions& o) {
   if (finer && !o.terrainSizes.empty()) throw InputError(option + "give it or --terrain-sizes, not both");
   std::vector<double> given = finer ? o.terrainCells : o.terrainSizes;
   if (given.empty()) given = o.quick ? kSweepQuickSizesM : kSweepDefaultSizesM;
-  std::sort(given.begin(), given.end(), [finer](double a, double b) { return finer ? a > b : a < b; });
   const std::string dump =
       finer ? "the " + limitText(kFinerSizeM) + " m dump" : "a dump of " + limitText(kCellM) + " m cells";
+  auto terrainOf = [finer](double m) { return finer ? SweepTerrain{kFinerSizeM, m, true} : SweepTerrain{m, kCellM, false}; };
+  for (double m : given) {  // (sizes round to whole cells)
+    const long cells = std::isfinite(m) && m > 0 ? cellsPerSide(terrainOf(m)) : 0;
+    if (cells < kMinCellsPerSide)
+      throw InputError(option + limitText(m) + " m gives " + dump + " of fewer than the generator's " +
+                       std::to_string(kMinCellsPerSide) + " cells a side");
+    if (double(cells) * double(cells) > kMaxSamples)
+      throw InputError(option + limitText(m) + " m gives " + dump + " of more than the generator's " +
+                       std::to_string(terrain::kMaxMiningDumpCellsPerSide) + " cells a side");
+  }
+  std::sort(given.begin(), given.end(), [finer](double a, double b) { return finer ? a > b : a < b; });
   std::vector<SweepTerrain> out;
   for (double m : given) {
-    const SweepTerrain t = finer ? SweepTerrain{kFinerSizeM, m, true} : SweepTerrain{m, kCellM, false};
+    const SweepTerrain t = terrainOf(m);
     const long cells = cellsPerSide(t);
-    if (!(std::isfinite(m) && m > 0) || cells < kMinCellsPerSide || double(cells) * double(cells) > kMaxSamples)
-      throw InputError(option + limitText(m) + " m gives " + dump + " fewer than 16 or more than 65,536 cells a side");
     if (!out.empty() && cells == cellsPerSide(out.back()))
       throw InputError(option + limitText(m) + " m is given twice (the same cells a side)");
     out.push_back(finer ? t : SweepTerrain{double(cells) * kCellM, kCellM, false});  // whole cells
@@ -265,7 +273,8 @@ int runTerrainSweepChild(const std::string& requestFile) {
   PagedTerrain& paged = renderer.graph().pagedTerrain();
   const std::function<void()> waitForLoader = [&paged] { paged.waitUntilIdle(); };
   // The first view, rendered until its 1 px cut is complete: seconds from the scene loaded.
-  const bool firstViewSettled = settlePose(renderer, poses.front(), nothingWanted, waitForLoader, true).second;
+  const bool firstViewSettled =
+      settlePose(renderer, poses.front(), nothingWanted, waitForLoader, /*rendered=*/true).second;
   const double firstViewSettledS = secondsSince(firstStart);
   const std::uint64_t loadedBefore = renderer.lastStats().terrain.chunksLoaded;
 

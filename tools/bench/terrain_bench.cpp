@@ -87,6 +87,7 @@ struct Terrain {
   std::unique_ptr<terrain::Heightfield> paged;
   const terrain::Heightfield& pagedField() {
     if (!paged) {
+      pagedFolder.reset();  // an earlier attempt's folder goes first: the new one has the same path
       pagedFolder = std::make_unique<const OutputFolder>(
           (std::filesystem::temp_directory_path() / "nestwalk-bench-paged").string());
       const std::string path = (std::filesystem::path(pagedFolder->tempPath()) / "grid.tif").string();
