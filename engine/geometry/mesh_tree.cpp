@@ -7,6 +7,7 @@
 #include "nestwalk/geometry/triangle_sweep.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -339,6 +340,8 @@ MeshSweepHit bruteForceSweep(const TriangleMesh& mesh, const Obb<double>& box, c
 
 template <class Volume>
 MeshTree<Volume>::MeshTree(const TriangleMesh& mesh, int leafSize) {
+  static std::atomic<std::uint64_t> lastId{0};
+  id_ = ++lastId;
   validate(mesh, leafSize);
   if (mesh.triangles.empty()) return;
   TreeBuilder<Volume> builder(mesh, leafSize, nodes_);

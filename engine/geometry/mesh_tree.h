@@ -133,12 +133,18 @@ class MeshTree {
   /// The triangles in leaf order (a leaf's triangles are contiguous).
   const std::vector<Triangle>& triangles() const { return triangles_; }
   int depth() const { return depth_; }  // levels below the root of the deepest leaf
+  /// The largest |coordinate| of the triangles' corners: what sweepBoxTriangleSlack needs.
+  double reach() const { return reach_; }
+  /// Unique to the triangles this tree was built from (a copy keeps it): lets a caller that
+  /// remembers answers about a tree (CoherentSweep) tell it from a later tree at the same address.
+  std::uint64_t id() const { return id_; }
 
  private:
   std::vector<MeshTreeNode<Volume>> nodes_;
   std::vector<Triangle> triangles_;
   double reach_ = 0;  // the largest |coordinate| of the triangles' corners (sweep's slack)
   int depth_ = 0;
+  std::uint64_t id_ = 0;
 };
 
 using KdopTree = MeshTree<Kdop18>;

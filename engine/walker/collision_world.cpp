@@ -58,6 +58,7 @@ void CollisionWorld::setMeshes(std::shared_ptr<const MeshWorld> meshes, const Ve
     throw std::invalid_argument("CollisionWorld: the meshes' units differ from the world's");
   meshes_ = std::move(meshes);
   last_.valid = false;  // the last answer was found with the old meshes
+  sweepMemory_ = meshes_ ? meshes_->sweepMemory() : MeshWorld::SweepMemory{};
   choices_.clear();
   costs_.clear();
   if (method_.volumes != VolumeMethod::Auto || !meshes_) return;
@@ -79,7 +80,7 @@ SweptNestedResult CollisionWorld::sweepMesh(const NestedVolume<double>& viewer, 
                                             double t0, const Vec3<double>& normal,
                                             CollisionCounters& counters) const {
   MeshQueryCounters mc;
-  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, mc, search_);
+  const std::optional<MeshWorld::Contact> c = meshWorld().firstContact(u, viewer.inner, d, t0, mc, search_, &sweepMemory_);
   counters.nodeTests += mc.nodeTests;
   counters.primitiveTests += mc.triangleTests;
   SweptNestedResult r;

@@ -20,7 +20,8 @@
 // three stages for every lane: there is no threshold up to 64 candidates, and a sweep (first
 // contact time) has no batch form at all.
 // Thread safety: NOT safe to share between threads. sweep() and overlapping() are const but write
-// the world's mutable scratch (the broad phase's hit list), and sweep() also its last-sweep cache,
+// the world's mutable scratch (the broad phase's hit list), and sweep() also its last-sweep cache
+// and the mesh stage's memory of free paths (MeshWorld::SweepMemory),
 // so a world answers one thread at a time, even through a const reference (Walker holds one). Give
 // each thread its own world: copies share the BoxTree's and the MeshWorld's immutable data (a copy
 // also takes the observer pointer: clear it first). The setters (setMeshes, setMeshContactSearch,
@@ -156,6 +157,7 @@ class CollisionWorld {
     SweepHit hit;
   };
   mutable LastSweep last_;  // frame coherence (sweep)
+  mutable MeshWorld::SweepMemory sweepMemory_;  // the mesh stage's free paths (swept search)
   MeshContactSearch search_ = MeshContactSearch::Swept;
   bool timing_ = false;
 };

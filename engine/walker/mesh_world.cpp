@@ -4,7 +4,9 @@
 #include "nestwalk/scene/scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
+#include <stdexcept>
 
 namespace nestwalk {
 namespace {
@@ -21,6 +23,8 @@ constexpr double kAdvanceMargin = 0.5 * kMeshContactTolerance;
 
 std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
   auto world = std::make_shared<MeshWorld>();
+  static std::atomic<std::uint64_t> lastId{0};
+  world->id_ = ++lastId;
   world->models_.reserve(scene.models.size());
   for (const SceneModel& m : scene.models) {
     world->models_.push_back({KdopTree(m.mesh), m.mesh.triangles.size()});
@@ -30,7 +34,7 @@ std::shared_ptr<const MeshWorld> MeshWorld::fromScene(const Scene& scene) {
     for (std::uint32_t i : scene.units[u].instances) {
       const SceneInstance& inst = scene.instances[i];
       world->unitParts_[u].push_back(
-          {inst.model, inst.toLocal.rotation, inst.toLocal.scale, inst.toLocal.translation});
+          {inst.model, world->partCount_++, inst.toLocal.rotation, inst.toLocal.scale, inst.toLocal.translation});
     }
   return world;
 }
@@ -88,8 +92,28 @@ double MeshWorld::nearestTriangle(std::uint32_t unit, const Vec3<double>& point,
 
 std::optional<MeshWorld::Contact> MeshWorld::firstContact(std::uint32_t unit, const Obb<double>& box,
                                                            const Vec3<double>& d, double t0, MeshQueryCounters& c,
-                                                           MeshContactSearch search) const {
-  return search == MeshContactSearch::Swept ? sweptContact(unit, box, d, t0, c) : advancementContact(unit, box, d, t0, c);
+                                                           MeshContactSearch search, SweepMemory* memory) const {
+  if (memory && (memory->worldId_ != id_ || memory->parts_.size() != partCount_))
+    throw std::logic_error("MeshWorld: a sweep memory made for another world");
+  return search == MeshContactSearch::Swept ? sweptContact(unit, box, d, t0, c, memory)
+                                            : advancementContact(unit, box, d, t0, c);
+}
+
+MeshWorld::SweepMemory MeshWorld::sweepMemory() const {
+  SweepMemory memory;
+  memory.worldId_ = id_;
+  memory.parts_.resize(partCount_);
+  return memory;
+}
+
+CoherentSweepCounters MeshWorld::SweepMemory::counters() const {
+  CoherentSweepCounters sum;
+  for (const CoherentSweep& part : parts_) {
+    sum.remembered += part.counters().remembered;
+    sum.lookAheads += part.counters().lookAheads;
+    sum.exact += part.counters().exact;
+  }
+  return sum;
 }
 
 bool MeshWorld::pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d,
@@ -103,7 +127,7 @@ bool MeshWorld::pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3
 
 std::optional<MeshWorld::Contact> MeshWorld::sweptContact(std::uint32_t unit, const Obb<double>& box,
                                                            const Vec3<double>& d, double t0,
-                                                           MeshQueryCounters& c) const {
+                                                           MeshQueryCounters& c, SweepMemory* memory) const {
   Obb<double> grown = box;
   grown.halfExtents.array() += kMeshContactGrowth;
   const double start = std::max(0.0, t0);
@@ -112,7 +136,8 @@ std::optional<MeshWorld::Contact> MeshWorld::sweptContact(std::uint32_t unit, co
     const Model& m = models_[p.model];
     const Obb<double> b = toModel(p, grown);
     const Vec3<double> dm = p.rotation.transpose() * d / p.scale;
-    const MeshSweepHit hit = m.tree.sweep(b, dm, start, &c);
+    const MeshSweepHit hit =
+        memory ? memory->parts_[p.slot].sweep(m.tree, b, dm, start, &c) : m.tree.sweep(b, dm, start, &c);
     if (hit.contact && (!first || hit.t < first->t)) first = Contact{hit.t, true, p.rotation * hit.normal};
   }
   // Touching where the search starts, at the very start of the step: a contact only if the motion

@@ -11,7 +11,9 @@
 //    in the box's own axes (the largest of the three per-axis gaps), is at most the growth: so at
 //    the contact the Euclidean distance is between kMeshContactGrowth and
 //    sqrt(3) kMeshContactGrowth = kMeshContactTolerance, and no earlier time has it at or below
-//    kMeshContactGrowth. One traversal per step, whatever the approach angle.
+//    kMeshContactGrowth. One traversal per step, whatever the approach angle; with a mover's
+//    SweepMemory, none for the steps inside a free path an earlier look-ahead proved
+//    (coherent_sweep.h), with the same answers.
 //  - MeshContactSearch::Advancement (the reference the report compares every method with):
 //    conservative advancement on exact distances. At t the distance D is computed; no point of the
 //    box moves more than |d| dt, so nothing can be touched before t + D / |d|, and t advances by
@@ -29,9 +31,10 @@
 // back to the Scene or its OSG nodes afterwards.
 // Thread safety: a built MeshWorld is immutable (fromScene hands it out as a shared_ptr to const);
 // its const queries keep no scratch and may run from several threads at once, each with its own
-// MeshQueryCounters.
+// MeshQueryCounters and SweepMemory (a mover's: one per thread).
 #pragma once
 
+#include "nestwalk/geometry/coherent_sweep.h"
 #include "nestwalk/geometry/mesh_tree.h"
 
 #include <cstdint>
@@ -58,6 +61,21 @@ inline constexpr int kMaxAdvancementSteps = 4096;
 
 class MeshWorld {
  public:
+  /// One mover's memory of free space, a CoherentSweep (coherent_sweep.h) per part of every unit:
+  /// given to firstContact, the swept search answers the steps inside a remembered free path
+  /// without opening the tree (the same answers). Made by sweepMemory(), for this world only
+  /// (firstContact throws std::logic_error when given another world's, even one at the same address).
+  class SweepMemory {
+   public:
+    CoherentSweepCounters counters() const;
+
+   private:
+    friend class MeshWorld;
+    std::uint64_t worldId_ = 0;  // the world's id_ (0: made for none)
+    std::vector<CoherentSweep> parts_;
+  };
+  SweepMemory sweepMemory() const;
+
   // Trees for every model the scene's units use.
   static std::shared_ptr<const MeshWorld> fromScene(const Scene& scene);
 
@@ -78,7 +96,8 @@ class MeshWorld {
   // The first t in [t0, 1] at which box + t d comes within the contact tolerance of the unit's
   // triangles (see the header comment); nullopt when it never does within the step.
   std::optional<Contact> firstContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
-                                      MeshQueryCounters& c, MeshContactSearch search = MeshContactSearch::Swept) const;
+                                      MeshQueryCounters& c, MeshContactSearch search = MeshContactSearch::Swept,
+                                      SweepMemory* memory = nullptr) const;
 
  private:
   struct Model {
@@ -87,19 +106,22 @@ class MeshWorld {
   };
   struct Part {
     std::uint32_t model;
+    std::uint32_t slot;     // its place in a SweepMemory
     Mat3<double> rotation;  // model -> local
     double scale;
     Vec3<double> translation;
   };
   Obb<double> toModel(const Part& p, const Obb<double>& box) const;
   std::optional<Contact> sweptContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, double t0,
-                                      MeshQueryCounters& c) const;
+                                      MeshQueryCounters& c, SweepMemory* memory) const;
   std::optional<Contact> advancementContact(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d,
                                             double t0, MeshQueryCounters& c) const;
   // At the very start of a step, within the tolerance already: whether the motion presses in.
   bool pressesIn(std::uint32_t unit, const Obb<double>& box, const Vec3<double>& d, MeshQueryCounters& c) const;
   std::vector<Model> models_;
   std::vector<std::vector<Part>> unitParts_;
+  std::uint32_t partCount_ = 0;
+  std::uint64_t id_ = 0;  // unique to each world fromScene builds (a SweepMemory names its world by it)
 };
 
 }  // namespace nestwalk

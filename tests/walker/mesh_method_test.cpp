@@ -22,11 +22,16 @@
 #include <fcl/narrowphase/distance.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <limits>
 #include <memory>
+#include <numbers>
+#include <stdexcept>
 
 namespace nestwalk {
 namespace {
@@ -194,6 +199,50 @@ TEST_F(MeshMethods, EveryMethodAgainstTheAdvancementReference) {
                 (unsigned long long)tally.referenceContacts, (unsigned long long)tally.missed,
                 (unsigned long long)tally.earlyStops, (unsigned long long)tally.falseBlocks);
   }
+}
+
+TEST_F(MeshMethods, SweepMemoryFindsTheSameContactsOnEveryUnit) {
+  // The body box walked into every unit with triangles from 8 sides at walking steps (then held
+  // at the contact, pressing on turned), each step's first contact found with one mover's
+  // SweepMemory and without: the same contacts, times, normals and pressing verdicts.
+  MeshWorld::SweepMemory memory = meshes_->sweepMemory();
+  const Vec3<double> half = scene_->spec.viewer.bodyHalfExtents;
+  std::uint64_t steps = 0;
+  for (std::uint32_t u = 0; u < meshes_->units(); ++u) {
+    if (meshes_->triangles(u) == 0) continue;
+    const Aabb<double>& outer = scene_->units[u].volume.outer;
+    const double reach = 0.5 * outer.size().head<2>().norm() + half.head<2>().norm() + 0.5;
+    for (int side = 0; side < 8; ++side) {
+      const double angle = 2 * std::numbers::pi * side / 8 + 0.2;
+      const Vec3<double> toward(-std::cos(angle), -std::sin(angle), 0);
+      Obb<double> body{outer.center() - reach * toward, Eigen::AngleAxisd(angle, Vec3<double>::UnitZ()).toRotationMatrix(),
+                       half};
+      Vec3<double> d = (1.4 / 60) * toward;
+      for (int step = 0; step < 400; ++step) {
+        MeshQueryCounters c;
+        const auto with = meshes_->firstContact(u, body, d, 0.0, c, MeshContactSearch::Swept, &memory);
+        const auto without = meshes_->firstContact(u, body, d, 0.0, c);
+        ++steps;
+        ASSERT_EQ(with.has_value(), without.has_value()) << "unit " << u << " side " << side << " step " << step;
+        if (!with) {
+          body.center += d;
+          continue;
+        }
+        EXPECT_EQ(with->t, without->t);
+        EXPECT_EQ(with->normal, without->normal);
+        EXPECT_EQ(with->pressing, without->pressing);
+        body.center += std::max(0.0, with->t - 0.02) * d;  // held short of the contact, turning
+        d = Eigen::AngleAxisd(0.15, Vec3<double>::UnitZ()) * d;
+        if (step > 300) break;
+      }
+    }
+  }
+  EXPECT_GT(memory.counters().remembered, steps / 4) << steps << " steps";
+  // A memory is for the world that made it.
+  const std::shared_ptr<const MeshWorld> other = MeshWorld::fromScene(*scene_);
+  MeshQueryCounters c;
+  EXPECT_THROW(other->firstContact(0, Obb<double>{}, Vec3<double>(1, 0, 0), 0.0, c, MeshContactSearch::Swept, &memory),
+               std::logic_error);
 }
 
 }  // namespace
