@@ -23,7 +23,9 @@ bool CoherentSweep::covers(const Obb<double>& box, const V3& d, double tStart) c
   if (!valid_ || box.halfExtents != anchor_.halfExtents) return false;
   // The exact sweep may report a contact up to its slack short of a triangle: the step's box must
   // stay that much further inside the grown box than the margin alone asks, to get the same answer.
-  double room = room_ - sweepBoxTriangleSlack(box, d, reach_);
+  // A step from its start (tStart 0, the walker's usual step) that passes has its centre and its
+  // motion bounded by the free path, so remember() found the slack's bound for it once.
+  double room = tStart == 0 ? roomFromStart_ : room_ - sweepBoxTriangleSlack(box, d, reach_);
   if (box.axes != anchor_.axes)  // the most a point of the box moves when its axes turn
     for (int j = 0; j < 3; ++j) room -= (box.axes.col(j) - anchor_.axes.col(j)).norm() * box.halfExtents[j];
   if (!(room > 0)) return false;  // nearPath squares it: a negative room must not pass
@@ -36,6 +38,7 @@ void CoherentSweep::remember(const Obb<double>& box, const V3& start, double mar
   valid_ = true;
   used_ = 0;
   lastSteps_ = (ahead.contact ? ahead.t : 1.0) * k;
+  endsAtSurface_ = ahead.contact;
   anchor_ = box;
   anchor_.center = start;
   // Short of the contact by a relative hair, so the free path's end is strictly before it.
@@ -46,6 +49,12 @@ void CoherentSweep::remember(const Obb<double>& box, const V3& start, double mar
   const double magnitude = anchor_.center.cwiseAbs().maxCoeff() + path_.cwiseAbs().maxCoeff() +
                            box.halfExtents.sum() + 2 * margin;
   room_ = margin - kCoverSlack * magnitude;
+  // The exact sweep's slack for any step from its start that covers() passes: its centre lies
+  // within the margin of the free path (max norm at most `centre`), its motion is at most the path
+  // and twice the margin long, and the slack grows with both (triangle_sweep.h).
+  Obb<double> farthest = box;
+  farthest.center = V3::Constant(anchor_.center.cwiseAbs().maxCoeff() + path_.cwiseAbs().maxCoeff() + margin);
+  roomFromStart_ = room_ - sweepBoxTriangleSlack(farthest, V3(path_.norm() + 2 * margin, 0, 0), reach_);
   if (ahead.contact) lookAhead_ = std::max(1.0, 0.5 * lookAhead_);  // it met a surface: shorter next
 }
 
@@ -58,19 +67,21 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
     treeId_ = tree.id();
     reach_ = tree.reach();
   }
-  if (!(box.center.allFinite() && box.axes.allFinite() && box.halfExtents.allFinite() && d.allFinite() &&
-        std::isfinite(tStart))) {  // the tree's own answer (or its error); nothing to remember
-    forget();
-    lastEnd_ = V3::Constant(std::numeric_limits<double>::quiet_NaN());
-    ++stats_.exact;
-    return tree.sweep(box, d, tStart, counters);
-  }
   const V3 lastEnd = lastEnd_;
   lastEnd_ = box.center + d;
   if (covers(box, d, tStart)) {
     ++stats_.remembered;
     ++used_;
     return MeshSweepHit{};  // what MeshTree::sweep answers for a step that touches nothing
+  }
+  // Non-finite input (which covers never passes: every comparison with a NaN or an infinite room
+  // fails): the tree's own answer, or its error; nothing to remember.
+  if (!(box.center.allFinite() && box.axes.allFinite() && box.halfExtents.allFinite() && d.allFinite() &&
+        std::isfinite(tStart))) {
+    forget();
+    lastEnd_ = V3::Constant(std::numeric_limits<double>::quiet_NaN());
+    ++stats_.exact;
+    return tree.sweep(box, d, tStart, counters);
   }
   // A step that does not start within about a step of where the last one ended (a teleport, a
   // new walk, steps the caller did not ask about): what was learnt about the last place does not
@@ -84,7 +95,7 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
   if (valid_) {
     // Left the free path: walked to its end (the next look-ahead goes first, and further), or
     // left it early (turning, steering: the next is shorter, after the step's own sweep).
-    lookFirst_ = used_ + 2 >= lastSteps_;
+    lookFirst_ = used_ + 2 >= lastSteps_ && !endsAtSurface_;
     lookAhead_ = lookFirst_ ? 2 * lookAhead_ : std::max(1.0, 0.5 * lookAhead_);
     valid_ = false;
   }
