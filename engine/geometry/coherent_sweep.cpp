@@ -50,8 +50,9 @@ void CoherentSweep::remember(const Obb<double>& box, const V3& start, double mar
                            box.halfExtents.sum() + 2 * margin;
   room_ = margin - kCoverSlack * magnitude;
   // The exact sweep's slack for any step from its start that covers() passes: its centre lies
-  // within the margin of the free path (max norm at most `centre`), its motion is at most the path
-  // and twice the margin long, and the slack grows with both (triangle_sweep.h).
+  // within the margin of the free path (so its max norm is at most farthest.center's), its motion
+  // is at most the path and twice the margin long, and the slack grows with both
+  // (triangle_sweep.h).
   Obb<double> farthest = box;
   farthest.center = V3::Constant(anchor_.center.cwiseAbs().maxCoeff() + path_.cwiseAbs().maxCoeff() + margin);
   roomFromStart_ = room_ - sweepBoxTriangleSlack(farthest, V3(path_.norm() + 2 * margin, 0, 0), reach_);
