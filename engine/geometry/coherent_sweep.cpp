@@ -33,8 +33,8 @@ bool CoherentSweep::covers(const Obb<double>& box, const V3& d, double tStart) c
   return nearPath(start + tStart * d, path_, inversePath2_, room) && nearPath(start + d, path_, inversePath2_, room);
 }
 
-void CoherentSweep::remember(const Obb<double>& box, const V3& start, double margin, const MeshSweepHit& ahead, double k,
-                             const V3& step) {
+void CoherentSweep::remember(const Obb<double>& box, const V3& start, double margin, const MeshSweepHit& ahead,
+                             double k, const V3& step) {
   valid_ = true;
   used_ = 0;
   lastSteps_ = (ahead.contact ? ahead.t : 1.0) * k;
@@ -107,13 +107,14 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
     ++stats_.exact;
     return tree.sweep(box, d, tStart, counters);
   }
-  const double longest = std::max(1.0, kMaxLookAheadRadii * halfDiagonal / restLength);
+  // The longest look-ahead along steps of this length, in steps.
+  auto longestFor = [&](double stepLength) { return std::max(1.0, kMaxLookAheadRadii * halfDiagonal / stepLength); };
   Obb<double> grown = box;
   grown.halfExtents.array() += margin;
   if (lookFirst_) {
     // The look-ahead first: the grown box from the step's start, k steps' worth.
     grown.center += tStart * d;
-    const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, longest);
+    const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, longestFor(restLength));
     const MeshSweepHit ahead = tree.sweep(grown, k * rest, 0.0, counters);
     ++stats_.lookAheads;
     if (!ahead.contact || ahead.t * k > 1.0) {  // free beyond this step: so is the step
@@ -139,7 +140,7 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
   if (hit.contact || work.triangleTests > 0) return hit;
   // The look-ahead from the step's end, k steps' worth.
   grown.center += d;
-  const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, std::max(1.0, kMaxLookAheadRadii * halfDiagonal / d.norm()));
+  const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, longestFor(d.norm()));
   const MeshSweepHit ahead = tree.sweep(grown, k * d, 0.0, counters);
   ++stats_.lookAheads;
   if (!ahead.contact || ahead.t > 0) remember(box, grown.center, margin, ahead, k, d);

@@ -21,10 +21,10 @@
 //  - the look-ahead first (after a free path walked to its end, where the look-ahead met no
 //    triangle: the mover goes on straight, most likely through more free space; a free path that
 //    ended at a surface is followed by the step's own sweep, since the mover is about to reach
-//    it, and a look-ahead would only pay a second sweep): when the grown box's first contact lies beyond this step,
-//    the step is free, answered by that one sweep, and the look-ahead is the new free path; when it
-//    lies within the step, the step is swept exactly (two sweeps, once), and the next steps go
-//    back to the first order.
+//    it, and a look-ahead would only pay a second sweep): when the grown box's first contact lies
+//    beyond this step, the step is free, answered by that one sweep, and the look-ahead is the
+//    new free path; when it lies within the step, the step is swept exactly (two sweeps, once),
+//    and the next steps go back to the first order.
 // The look-ahead's length adapts to the motion: it starts at kFirstLookAheadSteps steps, doubles
 // (up to kMaxLookAheadRadii half diagonals of the box) each time the mover walks a free path to
 // its end, and halves (down to the step itself) each time the mover leaves one early (turning,
