@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace nestwalk {
 namespace {
@@ -15,6 +16,18 @@ using V3 = Vec3<double>;
 bool nearPath(const V3& p, const V3& path, double inversePath2, double room) {
   const double s = std::clamp(p.dot(path) * inversePath2, 0.0, 1.0);
   return (p - s * path).squaredNorm() < room * room;
+}
+
+/// The look-ahead: the grown box along `motion` (k steps), as far as the tree proves it free
+/// (MeshTree::freeUntil: never past a contact); contact false when free all the way.
+MeshSweepHit lookAhead(const KdopTree& tree, const Obb<double>& grown, const V3& motion, MeshQueryCounters* counters) {
+  const double free = tree.freeUntil(grown, motion, counters);
+  MeshSweepHit ahead;
+  if (free != std::numeric_limits<double>::infinity()) {
+    ahead.contact = true;
+    ahead.t = free;
+  }
+  return ahead;
 }
 
 }  // namespace
@@ -115,7 +128,7 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
     // The look-ahead first: the grown box from the step's start, k steps' worth.
     grown.center += tStart * d;
     const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, longestFor(restLength));
-    const MeshSweepHit ahead = tree.sweep(grown, k * rest, 0.0, counters);
+    const MeshSweepHit ahead = lookAhead(tree, grown, k * rest, counters);
     ++stats_.lookAheads;
     if (!ahead.contact || ahead.t * k > 1.0) {  // free beyond this step: so is the step
       remember(box, grown.center, margin, ahead, k, rest);
@@ -141,7 +154,7 @@ MeshSweepHit CoherentSweep::sweep(const KdopTree& tree, const Obb<double>& box, 
   // The look-ahead from the step's end, k steps' worth.
   grown.center += d;
   const double k = lookAhead_ = std::clamp(lookAhead_, 1.0, longestFor(d.norm()));
-  const MeshSweepHit ahead = tree.sweep(grown, k * d, 0.0, counters);
+  const MeshSweepHit ahead = lookAhead(tree, grown, k * d, counters);
   ++stats_.lookAheads;
   if (!ahead.contact || ahead.t > 0) remember(box, grown.center, margin, ahead, k, d);
   return hit;

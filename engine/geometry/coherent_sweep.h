@@ -4,8 +4,10 @@
 //
 // The proof (a look-ahead): the box grown by a margin m on every side (along its own axes) is swept
 // through the tree along the step's direction for a longer stretch (the look-ahead: k steps).
-// MeshTree::sweep is never late, so before the time it reports, the grown box touches no triangle:
-// the free path is that stretch of the box centre's motion, [a, a + D]. A later step (box B' =
+// MeshTree::freeUntil is never late, so before the time it reports, the grown box touches no
+// triangle: the free path is that stretch of the box centre's motion, [a, a + D]. (freeUntil stops
+// at the first contact it meets, where a full sweep would go on to prove which is first: near a
+// lattice that was a step's most costly sweep, 90 us on the drill rig's mast.) A later step (box B' =
 // centre c', axes R', the same half extents h, moving from c' + tStart d' to c' + d') touches
 // nothing when both ends of its centre's path lie closer than m - turn to the free path, with
 // turn = sum_j |R'_j - R_j| h_j (the most a point of the box moves when its axes turn from R to

@@ -6,6 +6,8 @@
 #include "nestwalk/geometry/slab_clip.h"
 #include "nestwalk/geometry/triangle_sweep.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -196,6 +198,7 @@ class TreeBuilder {
     nodes_.emplace_back();
     gatherNode(first, count);
     nodes_[index].volume = VolumeRules<Volume>::fit(points_);
+    nodes_[index].facing = fitNormalSlab(first, count);
     nodes_[index].firstTriangle = first;
     nodes_[index].triangleCount = count;
     if (count <= leafSize_) return 0;
@@ -223,6 +226,32 @@ class TreeBuilder {
     vertexIds_.erase(std::unique(vertexIds_.begin(), vertexIds_.end()), vertexIds_.end());
     points_.clear();
     for (std::uint32_t v : vertexIds_) points_.push_back(mesh_.vertices[v]);
+  }
+
+  // The slab along the node's mean normal over points_ (the node's corners), padded outward like
+  // the k-DOP's slabs, plus the rounding of the products with a unit normal (<= 3u |n|_1 |p|_inf).
+  NormalSlab fitNormalSlab(std::uint32_t first, std::uint32_t count) const {
+    V3 sum = V3::Zero();
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      const Triangle t = mesh_.triangle(order_[i]);
+      sum += (t[1] - t[0]).cross(t[2] - t[0]);
+    }
+    NormalSlab slab;
+    const double length = sum.norm();
+    if (length > 0 && std::isfinite(length)) slab.normal = sum / length;
+    slab.min = kInfinity;
+    slab.max = -kInfinity;
+    double largest = 0;
+    for (const V3& p : points_) {
+      const double s = slab.normal.dot(p);
+      slab.min = std::min(slab.min, s);
+      slab.max = std::max(slab.max, s);
+      largest = std::max(largest, p.cwiseAbs().maxCoeff());
+    }
+    const double pad = kNodeVolumePadding * slab.normal.cwiseAbs().sum() * largest;
+    slab.min -= pad;
+    slab.max += pad;
+    return slab;
   }
 
   // Reorders order_[first, first + count) into two non-empty sides; returns the left count.
@@ -279,6 +308,7 @@ constexpr int kFrontierCapacity = 256;
 class SweepFrontier {
  public:
   bool empty() const { return size_ == 0; }
+  const StackEntry& top() const { return heap_[0]; }
   bool full() const { return size_ == kFrontierCapacity; }
   void push(const StackEntry& e) {
     int i = size_++;
@@ -425,51 +455,91 @@ double MeshTree<Volume>::distance(const Obb<double>& box, MeshQueryCounters* cou
 template <class Volume>
 MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>& d, double tStart,
                                      MeshQueryCounters* counters) const {
+  return search(box, d, tStart, counters, false);
+}
+
+template <class Volume>
+double MeshTree<Volume>::freeUntil(const Obb<double>& box, const Vec3<double>& d, MeshQueryCounters* counters) const {
+  const MeshSweepHit hit = search(box, d, 0.0, counters, true);
+  return hit.contact ? hit.t : kInfinity;
+}
+
+template <class Volume>
+MeshSweepHit MeshTree<Volume>::search(const Obb<double>& box, const Vec3<double>& d, double tStart,
+                                      MeshQueryCounters* counters, bool firstFound) const {
   MeshSweepHit hit;
   if (nodes_.empty()) return hit;
   Obb<double> grown = box;
-  grown.halfExtents.array() += sweepBoxTriangleSlack(box, d, reach_);
+  const double slack = sweepBoxTriangleSlack(box, d, reach_);
+  grown.halfExtents.array() += slack;
   const auto query = VolumeRules<Volume>::prepareSweep(grown, d);
+  // The box's centre and radius along a node's normal slab, as for the k-DOP's slabs (prepare()):
+  // the rounding of the products and the axes' tolerance are covered by sat.h's slack.
+  const double boxMagnitude = grown.center.cwiseAbs().sum() + grown.halfExtents.sum() + d.cwiseAbs().sum();
+  const double facingSlack = kRoundingSlack<double> * 2 * boxMagnitude;
+  // Contacts closer than this along the motion are one: the search keeps the first it finds.
+  const double length = d.norm();
+  const double tie = length > 0 && !firstFound ? meshSweepTieDistance(box, d, reach_) / length : 0.0;
   std::uint64_t nodeTests = 1, triangleTests = 0;
   // A node's entry: the time its volume is first touched (no triangle inside is touched earlier).
   auto entry = [&](std::uint32_t index) {
-    const SweepResult r = VolumeRules<Volume>::sweepInterval(nodes_[index].volume, query);
+    const MeshTreeNode<Volume>& node = nodes_[index];
+    SweepResult r = VolumeRules<Volume>::sweepInterval(node.volume, query);
+    if (r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart) {
+      const NormalSlab& f = node.facing;
+      const double mid = 0.5 * (f.min + f.max);
+      const double radius = (grown.axes.transpose() * f.normal).cwiseAbs().dot(grown.halfExtents);
+      SlabClip clip;
+      clip.enter = r.enter;
+      clip.exit = r.exit;
+      clip.windowStart = tStart;
+      const double p0 = mid - f.normal.dot(grown.center);
+      clip.clip(p0, f.normal.dot(d),
+                0.5 * (f.max - f.min) + radius + facingSlack + kRoundingSlack<double> * 2 * std::abs(mid), 0, 0);
+      r.enter = clip.enter;
+      r.exit = clip.exit;
+    }
     const bool meets = r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart;
     return StackEntry{index, meets ? std::max(r.enter, tStart) : kInfinity};
   };
   double best = kInfinity;  // the earliest contact found so far
-  std::uint32_t bestTriangle = 0;
+  // A node or triangle entered no earlier than this cannot improve the contact by more than the tie.
+  auto beyond = [&](double t) { return t >= best - tie; };
   auto testLeaf = [&](const MeshTreeNode<Volume>& node) {
     for (std::uint32_t i = node.firstTriangle; i < node.firstTriangle + node.triangleCount; ++i) {
       ++triangleTests;
-      const SweepResult r = sweepBoxTriangle(box, d, triangles_[i], tStart, std::min(best, 1.0));
-      if (!(r.enter <= r.exit && r.enter <= 1.0 && r.exit >= tStart)) continue;
+      const double end = std::min(best - tie, 1.0);
+      const SweepResult r = sweepBoxTriangle(box, d, triangles_[i], tStart, end);
+      if (!(r.enter <= r.exit && r.enter <= end && r.exit >= tStart)) continue;
       const double t = std::max(r.enter, tStart);
-      // Ties go to the first triangle in leaf order, whatever order the nodes were visited in.
-      if (t < best || (t == best && i < bestTriangle)) {
-        best = t;
-        bestTriangle = i;
-        hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
-      }
+      if (beyond(t)) continue;
+      best = t;
+      hit = {true, t, r.enter > tStart ? r.normal : Vec3<double>::Zero()};
     }
   };
   // Best first: the frontier is a min-heap on the entry time, so nodes are opened in the order
   // the box reaches them and the search ends once the earliest unopened node is entered no
-  // earlier than the best contact (no triangle below it can come earlier).
+  // earlier than the best contact less the tie (no triangle below it can come earlier by more).
   SweepFrontier frontier;
   if (const StackEntry root = entry(0); root.lowerBound != kInfinity) frontier.push(root);
   while (!frontier.empty()) {
     const StackEntry e = frontier.pop();
-    if (e.lowerBound > best) break;  // every node left is entered later still
+    if (beyond(e.lowerBound)) break;  // every node left is entered later still
     const MeshTreeNode<Volume>& node = nodes_[e.node];
     if (node.isLeaf()) {
       testLeaf(node);
+      // freeUntil: nothing is touched before the contact found nor before the earliest node
+      // still unopened; that is all it needs to know.
+      if (firstFound && hit.contact) {
+        if (!frontier.empty()) hit.t = std::min(hit.t, frontier.top().lowerBound);
+        break;
+      }
       continue;
     }
     for (const std::uint32_t child : {e.node + 1, node.secondChild}) {
       const StackEntry c = entry(child);
       ++nodeTests;
-      if (c.lowerBound == kInfinity || c.lowerBound > best) continue;  // not entered, or after the best
+      if (c.lowerBound == kInfinity || beyond(c.lowerBound)) continue;  // not entered, or after the best
       if (!frontier.full()) {
         frontier.push(c);
         continue;
@@ -489,16 +559,22 @@ MeshSweepHit MeshTree<Volume>::sweep(const Obb<double>& box, const Vec3<double>&
         for (const std::uint32_t g : {index + 1, n.secondChild}) {
           ++nodeTests;
           const double enter = entry(g).lowerBound;
-          if (enter != kInfinity && enter <= best) stack[top++] = g;
+          if (enter != kInfinity && !beyond(enter)) stack[top++] = g;
         }
       }
     }
   }
+  // Never late: a triangle left unopened may touch up to the tie before the one found.
+  if (hit.contact && tie > 0) hit.t = std::max(tStart, hit.t - tie);
   if (counters) {
     counters->nodeTests += nodeTests;
     counters->triangleTests += triangleTests;
   }
   return hit;
+}
+
+double meshSweepTieDistance(const Obb<double>& box, const Vec3<double>& d, double reach) {
+  return kSweepTieSlacks * sweepBoxTriangleSlack(box, d, reach);
 }
 
 template class MeshTree<Kdop18>;

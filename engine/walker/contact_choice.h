@@ -73,10 +73,13 @@ GapVerdict obbSurfaceGap(const Obb<double>& box, const NearestTriangleQuery& nea
 /// Auto's second criterion: a unit whose OBB is not tight gets the exact stage only when it is
 /// affordable, measured at load on sample sweeps of the body into the unit (walker/exact_stage_cost.h:
 /// sampleExactStageCost): at most kMaxExactStageTests bounding-volume and triangle tests a sweep.
-/// A densely tessellated flat face is what exceeds it: a body pressed against it reaches every
-/// triangle under its face at once (a wall of 1 cm squares: 10,206 in one step,
-/// hard_cases_auto_cost_test). Counted, not timed: the same verdict on every machine; a test costs
-/// 25-80 ns here, so the bound is about 100-300 us a step.
+/// A densely tessellated flat face used to exceed it (a body pressed against it reached every
+/// triangle under its face at once: 10,206 tests a step on a wall of 1 cm squares); since the
+/// tree's nodes carry a slab along their normals and contacts within a tie are one (mesh_tree.h,
+/// 2026-11-28), that wall costs 90 tests (hard_cases_auto_cost_test), the heavy real models at most
+/// about 650, and the limit is a safety net for meshes that defeat the tree. Counted, not timed:
+/// the same verdict on every machine; a test costs 25-80 ns here, so the bound is about 100-300 us
+/// a step.
 inline constexpr std::uint64_t kMaxExactStageTests = 4000;
 
 struct ExactStageCost {

@@ -1,16 +1,20 @@
 // MeshTree::sweep (mesh_tree.h): the first contact of a translating box with a mesh, through the
 // 18-DOP tree, against (1) the brute-force loop over every triangle with the same
-// per-triangle test (the trees may only prune: the same double t, every time) and (2) an
+// per-triangle test (the trees may only prune: the same contact verdict, and a t no later than
+// brute force's and earlier by at most the tie, meshSweepTieDistance) and (2) an
 // independent reference that knows only distances (triangle_box.h): conservative advancement on
 // bruteForceDistance, which can never pass a contact, finds none where the sweep finds none; at
 // the sweep's t the box touches the mesh, and a moment before it does not.
 // Meshes: those of the tree tests (test_meshes.h), UTM magnitudes included; boxes rotated and
 // axis-aligned; motions aimed at the mesh; starts inside the step (tStart > 0) too.
 #include "nestwalk/geometry/mesh_tree.h"
+#include "nestwalk/geometry/triangle_sweep.h"
 
 #include "tests/geometry/test_meshes.h"
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <cstdio>
@@ -23,6 +27,14 @@ namespace {
 
 using V3 = Vec3<double>;
 using namespace testmeshes;
+
+/// The tree's t against brute force's: never later, earlier by at most the tie (mesh_tree.h).
+void expectWithinTie(const MeshSweepHit& hit, const MeshSweepHit& reference, double reach, const Obb<double>& box,
+                     const V3& d, const std::string& where) {
+  ASSERT_EQ(hit.contact, reference.contact) << where;
+  EXPECT_LE(hit.t, reference.t) << where;
+  EXPECT_GE(hit.t, reference.t - meshSweepTieDistance(box, d, reach) / d.norm()) << where;
+}
 
 /// Conservative advancement on exact distances from tStart: the first t where the distance falls
 /// to `touch` (nullopt if the step ends first, NaN when it runs out of iterations: grazing).
@@ -69,16 +81,23 @@ void checkSweeps(const char* treeName) {
         // (or runs out of iterations grazing the surface).
         const std::optional<double> stop = advance(m.mesh, box, d, tStart, 1e-12 * magnitude);
         EXPECT_TRUE(!stop || std::isnan(*stop)) << m.name << " case " << n << ": contact at t = " << *stop;
+        if (tStart == 0.0) {
+          EXPECT_EQ(tree.freeUntil(box, d), std::numeric_limits<double>::infinity()) << m.name << " case " << n;
+        }
         continue;
       }
       ++contacts;
-      EXPECT_EQ(hit.t, reference.t) << m.name << " case " << n;
+      expectWithinTie(hit, reference, tree.reach(), box, d, std::string(m.name) + " case " + std::to_string(n));
+      if (tStart == 0.0) {  // freeUntil: never past the first contact
+        EXPECT_LE(tree.freeUntil(box, d), reference.t) << m.name << " case " << n;
+      }
       EXPECT_GE(hit.t, tStart);
       // Independent: at t the box touches the mesh (distance within the sweep's slack: not early)
       // and a moment before it does not (not late).
       Obb<double> at = box;
       at.center += hit.t * d;
-      EXPECT_LE(bruteForceDistance(m.mesh, at), 1e-10 * magnitude) << m.name << " case " << n;
+      EXPECT_LE(bruteForceDistance(m.mesh, at), 1e-10 * magnitude + meshSweepTieDistance(box, d, tree.reach()))
+          << m.name << " case " << n;
       const double before = hit.t - 1e-9;
       if (before > tStart) {
         at.center = box.center + before * d;
@@ -107,25 +126,27 @@ TEST(MeshTreeSweep, AThinPoleIsNeverJumpedOver) {
   const V3 d(50.0 / 60.0 * 1.5, 0.0, 0.0);
   const MeshSweepHit hit = tree.sweep(box, d);
   ASSERT_TRUE(hit.contact);
-  EXPECT_EQ(hit.t, bruteForceSweep(mesh, box, d).t);
+  expectWithinTie(hit, bruteForceSweep(mesh, box, d), tree.reach(), box, d, "pole");
   EXPECT_LT(hit.normal.x(), 0.0);  // pushing back against the motion
 }
 
 TEST(MeshTreeSweep, AMotionThroughThousandsOfLooseNodesAnswersAsBruteForce) {
-  // 20000 slivers 2 m long along (0, 1, 2), each passing 5 cm from the x axis at its own x (0 to
-  // 0.8 m) and shifted along itself by up to 0.9 m: every sliver's 18-DOP holds the axis near its
-  // x, so a small box moving along the axis enters every leaf without touching a triangle. The
-  // slivers' centres spread far more in z than in x, so the tree splits on z and the leaves'
-  // entry times come in no order the tree knows: the best-first frontier (kFrontierCapacity
-  // entries) overflows, and the nodes it cannot queue are searched depth first. No contact, as
-  // brute force; then one more triangle across the axis is found at brute force's t.
-  const V3 along = V3(0, 1, 2).normalized();
-  const double offset = 0.05 * std::sqrt(5.0);  // z = 2 y + offset is 5 cm from the x axis
+  // 20000 slivers 4.5 m long, each across the x axis's line of sight in its own direction in the
+  // y-z plane, passing 5 cm from the axis at its own x (0 to 0.8 m) and shifted along itself by up
+  // to 0.9 m: every sliver's 18-DOP holds the axis near its x, and so does a node's slab along its
+  // slivers' mean normal (their directions differ), so a small box moving along the axis enters
+  // every leaf without touching a triangle. The slivers' centres spread far more in y and z than
+  // in x, so the leaves' entry times come in no order the tree knows: the best-first frontier
+  // (kFrontierCapacity entries) overflows, and the nodes it cannot queue are searched depth
+  // first. No contact, as brute force; then one more triangle across the axis is found at brute
+  // force's t.
   std::mt19937 rng(17);
-  std::uniform_real_distribution<double> x(0, 0.8), shift(-0.9, 0.9);
+  std::uniform_real_distribution<double> x(0, 0.8), shift(-0.9, 0.9), angle(0, 3.14159);
   TriangleMesh mesh;
   for (int i = 0; i < 20000; ++i) {
-    const V3 mid = V3(x(rng), 0, offset) + shift(rng) * V3(0, 1, 2);
+    const double phi = angle(rng);
+    const V3 along(0, std::cos(phi), std::sin(phi)), across(0, -std::sin(phi), std::cos(phi));
+    const V3 mid = V3(x(rng), 0, 0) + 0.05 * across + shift(rng) * along;
     const std::uint32_t first = std::uint32_t(mesh.vertices.size());
     mesh.vertices.push_back(mid - std::sqrt(5.0) * along);
     mesh.vertices.push_back(mid + std::sqrt(5.0) * along);
@@ -153,8 +174,46 @@ TEST(MeshTreeSweep, AMotionThroughThousandsOfLooseNodesAnswersAsBruteForce) {
   const MeshSweepHit hit = tree.sweep(box, d);
   const MeshSweepHit brute = bruteForceSweep(mesh, box, d);
   ASSERT_TRUE(hit.contact);
-  EXPECT_EQ(hit.t, brute.t);
-  EXPECT_NEAR(hit.t, (0.6 + 0.01) / 0.84, 1e-10);  // the slabs' slack: about 1e-12 of the magnitudes early
+  expectWithinTie(hit, brute, tree.reach(), box, d, "the triangle across the axis");
+  // Early by the slabs' slack (about 1e-12 of the magnitudes) and at most the tie (8 nm here).
+  EXPECT_NEAR(hit.t, (0.6 + 0.01) / 0.84, 1e-10 + meshSweepTieDistance(box, d, tree.reach()) / d.norm());
+}
+
+TEST(MeshTreeSweep, ADenseFlatFaceIsOneContact) {
+  // A 1 m x 1 m wall in the plane y = 0 cut into 1 cm squares (20,000 triangles), the body box
+  // pressed on it 0.5 mm off and stepping on turned 20 degrees into it: every triangle under the
+  // box's face is reached at the same time up to rounding. Brute force tests them all; the tree
+  // keeps the first it finds and passes over every node of the flat patch entered no earlier
+  // than that less the tie (its normal slab is tight on a flat patch).
+  TriangleMesh mesh;
+  const int n = 100;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) mesh.vertices.push_back(V3(0.01 * i, 0, 0.01 * j));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const auto at = [&](int a, int b) { return std::uint32_t(a * (n + 1) + b); };
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const KdopTree tree(mesh);
+  const Obb<double> box{V3(0.5, -0.25 - 0.5e-3, 0.5), Mat3<double>::Identity(), V3(0.25, 0.25, 0.4)};
+  const V3 d = V3(std::sin(0.35), std::cos(0.35), 0) * (1.4 / 60);
+  int reached = 0;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const SweepResult r = sweepBoxTriangle(box, d, mesh.triangle(i), 0.0, 1.0);
+    reached += r.enter <= r.exit && r.enter <= 1.0 && r.exit >= 0.0;
+  }
+  MeshQueryCounters c;
+  const MeshSweepHit hit = tree.sweep(box, d, 0.0, &c);
+  expectWithinTie(hit, bruteForceSweep(mesh, box, d), tree.reach(), box, d, "dense wall");
+  // It moves 0.5 mm toward the wall, less at most the tie (a few nm here).
+  EXPECT_LE(hit.t * d.y(), 0.5e-3 + 1e-12);
+  EXPECT_GE(hit.t * d.y(), 0.5e-3 - meshSweepTieDistance(box, d, tree.reach()));
+  EXPECT_GT(reached, 4000) << "the box's face covers 50 x 80 squares";
+  EXPECT_LE(c.triangleTests, 16u);
+  EXPECT_LE(c.nodeTests, 64u);
+  std::printf("[dense wall] %d triangles reached in the step; the tree tested %llu triangles and %llu nodes\n", reached,
+              (unsigned long long)c.triangleTests, (unsigned long long)c.nodeTests);
 }
 
 }  // namespace
