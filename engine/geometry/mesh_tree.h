@@ -13,10 +13,12 @@
 // split below depth kMaxMeanSplitDepth, so the depth stays below kMaxMeanSplitDepth +
 // log2(triangles) + 1 whatever the mesh.
 // A node is tested against the box on the 9 directions (the box's own 18-DOP) and on the box's 3
-// face axes against the node's AABB (the first three slabs, which hold the k-DOP): a body box
-// turned against the model's axes has a loose 18-DOP, and its own axes take that looseness away
-// (the shared data's excavator, 11,144 triangles, walked into from 12 sides: the costliest sweep
-// went from 489 node and 481 triangle tests, 50 us, to 169 and 40, 15 us).
+// face axes, along which the node's extent is bounded through three of its slabs (each axis
+// written over the coordinate axes, the node's AABB, or over a diagonal and two axes, whichever
+// is tighter: a body turned about z uses a horizontal diagonal): a body box turned against the
+// model's axes has a loose 18-DOP, and its own axes take that looseness away (the shared data's
+// excavator, 11,144 triangles, walked into from 12 sides: the costliest sweep went from 489 node
+// and 481 triangle tests, 50 us, to 169 and 40, 15 us, with the AABB alone).
 // Why not OBB nodes (Gottschalk, Lin & Manocha, "OBBTree", 1996), which the engine had beside the
 // k-DOPs until 2026-11: on body boxes swept into the shared dump truck (23,346 triangles) and
 // excavator, the OBB tree's sweeps cost 3.4x to 3.6x this tree's (mean) and its distances 4.7x to
