@@ -656,7 +656,9 @@ MeshSweepHit MeshTree<Volume>::search(const Obb<double>& box, const Vec3<double>
 }
 
 double meshSweepTieDistance(const Obb<double>& box, const Vec3<double>& d, double reach) {
-  return kSweepTieSlacks * sweepBoxTriangleSlack(box, d, reach);
+  const double slack = sweepBoxTriangleSlack(box, d, reach);
+  return std::max(kSweepTieMinSlacks * slack,
+                  std::min(kSweepTieSlacks * slack, kSweepTieBoxFraction * box.halfExtents.minCoeff()));
 }
 
 template class MeshTree<Kdop18>;

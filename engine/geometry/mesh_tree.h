@@ -122,7 +122,14 @@ extern const std::array<Vec3<double>, Kdop18::kDirections> kKdopDirections;
 /// motions more than 1.6 degrees off the patch's plane (its entry moves back by at most
 /// sqrt(3) slacks over the sine of that angle).
 inline constexpr double kSweepTieSlacks = 64;
-/// Along the motion, in the mesh's units: kSweepTieSlacks of sweepBoxTriangleSlack.
+/// ... but no more than this fraction of the box's smallest half extent (0.25 um on the body box),
+/// where the slack is large (a mesh in map coordinates: 64 slacks are 3 cm at 7,000 km from its
+/// origin), and never less than kSweepTieMinSlacks slacks (a flat patch's nodes are then passed
+/// over for motions more than 60 degrees off its plane).
+inline constexpr double kSweepTieBoxFraction = 1e-6;
+inline constexpr double kSweepTieMinSlacks = 2;
+/// Along the motion, in the mesh's units: kSweepTieSlacks of sweepBoxTriangleSlack, within the
+/// bounds above.
 double meshSweepTieDistance(const Obb<double>& box, const Vec3<double>& d, double reach);
 
 /// Mean splits stop at this depth (median splits below it); see the header comment.
