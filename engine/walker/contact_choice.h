@@ -77,9 +77,9 @@ GapVerdict obbSurfaceGap(const Obb<double>& box, const NearestTriangleQuery& nea
 /// triangle under its face at once: 10,206 tests a step on a wall of 1 cm squares); since the
 /// tree's nodes carry a slab along their normals and contacts within a tie are one (mesh_tree.h,
 /// 2026-11-28), that wall costs 90 tests (hard_cases_auto_cost_test), the heavy real models at most
-/// about 650, and the limit is a safety net for meshes that defeat the tree. Counted, not timed:
-/// the same verdict on every machine; a test costs 25-80 ns here, so the bound is about 100-300 us
-/// a step.
+/// about 500 (480 on the drill rig's mast), and the limit is a safety net for meshes that defeat
+/// the tree. Counted, not timed: the same verdict on every machine; a test costs 25-80 ns here, so
+/// the bound is about 100-300 us a step.
 inline constexpr std::uint64_t kMaxExactStageTests = 4000;
 
 struct ExactStageCost {
