@@ -204,6 +204,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
     if (hit.contact) {
       const double back = kStopDistance / d.norm();
       double t = std::max(0.0, hit.t - back);
+      if (t * d.norm() < kMinBlockedAdvance) t = 0.0;  // a creep by roundings: stay (walker.h)
       // Never end inside: the static test has the last word (it is conservative by its bands).
       for (int i = 0; i < kMaxBackOffs && t > 0.0; ++i) {
         report.volumesUpdated += kVolumesPerBody;

@@ -16,6 +16,7 @@
 #include "nestwalk/walker/mesh_world.h"
 #include "nestwalk/walker/script_file.h"
 #include "nestwalk/walker/script_player.h"
+#include "nestwalk/walker/walker.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
@@ -25,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -243,6 +245,64 @@ TEST_F(MeshMethods, SweepMemoryFindsTheSameContactsOnEveryUnit) {
   MeshQueryCounters c;
   EXPECT_THROW(other->firstContact(0, Obb<double>{}, Vec3<double>(1, 0, 0), 0.0, c, MeshContactSearch::Swept, &memory),
                std::logic_error);
+}
+
+TEST_F(MeshMethods, APressedBodyStaysPutAndTestsNoTriangle) {
+  // The body walked into every heavy unit (1,000 triangles or more: the drill rig) from 8 sides
+  // with nested+mesh, then pressing on in the same direction for 30 frames, as a script's goto does
+  // until it gives up: after the contact the body moves at most once more (0 or at least
+  // kMinBlockedAdvance, never a creep by roundings), then stays where it is to the last bit, blocked
+  // by the same unit, with no triangle tested from its second frame there, and its gap to the real triangles (FCL) stays within
+  // the stop distance and a millimetre.
+  const CollisionWorld w = world(VolumeMethod::NestedMesh);
+  WalkerOptions options;
+  options.viewer = scene_->spec.viewer;
+  options.timeParts = false;
+  const double stepLength = options.viewer.speed * options.dt;
+  int pressedSides = 0;
+  for (std::uint32_t u = 0; u < meshes_->units(); ++u) {
+    if (meshes_->triangles(u) < 1000) continue;
+    const auto fclModel = fclUnit(*scene_, u);
+    const Aabb<double>& outer = scene_->units[u].volume.outer;
+    const double reach = 0.5 * outer.size().head<2>().norm() + 1.0;
+    for (int side = 0; side < 8; ++side) {
+      SCOPED_TRACE("unit " + scene_->units[u].name + " side " + std::to_string(side));
+      const double angle = 2 * std::numbers::pi * side / 8 + 0.2;
+      const Eigen::Vector3d toward(-std::cos(angle), -std::sin(angle), 0);
+      const Eigen::Vector3d start = scene_->toMap(outer.center() - reach * toward);
+      const double heading = std::atan2(toward.x(), toward.y()) * 180 / std::numbers::pi;
+      Walker walker(*scene_->terrain, w, scene_->origin, options);
+      if (!walker.place(start, false, heading, false, 2.0).empty()) continue;  // on a slope or another unit
+      StepInput in;
+      in.move = stepLength * toward;
+      in.headingDeg = heading;
+      int steps = 0;
+      while (!walker.state().blocked && steps++ < 2000) walker.step(in);
+      const WalkerState& s = walker.state();
+      if (!s.blocked || s.reason != BlockReason::Equipment || s.blockedUnit != std::int32_t(u)) continue;
+      ++pressedSides;
+      Eigen::Vector3d held = s.feet;
+      int moves = 0, still = 0;
+      for (int frame = 1; frame <= 30; ++frame) {
+        const StepReport report = walker.step(in);
+        ASSERT_TRUE(s.blocked && s.blockedUnit == std::int32_t(u)) << "pressed frame " << frame;
+        const double moved = (s.feet - held).norm();
+        if (moved != 0.0) {
+          ++moves;
+          EXPECT_GE(moved, kMinBlockedAdvance) << "pressed frame " << frame << ": a creep";
+          held = s.feet;
+          still = 0;
+        } else if (++still >= 2) {  // the same sweep as the frame before: nothing to test again
+          EXPECT_EQ(report.counters.primitiveTests, 0u) << "pressed frame " << frame;
+        }
+      }
+      EXPECT_LE(moves, 1);
+      const double gap = fclDistance(*fclModel, walker.bodyVolume(s.feet, s.bodyYawDeg).inner);
+      EXPECT_GT(gap, 0.0);
+      EXPECT_LE(gap, 1e-3);
+    }
+  }
+  EXPECT_GE(pressedSides, 4);
 }
 
 }  // namespace
