@@ -27,6 +27,7 @@ packages=(
   libcairo2-dev fonts-dejavu-core                # the report's pictures; the one UI font (core/ui_font.h)
   clang libclang-rt-14-dev                       # libFuzzer and its sanitizers (tools/fuzz.sh)
   chromium                                       # tests: the published walkthrough page, driven by playwright-core
+  python3                                        # tools/data: the heavy-model flythroughs the report test plays
 )
 
 # Node.js and npm run the npm packages below; a machine that already has them (Debian's or

@@ -4,6 +4,7 @@
 // of the real geometry, the plots read back as PNGs, and existing files are kept unless --overwrite.
 #include "tests/common/build_paths.h"
 #include "tests/common/run_command.h"
+#include "tests/common/test_data.h"
 
 #include <gdal.h>
 #include <nlohmann/json.hpp>
@@ -169,6 +170,52 @@ TEST_F(Report, QuickReportOnTheBundledScene) {
   EXPECT_EQ(again.exitCode, 1);
   EXPECT_NE(again.err.find((dir / "report.md").string()), std::string::npos) << again.err;
   EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
+}
+
+TEST_F(Report, HeavyModelFlythroughsBlockExactlyOnEverySide) {
+  // The heavy-model hard cases as flythroughs (tools/data/make_heavy_scene.py: the shared truck,
+  // excavator, jeep and lamp and the bundled drill rig on the dump's top bench, each walked into
+  // from 16 sides): every exact method blocks each approach once, with no missed contact, early
+  // stop or false block against the advancement reference, 0-1 mm from the real triangles; the
+  // nested test alone stops short (the trade-off these models show); the frames beside the
+  // 10k-99k-triangle units are counted in their own weight class.
+  const fs::path data = sharedData();
+  if (data.empty()) GTEST_SKIP() << "shared data folder absent (NESTWALK_SHARED_DATA): no heavy real models";
+  const TempFolder folder;
+  const fs::path heavy = folder / "heavy", dir = folder / "report";
+  const auto made = runCommand("python3 " + quoted(fs::path(build::sourceDir()) / "tools" / "data" / "make_heavy_scene.py") +
+                               " " + quoted(fs::path(build::bundledSceneDir())) + " " + quoted(data) + " " + quoted(heavy));
+  ASSERT_EQ(made.exitCode, 0) << made.out << made.err;
+  const char* const names[] = {"drill_rig", "excavator", "jeep", "lamp", "truck"};  // as the report sorts them
+  std::string scripts;
+  for (const char* name : names) scripts += " " + quoted(heavy / "scripts" / ("approach_" + std::string(name) + ".txt"));
+  const auto r = runNestwalk("report " + quoted(heavy / "scene.json") + " --quick --out " + quoted(dir) + " --scripts" + scripts);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(readText(dir / "report.json"));
+  long nestedEarlyStops = 0;
+  for (const auto& method : j["methods"]) {
+    const std::string m = method["method"];
+    SCOPED_TRACE(m);
+    if (m == "nested") nestedEarlyStops = method["early_stops"].get<long>();
+    if (m != "nested+mesh" && m != "kdop18" && m != "auto") continue;
+    EXPECT_TRUE(method["complete"].get<bool>());
+    ASSERT_EQ(method["flythroughs"].size(), std::size(names));
+    for (const auto& play : method["flythroughs"]) {
+      SCOPED_TRACE(play["script"].get<std::string>());
+      ASSERT_FALSE(play.contains("error")) << play["error"];
+      EXPECT_EQ(play["blocking_events"].get<long>(), 16);
+      EXPECT_EQ(play["missed"].get<long>(), 0);
+      EXPECT_EQ(play["early_stops"].get<long>(), 0);
+      EXPECT_EQ(play["false_blocks"].get<long>(), 0);
+      EXPECT_GT(play["stop_gap_mm"]["max"].get<double>(), 0.0);
+      EXPECT_LE(play["stop_gap_mm"]["max"].get<double>(), 1.0);
+    }
+  }
+  EXPECT_GT(nestedEarlyStops, 0);
+  std::size_t heavyFrames = 0;
+  for (const auto& row : j["by_model_weight"])
+    if (row["method"] == "nested+mesh" && row["weight"] == "10k-99k triangles") heavyFrames += row["frames"].get<std::size_t>();
+  EXPECT_GT(heavyFrames, 1000u);
 }
 
 TEST_F(Report, MissingScriptIsNamed) {
