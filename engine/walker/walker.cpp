@@ -203,13 +203,15 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
     const SweepHit hit = world_.sweep(body, d, report.counters);
     if (hit.contact) {
       const double back = kStopDistance / d.norm();
-      double t = std::max(0.0, hit.t - back);
-      if (t * d.norm() < kMinBlockedAdvance) t = 0.0;  // a creep by roundings: stay (walker.h)
+      // The stop short of the contact at t (a fraction of d); an advance under kMinBlockedAdvance
+      // is a creep by roundings: the body stays (walker.h).
+      const auto stopAt = [&](double t) { return t * d.norm() < kMinBlockedAdvance ? 0.0 : t; };
+      double t = stopAt(hit.t - back);
       // Never end inside: the static test has the last word (it is conservative by its bands).
       for (int i = 0; i < kMaxBackOffs && t > 0.0; ++i) {
         report.volumesUpdated += kVolumesPerBody;
         if (world_.overlapping(bodyVolume(start + d * t, yaw), report.counters) < 0) break;
-        t = std::max(0.0, t - back * std::ldexp(1.0, i));
+        t = stopAt(t - back * std::ldexp(1.0, i));
       }
       end = start + d * t;
       if (!state_.flying && t > 0.0) {

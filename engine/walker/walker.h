@@ -10,7 +10,8 @@
 //   3. the swept nested test of the step against the equipment (swept.h, collision_world.h): the
 //      step stops kStopDistance before the first contact, never inside (checked with the static
 //      test, backing off further if rounding says so), and stays blocked while the commanded
-//      motion presses into the obstacle; with `slide`, the rest of the step is projected on the
+//      motion presses into the obstacle (an advance under kMinBlockedAdvance is not made: the body
+//      stays put, and the repeated sweep is answered from the last one); with `slide`, the rest of the step is projected on the
 //      contact plane and walked again (at most kMaxSlides times).
 // Frames: the state is in map coordinates (double); volumes are built in the scene's local frame.
 // Units: metres (map frame for positions and moves), seconds (dt, time), degrees (heading, pitch,
@@ -41,16 +42,19 @@
 
 namespace nestwalk {
 
-/// The stop short of a contact, metres along the motion. The gap left to the obstacle is at most
-/// this (the issue asks for within 1 mm) and positive, so the viewer never ends inside.
+/// The stop short of a contact, metres along the motion. The gap left to the obstacle along the
+/// motion is at most this plus kMinBlockedAdvance (within 1 mm) and positive, so the viewer never
+/// ends inside.
 inline constexpr double kStopDistance = 0.5e-3;
 /// A step blocked by equipment that would advance the body less than this (metres) leaves it where
-/// it is. Pressing on in the same direction, the sweep meets the same face kStopDistance ahead
-/// again, and what is left after the stop is the sweep's rounding and its tie (mesh_tree.h: at most
-/// a millionth of the box's smallest half extent, 0.25 um on the body box): a creep of nanometres
-/// that would pay two static tests against the model's triangles every frame (2-5 us each on a
-/// heavy model, measured on the heavy-model flythroughs: most of their slowest 1 % of steps).
-/// Staying is always allowed: the step's start is where the last step ended, checked then.
+/// it is (before and after each back-off). Pressing on in the same direction, the sweep meets the
+/// same face kStopDistance ahead again, and what is left after the stop is the sweep's rounding and
+/// its tie (mesh_tree.h: tens of nanometres in the scene's local frame, where models lie): a
+/// creep that would pay two static tests against the model's triangles every frame (2-5 us each on
+/// a heavy model: most of the slowest 1 % of steps on tools/data/make_heavy_scene.py's
+/// flythroughs). Staying is always allowed: the step's start is where the last step ended, checked
+/// then. The same length as a script's kProgressEpsilon (script_player.h), so a script never
+/// counted such a creep as progress.
 inline constexpr double kMinBlockedAdvance = 1e-6;
 /// Ground samples along a step, in cells of the terrain: half a cell, so that no ridge or ditch of
 /// the triangulated surface is stepped over between two samples.
