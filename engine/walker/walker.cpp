@@ -75,11 +75,20 @@ NestedVolume<double> Walker::bodyVolume(const Eigen::Vector3d& feetMap, double y
   return bodyVolumeAt(options_.viewer, origin_, feetMap, yawDeg);
 }
 
+Walker::Footprint Walker::footprintAt(double yawDeg) const {
+  const Eigen::Vector2d forward = forwardOf(yawDeg);
+  return {forward * options_.viewer.bodyHalfExtents.x(),
+          Eigen::Vector2d(-forward.y(), forward.x()) * options_.viewer.bodyHalfExtents.y()};
+}
+
 bool Walker::footprintHeights(double x, double y, double yawDeg, std::array<double, 5>& h) const {
+  return footprintHeights(x, y, footprintAt(yawDeg), h);
+}
+
+bool Walker::footprintHeights(double x, double y, const Footprint& footprint, std::array<double, 5>& h) const {
   // Centre, then the corners: +f+s, +f-s, -f+s, -f-s (f forward, s sideways).
-  const Eigen::Vector2d f = forwardOf(yawDeg) * options_.viewer.bodyHalfExtents.x();
-  const Eigen::Vector2d s = Eigen::Vector2d(-forwardOf(yawDeg).y(), forwardOf(yawDeg).x()) *
-                            options_.viewer.bodyHalfExtents.y();
+  const Eigen::Vector2d& f = footprint.forward;
+  const Eigen::Vector2d& s = footprint.side;
   const Eigen::Vector2d c(x, y);
   const Eigen::Vector2d pts[5] = {c, c + f + s, c + f - s, c - f + s, c - f - s};
   for (int i = 0; i < 5; ++i) {
@@ -134,6 +143,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   const Eigen::Vector3d start = state_.feet;
   const ViewerSpec& v = options_.viewer;
   const double yaw = state_.bodyYawDeg;
+  const Footprint footprint = footprintAt(yaw);  // once a leg: two sines and cosines, not 3 per sample
   Clock::time_point t0;
   if (options_.timeParts) t0 = Clock::now();
 
@@ -147,7 +157,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
     int good = 0;
     for (int k = 1; k <= n; ++k) {
       const Eigen::Vector3d p = start + move * (double(k) / n);
-      if (!footprintHeights(p.x(), p.y(), yaw, h)) {
+      if (!footprintHeights(p.x(), p.y(), footprint, h)) {
         leg.blocked = true;
         leg.reason = BlockReason::TerrainEdge;
         break;
@@ -156,7 +166,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
       good = k;
     }
     target = n == 0 ? Eigen::Vector3d(start + move) : Eigen::Vector3d(start + move * (double(good) / n));
-    if (n == 0 && footprintHeights(target.x(), target.y(), yaw, h))
+    if (n == 0 && footprintHeights(target.x(), target.y(), footprint, h))
       lowest = *std::max_element(h.begin(), h.end()) + state_.clearance;
     target.z() = std::max(target.z(), lowest);
   } else if (n > 0) {
@@ -168,7 +178,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
     for (int k = 1; k <= n; ++k) {
       const Eigen::Vector2d p = start.head<2>() + move.head<2>() * (double(k) / n);
       BlockReason r = BlockReason::None;
-      if (!footprintHeights(p.x(), p.y(), yaw, h)) {
+      if (!footprintHeights(p.x(), p.y(), footprint, h)) {
         r = BlockReason::TerrainEdge;
       } else if (std::abs(h[0] - prevZ) > v.maxStep) {
         r = BlockReason::TerrainStep;

@@ -155,7 +155,15 @@ class Walker {
  private:
   struct Leg;
   Leg walkLeg(const Eigen::Vector3d& move, StepReport& report);
+  // The footprint's half extents along the body's forward and sideways axes (map frame, metres).
+  struct Footprint {
+    Eigen::Vector2d forward, side;
+  };
+  Footprint footprintAt(double yawDeg) const;
+  // Ground heights at the footprint's centre and four corners (centre, +f+s, +f-s, -f+s, -f-s);
+  // false where one has no ground.
   bool footprintHeights(double x, double y, double yawDeg, std::array<double, 5>& h) const;
+  bool footprintHeights(double x, double y, const Footprint& footprint, std::array<double, 5>& h) const;
 
   const terrain::Heightfield& terrain_;
   const CollisionWorld& world_;
