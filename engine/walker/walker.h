@@ -11,8 +11,8 @@
 //      step stops kStopDistance before the first contact, never inside (checked with the static
 //      test, backing off further if rounding says so), and stays blocked while the commanded
 //      motion presses into the obstacle (an advance under kMinBlockedAdvance is not made: the body
-//      stays put, and the repeated sweep is answered from the last one); with `slide`, the rest of the step is projected on the
-//      contact plane and walked again (at most kMaxSlides times).
+//      stays put, and the repeated sweep is answered from the last one); with `slide`, the rest of
+//      the step is projected on the contact plane and walked again (at most kMaxSlides times).
 // Frames: the state is in map coordinates (double); volumes are built in the scene's local frame.
 // Units: metres (map frame for positions and moves), seconds (dt, time), degrees (heading, pitch,
 // body yaw, max_slope_deg). `origin` is the map point of the scene's local frame (Scene::origin).
