@@ -143,7 +143,7 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   const Eigen::Vector3d start = state_.feet;
   const ViewerSpec& v = options_.viewer;
   const double yaw = state_.bodyYawDeg;
-  const Footprint footprint = footprintAt(yaw);  // once a leg: two sines and cosines, not 3 per sample
+  const Footprint footprint = footprintAt(yaw);  // once a leg: one sine and cosine, not 3 per sample
   Clock::time_point t0;
   if (options_.timeParts) t0 = Clock::now();
 
