@@ -1,6 +1,7 @@
 #include "nestwalk/terrain/height_tiles.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -10,12 +11,20 @@ namespace {
 
 std::atomic<std::uint64_t> nextCacheId{1};
 
-/// Each thread's last tile: a hit there takes no lock (see height_tiles.h).
+/// Each thread's last kThreadTileSlots tiles, most recent first: a hit there takes no lock (see
+/// height_tiles.h).
 struct LastTile {
   std::uint64_t cache = 0, key = 0;
   std::shared_ptr<const HeightTile> tile;
+  bool is(std::uint64_t c, std::uint64_t k) const { return cache == c && key == k && tile; }
 };
-thread_local LastTile lastTile;
+thread_local std::array<LastTile, kThreadTileSlots> lastTiles;
+
+/// Moves slot i to the front, the ones before it back by one (shared pointers moved, not copied:
+/// no atomic operation).
+void toFront(std::size_t i) {
+  if (i > 0) std::rotate(lastTiles.begin(), lastTiles.begin() + std::ptrdiff_t(i), lastTiles.begin() + std::ptrdiff_t(i) + 1);
+}
 thread_local std::uint64_t waitsOfThisThread = 0;
 
 int tilesFor(int samples) { return std::max(1, (samples - 2) / kHeightTileCells + 1); }
@@ -74,17 +83,21 @@ std::shared_ptr<const HeightTile> HeightTileCache::read(int tx, int ty) const {
   tile->blocksX = (cells + B - 1) / B;
   tile->blocksY = (cellRows + B - 1) / B;
   tile->blockRange.resize(2 * std::size_t(tile->blocksX) * std::size_t(tile->blocksY));
+  tile->blockHoles.resize(std::size_t(tile->blocksX) * std::size_t(tile->blocksY));
   for (int j = 0; j < tile->blocksY; ++j)
     for (int i = 0; i < tile->blocksX; ++i) {
       float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      bool hole = false;
       for (int r = j * B; r <= std::min((j + 1) * B, cellRows); ++r)
         for (int c = i * B; c <= std::min((i + 1) * B, cells); ++c) {
           const float h = tile->clean[std::size_t(r) * std::size_t(tile->cols) + std::size_t(c)];
           if (!std::isnan(h)) lo = std::min(lo, h), hi = std::max(hi, h);
+          else hole = true;
         }
-      const std::size_t k = 2 * (std::size_t(j) * std::size_t(tile->blocksX) + std::size_t(i));
-      tile->blockRange[k] = lo;
-      tile->blockRange[k + 1] = hi;
+      const std::size_t b = std::size_t(j) * std::size_t(tile->blocksX) + std::size_t(i);
+      tile->blockRange[2 * b] = lo;
+      tile->blockRange[2 * b + 1] = hi;
+      tile->blockHoles[b] = hole ? 1 : 0;
     }
   return tile;
 }
@@ -114,8 +127,8 @@ void HeightTileCache::insert(std::uint64_t k, std::shared_ptr<const HeightTile> 
 std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
   if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) throw std::out_of_range("HeightTileCache::tile: no such tile");
   const std::uint64_t k = key(tx, ty);
-  LastTile& last = lastTile;
-  if (last.cache == id_ && last.key == k && last.tile) return last.tile;  // its use was counted when it came in
+  // The most recent slot only: a tile asked for by tile() again after others counts as used anew.
+  if (lastTiles[0].is(id_, k)) return lastTiles[0].tile;  // its use was counted when it came in
   std::shared_ptr<const HeightTile> found;
   {
     std::unique_lock lock(mutex_);
@@ -148,17 +161,28 @@ std::shared_ptr<const HeightTile> HeightTileCache::tile(int tx, int ty) const {
       changed_.notify_all();
     }
   }
-  last.cache = id_;
-  last.key = k;
-  last.tile = found;
+  // Into the front slot: the same tile's older slot if it has one, else the least recent.
+  std::size_t slot = kThreadTileSlots - 1;
+  for (std::size_t i = 1; i < kThreadTileSlots; ++i)
+    if (lastTiles[i].is(id_, k)) slot = i;
+  toFront(slot);
+  lastTiles[0] = {id_, k, found};
   return found;
 }
 
 const HeightTile& HeightTileCache::threadTile(int tx, int ty) const {
-  const LastTile& last = lastTile;
-  if (last.cache == id_ && last.tile && last.key == key(tx, ty) && tx >= 0 && tx < tilesX_) return *last.tile;
+  if (tx >= 0 && tx < tilesX_) {
+    const std::uint64_t k = key(tx, ty);
+    if (lastTiles[0].is(id_, k)) [[likely]]
+      return *lastTiles[0].tile;
+    for (std::size_t i = 1; i < kThreadTileSlots; ++i)
+      if (lastTiles[i].is(id_, k)) {
+        toFront(i);
+        return *lastTiles[0].tile;
+      }
+  }
   tile(tx, ty);
-  return *lastTile.tile;
+  return *lastTiles[0].tile;
 }
 
 bool HeightTileCache::holds(int tx, int ty) const {

@@ -7,18 +7,21 @@
 // lie in the one tile that holds the cell. A tile keeps the heights with every hole as NaN (as the
 // resident heightfield's clean copy) and the {min, max} of each ray block's samples
 // (kHeightTileBlockCells cells a side: the ray pyramid's base level, heightfield.cpp), computed from
-// the tile's own samples, so the ray cast reads exactly what it reads from a resident grid.
+// the tile's own samples, so the ray cast reads exactly what it reads from a resident grid; and
+// whether each block holds a hole (Heightfield::groundCeiling).
 // Each tile also has a coarse {min, max} given at construction (from the terrain pyramid), so a ray
 // passing above a tile never reads it.
 //
 // Cache: tiles read (the loader's call) when first asked for, kept until the bytes held exceed the
 // budget, then the least recently used go first (at least one tile is always kept). Tiles handed out
 // are shared: one evicted while a query still holds it lives until that query lets go, and each
-// thread keeps the last tile it used (so its hits take no lock and no atomic operation), so the
-// bytes alive can exceed the budget by a few tiles per thread. A tile counts as used (it moves to
-// the front of the cache's use order, in constant time under its lock) when a thread takes it into
-// its slot and when prefetch() names it (a walker names its own tiles as they change), not on every
-// hit; eviction takes the back, also in constant time. prefetch() queues tiles for a background thread (started by the first one), so that
+// thread keeps the last kThreadTileSlots tiles it used (so its hits take no lock and no atomic
+// operation: a walker's footprint astride a tile edge, or its ground ceiling's blocks on the next
+// tile, would otherwise take the lock at every switch), so the bytes alive can exceed the budget
+// by a few tiles per thread. A tile counts as used (it moves to the front of the cache's use
+// order, in constant time under its lock) when a thread takes it into its slots, when tile() asks
+// for it while it is not the thread's most recent, and when prefetch() names it (a walker names
+// its own tiles as they change), not on every hit; eviction takes the back, also in constant time. prefetch() queues tiles for a background thread (started by the first one), so that
 // a walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
 // wait (stats().waits), whether read there or in flight on the background thread.
 //
@@ -52,6 +55,9 @@ namespace nestwalk::terrain {
 inline constexpr int kHeightTileCells = 256;
 /// Cells a side of a ray block (the base level of heightfield.cpp's ray pyramid, 2^3).
 inline constexpr int kHeightTileBlockCells = 8;
+/// Tiles each thread keeps for lock-free hits (see above): the up to 4 tiles a footprint astride a
+/// tile corner reads.
+inline constexpr std::size_t kThreadTileSlots = 4;
 /// The default budget: some 970 tiles, 64 M samples (64 km^2 at 1 m cells, 6.5 ha at 3.2 cm).
 inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(256) << 20;
 
@@ -61,6 +67,7 @@ struct HeightTile {
   std::vector<float> clean;  // cols * rows heights, holes NaN
   int blocksX = 0, blocksY = 0;
   std::vector<float> blockRange;  // {min, max} of the valid samples of each ray block (+inf, -inf if none)
+  std::vector<std::uint8_t> blockHoles;  // 1 where a ray block's corner samples hold a hole, row-major
 
   const float* at(int c, int r) const {
     return clean.data() + std::size_t(r - r0) * std::size_t(cols) + std::size_t(c - c0);
@@ -70,7 +77,14 @@ struct HeightTile {
     return blockRange.data() +
            2 * (std::size_t(j - r0 / kHeightTileBlockCells) * std::size_t(blocksX) + std::size_t(i - c0 / kHeightTileBlockCells));
   }
-  std::size_t bytes() const { return sizeof(HeightTile) + (clean.size() + blockRange.size()) * sizeof(float); }
+  /// Whether block (i, j) of the whole grid (it lies in this tile) holds a hole.
+  bool holes(int i, int j) const {
+    return blockHoles[std::size_t(j - r0 / kHeightTileBlockCells) * std::size_t(blocksX) +
+                      std::size_t(i - c0 / kHeightTileBlockCells)] != 0;
+  }
+  std::size_t bytes() const {
+    return sizeof(HeightTile) + (clean.size() + blockRange.size()) * sizeof(float) + blockHoles.size();
+  }
 };
 
 struct HeightTileStats {
@@ -104,7 +118,7 @@ class HeightTileCache {
   /// The tile, read if not held (the caller's thread waits: a wait).
   std::shared_ptr<const HeightTile> tile(int tx, int ty) const;
   /// The tile as tile() gives it, without touching its count of owners: it stays alive (in the
-  /// calling thread's last-tile slot) until this thread next asks any cache for a tile. For the
+  /// calling thread's slots) at least until this thread next asks any cache for a tile. For the
   /// hot single-sample queries (a ground height), which read it at once.
   const HeightTile& threadTile(int tx, int ty) const;
   /// Queues the tiles (tx, ty pairs; out of range ones ignored) not held yet for the background thread.

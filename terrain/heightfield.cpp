@@ -42,6 +42,17 @@ constexpr double kSnapBand = 1e-6;
 /// UTM magnitudes (1 um at 1e6 m) and adds nothing measurable.
 constexpr double kIndexRangeRelativeSlack = 1e-12;
 
+/// groundCeiling(): the rounding of a ground height above its triangle's highest corner. The
+/// interpolation h00 + p (b - h00) + q (h11 - b) (p, q in [0, 1]) rounds at most a few ulps of the
+/// largest corner's magnitude (4 operations: < 1e-15 relative); 1e-12 keeps a 1000x margin and is
+/// 1 nm on a height of 1,000 m.
+constexpr double kCeilingSlackRelative = 1e-12;
+/// groundCeiling(): cells the rectangle is widened by on each side, in cell units. More than the
+/// scaling's rounding and the snap band (kSnapBand above: a query within it of a grid line may be
+/// placed in the cell on the line's other side), so every cell a query in the rectangle reads is
+/// covered; small enough to add a block only for rectangles ending within it of a block's edge.
+constexpr double kCeilingPadCells = 1e-3;
+
 /// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
 /// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
 /// do not miss the TLB on nearly every access (random groundHeight on a 2049^2 grid, kernel THP mode
@@ -104,6 +115,9 @@ struct Heightfield::RayAccel {
     }
   };
   std::vector<Level> levels;  // empty when paged (the tiles hold the base level's ranges)
+  /// Resident: 1 where a base-level node's corner samples hold a hole (groundCeiling), row-major
+  /// over the base level's nodes; empty when paged (the tiles hold their blocks' flags).
+  std::vector<std::uint8_t> baseHoles;
   int baseLevel = 0;  // min(kBlockLevel, the root's level)
   int blocksX = 0, blocksY = 0;  // nodes of the base level
   float rootLo = std::numeric_limits<float>::infinity(), rootHi = -std::numeric_limits<float>::infinity();
@@ -170,19 +184,23 @@ Heightfield::Heightfield(int cols, int rows, std::vector<float> heights, double 
     accel->baseLevel = K;
     RayAccel::Level L{((accel->cellsX - 1) >> K) + 1, ((accel->cellsY - 1) >> K) + 1, {}};
     L.allocate();
+    accel->baseHoles.assign(std::size_t(L.nx) * std::size_t(L.ny), 0);
     const float* H = accel->clean.data();
     for (int j = 0; j < L.ny; ++j)
       for (int i = 0; i < L.nx; ++i) {
         float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        bool hole = false;
         const int c1 = std::min((i + 1) << K, accel->cellsX), r1 = std::min((j + 1) << K, accel->cellsY);
         for (int r = j << K; r <= r1; ++r)
           for (int c = i << K; c <= c1; ++c) {
             const float h = H[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
             if (!std::isnan(h)) lo = std::min(lo, h), hi = std::max(hi, h);
+            else hole = true;
           }
         const std::size_t k = 2 * L.index(i, j);
         L.range[k] = lo;
         L.range[k + 1] = hi;
+        accel->baseHoles[std::size_t(j) * std::size_t(L.nx) + std::size_t(i)] = hole ? 1 : 0;
       }
     accel->levels.push_back(std::move(L));
   }
@@ -700,6 +718,51 @@ std::optional<RayHit> Heightfield::intersectRay(const Eigen::Vector3d& origin, c
   }
   PagedSamples samples{*tiles_, nullptr};
   return traverse(samples);
+}
+
+std::optional<double> Heightfield::groundCeiling(double x0, double y0, double x1, double y1) const {
+  if (x0 > x1) std::swap(x0, x1);
+  if (y0 > y1) std::swap(y0, y1);
+  // Every point within the outermost sample lines (as groundHeight() tests them; NaN fails too).
+  if (!(x0 >= originX_ && x1 <= xLast_ && y1 <= originY_ && y0 >= yLast_)) return std::nullopt;
+  // The cells groundHeight() may use for a point of the rectangle: its cell index, clamped as there,
+  // widened by kCeilingPadCells for the scaling's rounding and the snap to a grid line.
+  const RayAccel& A = *accel_;
+  auto cellRange = [](double lo, double hi, int cells) {
+    return std::pair<int, int>(std::max(0, int(std::max(0.0, lo - kCeilingPadCells))),
+                               std::min(cells - 1, int(hi + kCeilingPadCells)));
+  };
+  const auto [c0, c1] = cellRange((x0 - originX_) * invDx_, (x1 - originX_) * invDx_, A.cellsX);
+  const auto [r0, r1] = cellRange((originY_ - y1) * invDy_, (originY_ - y0) * invDy_, A.cellsY);
+  const int K = A.baseLevel;
+  const int i0 = c0 >> K, i1 = c1 >> K, j0 = r0 >> K, j1 = r1 >> K;
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  if (!A.levels.empty()) {
+    const RayAccel::Level& L = A.levels.front();
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        if (A.baseHoles[std::size_t(j) * std::size_t(L.nx) + std::size_t(i)]) return std::nullopt;
+        const float* rg = L.range.data() + 2 * L.index(i, j);
+        lo = std::min(lo, rg[0]), hi = std::max(hi, rg[1]);
+      }
+  } else {
+    // Paged: tile by tile (a tile holds kHeightTileCells / kHeightTileBlockCells blocks a side).
+    constexpr int kBlocksPerTile = kHeightTileCells / kHeightTileBlockCells;
+    for (int ty = j0 / kBlocksPerTile; ty <= j1 / kBlocksPerTile; ++ty)
+      for (int tx = i0 / kBlocksPerTile; tx <= i1 / kBlocksPerTile; ++tx) {
+        const HeightTile& tile = tiles_->threadTile(tx, ty);
+        for (int j = std::max(j0, ty * kBlocksPerTile); j <= std::min(j1, ty * kBlocksPerTile + kBlocksPerTile - 1); ++j)
+          for (int i = std::max(i0, tx * kBlocksPerTile); i <= std::min(i1, tx * kBlocksPerTile + kBlocksPerTile - 1);
+               ++i) {
+            if (tile.holes(i, j)) return std::nullopt;
+            const float* rg = tile.range(i, j);
+            lo = std::min(lo, rg[0]), hi = std::max(hi, rg[1]);
+          }
+      }
+  }
+  if (!(lo <= hi)) return std::nullopt;  // not expected: a block without holes has samples
+  const double magnitude = std::max(std::abs(double(lo)), std::abs(double(hi)));
+  return double(hi) + kCeilingSlackRelative * magnitude;
 }
 
 std::optional<std::pair<float, float>> Heightfield::heightRange() const {

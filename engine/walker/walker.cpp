@@ -99,6 +99,46 @@ bool Walker::footprintHeights(double x, double y, const Footprint& footprint, st
   return true;
 }
 
+std::optional<double> Walker::highestFootprintGround(double x, double y, const Footprint& footprint,
+                                                    const std::array<bool, 5>& sampled) const {
+  // The points as footprintHeights() places them, in its order.
+  const Eigen::Vector2d& f = footprint.forward;
+  const Eigen::Vector2d& s = footprint.side;
+  const Eigen::Vector2d c(x, y);
+  const Eigen::Vector2d pts[5] = {c, c + f + s, c + f - s, c - f + s, c - f - s};
+  double top = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 5; ++i) {
+    if (!sampled[std::size_t(i)]) continue;
+    const std::optional<double> z = terrain_.groundHeight(pts[i].x(), pts[i].y());
+    if (!z) return std::nullopt;
+    top = std::max(top, *z);
+  }
+  return top;
+}
+
+std::array<bool, 5> Walker::flyingSamplesNeeded(const Eigen::Vector3d& start, const Eigen::Vector3d& move, int n,
+                                                const Footprint& footprint) const {
+  std::array<bool, 5> sampled{true, true, true, true, true};
+  if (n == 0) return sampled;
+  // The leg ends no lower than this, at whichever sample it stops: start.z + move.z (k / n) rounds
+  // monotonically in k, so it lies between its ends.
+  const double floor = std::min(start.z(), (start + move).z());
+  // Each footprint point's positions over the leg lie between its first and last (the same
+  // monotone rounding, coordinate by coordinate), so their box holds every one (a build that fuses
+  // the multiply-add moves one by an ulp, well inside groundCeiling's padding).
+  const Eigen::Vector3d first = start + move * (1.0 / n), last = start + move * (double(n) / n);
+  const Eigen::Vector2d& f = footprint.forward;
+  const Eigen::Vector2d& s = footprint.side;
+  const Eigen::Vector2d a(first.x(), first.y()), b(last.x(), last.y());
+  const Eigen::Vector2d pa[5] = {a, a + f + s, a + f - s, a - f + s, a - f - s};
+  const Eigen::Vector2d pb[5] = {b, b + f + s, b + f - s, b - f + s, b - f - s};
+  for (int i = 0; i < 5; ++i) {
+    const std::optional<double> ceiling = terrain_.groundCeiling(pa[i].x(), pa[i].y(), pb[i].x(), pb[i].y());
+    sampled[std::size_t(i)] = !(ceiling && *ceiling + state_.clearance <= floor);
+  }
+  return sampled;
+}
+
 std::optional<double> Walker::lowestFlyingFeet(double x, double y) const {
   std::array<double, 5> h{};
   if (!footprintHeights(x, y, state_.bodyYawDeg, h)) return std::nullopt;
@@ -153,16 +193,18 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   const int n = len > 0 ? std::max(1, int(std::ceil(len / sampleSpacing_))) : 0;
   std::array<double, 5> h{};
   if (state_.flying) {
+    const std::array<bool, 5> sampled = flyingSamplesNeeded(start, move, n, footprint);
     double lowest = -std::numeric_limits<double>::infinity();
     int good = 0;
     for (int k = 1; k <= n; ++k) {
       const Eigen::Vector3d p = start + move * (double(k) / n);
-      if (!footprintHeights(p.x(), p.y(), footprint, h)) {
+      const std::optional<double> top = highestFootprintGround(p.x(), p.y(), footprint, sampled);
+      if (!top) {
         leg.blocked = true;
         leg.reason = BlockReason::TerrainEdge;
         break;
       }
-      lowest = std::max(lowest, *std::max_element(h.begin(), h.end()) + state_.clearance);
+      lowest = std::max(lowest, *top + state_.clearance);
       good = k;
     }
     target = n == 0 ? Eigen::Vector3d(start + move) : Eigen::Vector3d(start + move * (double(good) / n));

@@ -245,6 +245,73 @@ TEST(Heightfield, RasterEdge) {
   }
 }
 
+TEST(Heightfield, GroundCeilingBoundsEveryGroundHeightInItsRectangleAndRefusesHolesAndEdges) {
+  // Random heights with a patch of holes; rectangles of up to 30 cells, some reaching past the edge
+  // or onto the patch, some with corners exactly on samples. Brute force: the ground is linear on
+  // each triangle, so its highest point in a rectangle is at a sample inside it, a corner, or where
+  // a side crosses a grid line or a cell diagonal; every such point is asked for.
+  const int cols = 203, rows = 157;
+  const double dx = 0.05, dy = 0.04;
+  const int holeC0 = 100, holeC1 = 110, holeR0 = 60, holeR1 = 70;
+  int bounded = 0, refused = 0;
+  for (Origin o : kOrigins) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> U(0.0f, 50.0f);
+    std::vector<float> h(std::size_t(cols) * rows);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        h[std::size_t(r) * cols + c] = (c >= holeC0 && c <= holeC1 && r >= holeR0 && r <= holeR1) ? kNaN : U(rng);
+    const Heightfield hf(cols, rows, h, o.x, o.y, dx, dy);
+    std::uniform_real_distribution<double> uc(-3.0, cols + 2.0), ur(-3.0, rows + 2.0), size(0.0, 30.0);
+    for (int k = 0; k < 3000; ++k) {
+      double c0 = uc(rng), r0 = ur(rng), c1 = c0 + size(rng), r1 = r0 + size(rng);
+      if (k % 4 == 0) c0 = std::floor(c0), r0 = std::floor(r0), c1 = std::floor(c1), r1 = std::floor(r1);
+      const double x0 = o.x + c0 * dx, x1 = o.x + c1 * dx, y0 = o.y - r1 * dy, y1 = o.y - r0 * dy;
+      // Points: the corners, every sample inside, the sides' crossings with grid lines and diagonals.
+      std::vector<Eigen::Vector2d> pts = {{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}};
+      for (int r = std::max(0, int(std::ceil(r0))); r <= std::min(rows - 1, int(std::floor(r1))); ++r)
+        for (int c = std::max(0, int(std::ceil(c0))); c <= std::min(cols - 1, int(std::floor(c1))); ++c) {
+          pts.push_back(hf.samplePosition(c, r));
+          pts.push_back({hf.samplePosition(c, r).x(), y0});
+          pts.push_back({hf.samplePosition(c, r).x(), y1});
+          pts.push_back({x0, hf.samplePosition(c, r).y()});
+          pts.push_back({x1, hf.samplePosition(c, r).y()});
+        }
+      for (int c = int(std::floor(c0)); c <= int(std::ceil(c1)); ++c) {  // diagonals across the top and bottom sides
+        pts.push_back({o.x + (c + (r0 - std::floor(r0))) * dx, y1});
+        pts.push_back({o.x + (c + (r1 - std::floor(r1))) * dx, y0});
+      }
+      for (int r = int(std::floor(r0)); r <= int(std::ceil(r1)); ++r) {  // across the west and east sides
+        pts.push_back({x0, o.y - (r + (c0 - std::floor(c0))) * dy});
+        pts.push_back({x1, o.y - (r + (c1 - std::floor(c1))) * dy});
+      }
+      bool allGround = true;
+      double highest = -std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector2d& p : pts) {
+        if (p.x() < x0 || p.x() > x1 || p.y() < y0 || p.y() > y1) continue;
+        const std::optional<double> g = hf.groundHeight(p.x(), p.y());
+        if (!g) allGround = false;
+        else highest = std::max(highest, *g);
+      }
+      const std::optional<double> ceiling = hf.groundCeiling(x1, y1, x0, y0);  // either order
+      ASSERT_EQ(ceiling, hf.groundCeiling(x0, y0, x1, y1));
+      if (!allGround) {
+        ASSERT_FALSE(ceiling) << "a point without ground in rectangle " << k;
+      } else if (ceiling) {
+        ASSERT_GE(*ceiling, highest) << "rectangle " << k;
+        ASSERT_LE(*ceiling, 50.0 * (1 + 1e-11));
+      }
+      // Inside the hull and more than a block (8 cells) from the hole patch: never refused.
+      const bool clear = c0 >= 0 && r0 >= 0 && c1 <= cols - 1 && r1 <= rows - 1 &&
+                         (c1 < holeC0 - 9 || c0 > holeC1 + 9 || r1 < holeR0 - 9 || r0 > holeR1 + 9);
+      if (clear) ASSERT_TRUE(ceiling) << "rectangle " << k;
+      ceiling ? ++bounded : ++refused;
+    }
+  }
+  EXPECT_GT(bounded, 3000);
+  EXPECT_GT(refused, 1000);
+}
+
 TEST(HeightfieldRay, VerticalRaysEqualGroundHeight) {
   std::mt19937 rng(6);
   for (Origin o : kOrigins) {

@@ -73,6 +73,10 @@ void expectSameAnswers(const Heightfield& resident, const Heightfield& paged, un
     const float hr = resident.sample(c, r), hp = paged.sample(c, r);
     ASSERT_TRUE(std::memcmp(&hr, &hp, sizeof hr) == 0) << "sample " << c << "," << r;
     ASSERT_EQ(resident.valid(c, r), paged.valid(c, r));
+    // The ground's ceiling over a rectangle of up to 40 cells (across tiles too).
+    const double w = 40 * unit(rng) * resident.dx(), hgt = 40 * unit(rng) * resident.dy();
+    ASSERT_TRUE(sameGround(resident.groundCeiling(x, y, x + w, y + hgt), paged.groundCeiling(x, y, x + w, y + hgt)))
+        << "ceiling at " << x << ", " << y;
   }
   const auto range = *resident.heightRange();
   std::uniform_real_distribution<double> uz(range.first - 5, range.second + 30), dir(-1.0, 1.0);
@@ -112,8 +116,9 @@ struct PagedCase {
   }
 };
 
-/// Four whole tiles: heights, block ranges and the tile itself (under 1 KB).
-constexpr std::size_t kFourTiles = 4 * (std::size_t(terrain::kHeightTileCells + 1) * (terrain::kHeightTileCells + 1) * 4 + 8192 + 1024);
+/// Four whole tiles: heights, block ranges, block hole flags and the tile itself (under 1 KB).
+constexpr std::size_t kFourTiles =
+    4 * (std::size_t(terrain::kHeightTileCells + 1) * (terrain::kHeightTileCells + 1) * 4 + 8192 + 1024 + 1024);
 
 TEST(PagedHeightfield, AnswersBitForBitAsTheResidentHeightfieldThroughABudgetOfFourTiles) {
   // 3001 x 2501 at UTM magnitudes, 70 degrees north, holes: 12 x 10 tiles, the last narrow.
@@ -217,6 +222,35 @@ TEST(HeightTileCache, KeepsToItsBudgetLeastRecentlyUsedOutFirstAndCountsWaits) {
     }
   EXPECT_EQ(tiles.stats().waits, before);
   EXPECT_GT(tiles.stats().prefetched, 0u);
+}
+
+TEST(HeightTileCache, EachThreadKeepsItsLastFourTilesAliveAndReadsThemNoMore) {
+  // A budget of one tile: the cache keeps one, but a thread's slots keep its last four alive, so a
+  // query alternating among the four tiles at a tile corner never reads one again; a fifth pushes
+  // the least recent out. The samples read through the slots are the file's (readDem).
+  PagedCase c(1400, 900, 7, 0.0);
+  const Heightfield resident = terrain::readDem(c.path);
+  const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path),
+                                                          {.budgetBytes = kFourTiles / 4});
+  const terrain::HeightTileCache& tiles = *paged.tiles();
+  const int T = terrain::kHeightTileCells;
+  const std::pair<int, int> corner[4] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+  for (const auto& [tx, ty] : corner) tiles.threadTile(tx, ty);
+  const std::uint64_t reads = tiles.stats().reads;
+  EXPECT_EQ(reads, 4u);
+  EXPECT_GE(tiles.stats().evicted, 3u);
+  for (int k = 0; k < 100; ++k)
+    for (const auto& [tx, ty] : corner) {
+      const terrain::HeightTile& t = tiles.threadTile(tx, ty);
+      const int col = tx * T + (k * 37) % T, row = ty * T + (k * 53) % T;
+      ASSERT_EQ(*t.at(col, row), resident.sample(col, row)) << "tile " << tx << "," << ty;
+    }
+  EXPECT_EQ(tiles.stats().reads, reads) << "the four tiles came from the thread's slots";
+  tiles.threadTile(3, 1);  // a fifth: (1, 1), the least recent, leaves the slots
+  tiles.threadTile(2, 2);
+  EXPECT_EQ(tiles.stats().reads, reads + 1);
+  tiles.threadTile(1, 1);
+  EXPECT_EQ(tiles.stats().reads, reads + 2);
 }
 
 TEST(PagedHeightfield, RealDemsAnswerAsTheirResidentHeightfields) {

@@ -279,6 +279,105 @@ TEST(Walker, SameInputsGiveTheSameStatesBitForBit) {
   EXPECT_EQ(run(), run());
 }
 
+TEST(Walker, FlyingLegsAnswerAsSamplingEveryFootprintPointToTheBit) {
+  // A rough 5 cm grid (40 m a side) at UTM magnitudes with a patch of holes, flown over at 30 m/s
+  // (0.5 m a step: 20 samples of the footprint's 5 points), climbing, sinking and turning, with the
+  // clearance changed now and then. Reference: the leg as walker.h states it, every footprint point
+  // sampled at every sample, computed here; the walker skips the points whose ground cannot lift
+  // the body (Heightfield::groundCeiling), and must end every step on the same feet to the bit.
+  const int n = 801;
+  const double cell = 0.05, x0 = 512345.0, y0 = 7765432.0;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> rough(-0.05, 0.05);
+  std::vector<float> h(std::size_t(n) * n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const bool hole = c >= 380 && c <= 420 && r >= 380 && r <= 420;
+      h[std::size_t(r) * n + std::size_t(c)] = hole ? std::numeric_limits<float>::quiet_NaN()
+                                                    : float(10 + 2 * std::sin(0.02 * c) * std::cos(0.015 * r) + rough(rng));
+    }
+  const terrain::Heightfield hf(n, n, std::move(h), x0, y0 + (n - 1) * cell, cell, cell);
+  const CollisionWorld world({}, {}, {}, MethodSpec{});
+  WalkerOptions opts;
+  opts.viewer.bodyHalfExtents = {0.25, 0.35, 0.9};
+  Walker w(hf, world, Eigen::Vector3d(x0, y0, 0), opts);
+  ASSERT_EQ(w.place(Eigen::Vector3d(x0 + 5, y0 + 5, 0), false, 30, true, 0.5), "");
+
+  const double spacing = kGroundSampleSpacing * cell;
+  auto reference = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& move, double yawDeg, double clearance,
+                       bool& edge) {
+    const Eigen::Vector2d fw(std::sin(radians(yawDeg)), std::cos(radians(yawDeg)));
+    const Eigen::Vector2d f = fw * opts.viewer.bodyHalfExtents.x(),
+                          sd = Eigen::Vector2d(-fw.y(), fw.x()) * opts.viewer.bodyHalfExtents.y();
+    auto highest = [&](const Eigen::Vector3d& p) -> std::optional<double> {
+      const Eigen::Vector2d c(p.x(), p.y());
+      const Eigen::Vector2d pts[5] = {c, c + f + sd, c + f - sd, c - f + sd, c - f - sd};
+      double top = -std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector2d& q : pts) {
+        const std::optional<double> g = hf.groundHeight(q.x(), q.y());
+        if (!g) return std::nullopt;
+        top = std::max(top, *g);
+      }
+      return top;
+    };
+    const double len = move.head<2>().norm();
+    const int samples = len > 0 ? std::max(1, int(std::ceil(len / spacing))) : 0;
+    double lowest = -std::numeric_limits<double>::infinity();
+    int good = 0;
+    edge = false;
+    for (int k = 1; k <= samples; ++k) {
+      const std::optional<double> top = highest(start + move * (double(k) / samples));
+      if (!top) {
+        edge = true;
+        break;
+      }
+      lowest = std::max(lowest, *top + clearance);
+      good = k;
+    }
+    Eigen::Vector3d target = samples == 0 ? Eigen::Vector3d(start + move)
+                                          : Eigen::Vector3d(start + move * (double(good) / samples));
+    if (samples == 0)
+      if (const auto top = highest(target)) lowest = *top + clearance;
+    target.z() = std::max(target.z(), lowest);
+    return target;
+  };
+
+  std::uniform_real_distribution<double> turn(-0.3, 0.3), rise(-0.4, 0.25), unit(0, 1);
+  double direction = 0.7, clearance = 0.5;
+  int lifted = 0, kept = 0, edges = 0;
+  for (int i = 0; i < 6000; ++i) {
+    if (i % 250 == 0) {
+      clearance = 0.2 + 3.0 * unit(rng);
+      w.setFlying(true, clearance);
+    }
+    direction += turn(rng);
+    StepInput in;
+    in.move = Eigen::Vector3d(std::sin(direction), std::cos(direction), rise(rng)) * 0.5;
+    if (i % 7 == 0) in.move.head<2>() *= unit(rng);  // shorter legs, some of one sample
+    in.headingDeg = i % 50 < 25 ? w.state().bodyYawDeg : std::fmod(w.state().bodyYawDeg + 7.0, 360.0);
+    const Eigen::Vector3d start = w.state().feet;
+    w.step(in);
+    bool edge = false;
+    const Eigen::Vector3d expected = reference(start, in.move, w.state().bodyYawDeg, clearance, edge);
+    const Eigen::Vector3d got = w.state().feet;
+    ASSERT_TRUE(got.x() == expected.x() && got.y() == expected.y() && got.z() == expected.z())
+        << "step " << i << ": " << got.transpose() << " vs " << expected.transpose();
+    ASSERT_EQ(w.state().blocked, edge) << "step " << i;
+    if (edge) {
+      ++edges;
+      direction += 3.0;  // turn away from the edge or the holes
+    }
+    (got.z() > start.z() + in.move.z() ? lifted : kept)++;
+    // Keep over the grid: steer back toward its centre when near its edge.
+    const Eigen::Vector2d toCentre = Eigen::Vector2d(x0 + 20, y0 + 20) - got.head<2>();
+    if (toCentre.norm() > 17) direction = std::atan2(toCentre.x(), toCentre.y());
+  }
+  // Both kinds of step were flown: lifted by the ground (its points sampled) and not (skipped).
+  EXPECT_GT(lifted, 500);
+  EXPECT_GT(kept, 500);
+  EXPECT_GT(edges, 5);
+}
+
 TEST(Walker, TheSameSceneAtUtmAndAtTheOriginGivesTheSameContactsAndHeights) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> px(40, 80), py(20, 60), ext(0.05, 1.0), yaw(0, 360);
