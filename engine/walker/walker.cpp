@@ -17,6 +17,13 @@ Eigen::Vector2d forwardOf(double headingDeg) {
   return {std::sin(radians(headingDeg)), std::cos(radians(headingDeg))};
 }
 
+/// The footprint's centre c and its corners, in footprintHeights()'s order: c, c+f+s, c+f-s, c-f+s,
+/// c-f-s (f forward, s sideways half extents).
+std::array<Eigen::Vector2d, 5> footprintPoints(const Eigen::Vector2d& c, const Eigen::Vector2d& f,
+                                               const Eigen::Vector2d& s) {
+  return {c, c + f + s, c + f - s, c - f + s, c - f - s};
+}
+
 using Clock = std::chrono::steady_clock;
 
 /// Nu, the volumes updated per step, counts each of the body's two volumes (outer AABB and inner
@@ -87,10 +94,7 @@ bool Walker::footprintHeights(double x, double y, double yawDeg, std::array<doub
 
 bool Walker::footprintHeights(double x, double y, const Footprint& footprint, std::array<double, 5>& h) const {
   // Centre, then the corners: +f+s, +f-s, -f+s, -f-s (f forward, s sideways).
-  const Eigen::Vector2d& f = footprint.forward;
-  const Eigen::Vector2d& s = footprint.side;
-  const Eigen::Vector2d c(x, y);
-  const Eigen::Vector2d pts[5] = {c, c + f + s, c + f - s, c - f + s, c - f - s};
+  const auto pts = footprintPoints(Eigen::Vector2d(x, y), footprint.forward, footprint.side);
   for (int i = 0; i < 5; ++i) {
     const std::optional<double> z = terrain_.groundHeight(pts[i].x(), pts[i].y());
     if (!z) return false;
@@ -101,11 +105,7 @@ bool Walker::footprintHeights(double x, double y, const Footprint& footprint, st
 
 std::optional<double> Walker::highestFootprintGround(double x, double y, const Footprint& footprint,
                                                     const std::array<bool, 5>& sampled) const {
-  // The points as footprintHeights() places them, in its order.
-  const Eigen::Vector2d& f = footprint.forward;
-  const Eigen::Vector2d& s = footprint.side;
-  const Eigen::Vector2d c(x, y);
-  const Eigen::Vector2d pts[5] = {c, c + f + s, c + f - s, c - f + s, c - f - s};
+  const auto pts = footprintPoints(Eigen::Vector2d(x, y), footprint.forward, footprint.side);
   double top = -std::numeric_limits<double>::infinity();
   for (int i = 0; i < 5; ++i) {
     if (!sampled[std::size_t(i)]) continue;
@@ -127,11 +127,8 @@ std::array<bool, 5> Walker::flyingSamplesNeeded(const Eigen::Vector3d& start, co
   // monotone rounding, coordinate by coordinate), so their box holds every one (a build that fuses
   // the multiply-add moves one by an ulp, well inside groundCeiling's padding).
   const Eigen::Vector3d first = start + move * (1.0 / n), last = start + move * (double(n) / n);
-  const Eigen::Vector2d& f = footprint.forward;
-  const Eigen::Vector2d& s = footprint.side;
-  const Eigen::Vector2d a(first.x(), first.y()), b(last.x(), last.y());
-  const Eigen::Vector2d pa[5] = {a, a + f + s, a + f - s, a - f + s, a - f - s};
-  const Eigen::Vector2d pb[5] = {b, b + f + s, b + f - s, b - f + s, b - f - s};
+  const auto pa = footprintPoints(Eigen::Vector2d(first.x(), first.y()), footprint.forward, footprint.side);
+  const auto pb = footprintPoints(Eigen::Vector2d(last.x(), last.y()), footprint.forward, footprint.side);
   for (int i = 0; i < 5; ++i) {
     const std::optional<double> ceiling = terrain_.groundCeiling(pa[i].x(), pa[i].y(), pb[i].x(), pb[i].y());
     sampled[std::size_t(i)] = !(ceiling && *ceiling + state_.clearance <= floor);
