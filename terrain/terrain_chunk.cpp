@@ -92,11 +92,6 @@ std::vector<int> ChunkLayout::rowsOf(const ChunkKey& k) const {
   return kept(int(first), int(std::min<std::int64_t>(first + span, rows_ - 1)), 1 << k.level);
 }
 
-std::size_t ChunkMesh::bytes() const {
-  return positions.size() * sizeof(float) + colours.size() + indices.size() * sizeof(std::uint32_t) + texture.size() +
-         texCoords.size() * sizeof(float);
-}
-
 Eigen::Vector3d terrainRampColour(double h, double lo, double hi) {
   const double f = std::clamp((h - lo) / (hi > lo ? hi - lo : 1.0), 0.0, 1.0);
   const Eigen::Vector3d green(0.25, 0.45, 0.2), brown(0.5, 0.4, 0.3), white(0.95, 0.95, 0.95);

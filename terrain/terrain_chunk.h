@@ -269,8 +269,6 @@ struct ChunkMesh {
   Eigen::Vector3d surfaceMin, surfaceMax, boxMin, boxMax;
   bool empty() const { return indices.empty(); }
   std::size_t vertexCount() const { return positions.size() / 3; }
-  /// Bytes of the arrays (what a drawn copy costs once more in the GL's own buffers).
-  std::size_t bytes() const;
 };
 
 struct ChunkShading {

@@ -14,11 +14,13 @@ ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh)
     : mesh_(mesh), positions_(new osg::Vec3Array(unsigned(mesh.vertexCount()))) {
   if (mesh.vertexCount() == 0) return;
   std::copy(mesh.positions.begin(), mesh.positions.end(), &(*positions_)[0][0]);
+  sharedBytes_ = positions_->getTotalDataSize();
   const bool textured = !mesh.texture.empty() && mesh.texCoords.size() == 2 * mesh.vertexCount();
   if (!textured) {
     colours_ = new osg::Vec4ubArray(unsigned(mesh.vertexCount()));
     std::copy(mesh.colours.begin(), mesh.colours.end(), &(*colours_)[0][0]);
     colours_->setNormalize(true);
+    sharedBytes_ += colours_->getTotalDataSize();
     return;
   }
   perVertexColours_ = false;
@@ -40,6 +42,7 @@ ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh)
   // its cells near a pixel or more wherever the terrain is rough, so its texels seldom shrink below
   // one.
   texture->setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR);
+  sharedBytes_ += colours_->getTotalDataSize() + texCoords_->getTotalDataSize() + image->getTotalSizeInBytes();
   textureState_ = new osg::StateSet;
   textureState_->setTextureAttributeAndModes(0, texture.get(), osg::StateAttribute::ON);
 }
@@ -49,6 +52,7 @@ ChunkNodeMaker::ChunkNodeMaker(const terrain::ChunkMesh& mesh, double spanX, dou
   texCoords_ = new osg::Vec2Array(unsigned(mesh.vertexCount()));
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
     (*texCoords_)[unsigned(v)].set(float(double(mesh.positions[3 * v]) / spanX), float(-double(mesh.positions[3 * v + 1]) / spanY));
+  sharedBytes_ += texCoords_->getTotalDataSize();
 }
 
 osg::ref_ptr<osg::MatrixTransform> ChunkNodeMaker::operator()(const std::vector<IndexRange>& ranges,
@@ -68,6 +72,7 @@ osg::ref_ptr<osg::MatrixTransform> ChunkNodeMaker::operator()(const std::vector<
       out = std::copy(first, first + std::ptrdiff_t(r.count), out);
     }
     g->addPrimitiveSet(elements);
+    indexBytes_ += elements->getTotalDataSize();
   };
   if (mesh_.vertexCount() <= 0xFFFF)
     fill(new osg::DrawElementsUShort(GL_TRIANGLES, unsigned(count)));

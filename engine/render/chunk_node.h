@@ -46,6 +46,9 @@ class ChunkNodeMaker {
   ChunkNodeMaker(const terrain::ChunkMesh& mesh, double spanX, double spanY);
   /// A node drawing the ranges (in order), named "chunk L/X/Y" + suffix.
   osg::ref_ptr<osg::MatrixTransform> operator()(const std::vector<IndexRange>& ranges, const std::string& suffix) const;
+  /// The bytes of the arrays the nodes made so far hold: the shared vertex arrays and texture once,
+  /// each node's indices (one copy: what the GL's buffers hold once more).
+  std::size_t bytes() const { return sharedBytes_ + indexBytes_; }
 
  private:
   const terrain::ChunkMesh& mesh_;
@@ -54,6 +57,8 @@ class ChunkNodeMaker {
   osg::ref_ptr<osg::Vec2Array> texCoords_;  // null without a texture
   osg::ref_ptr<osg::StateSet> textureState_;
   bool perVertexColours_ = true;
+  std::size_t sharedBytes_ = 0;
+  mutable std::size_t indexBytes_ = 0;
 };
 
 }  // namespace nestwalk

@@ -221,10 +221,10 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
         quad.surfaces.push_back({node({{mq.exactFirstIndex, mq.exactIndexCount}}, name + " exact"), {}, 0.0,
                                  mq.exactSurfaceTriangles + mq.skirtTriangles});
     }
+    b.entry.bytes = 2 * node.bytes();  // OSG's arrays and the GL's copy (see "Memory")
   }
   b.entry.empty = m.empty();
   b.entry.box = toBox(m.boxMin, m.boxMax);
-  b.entry.bytes = 2 * m.bytes();
   b.seconds = osg::Timer::instance()->delta_s(t0, osg::Timer::instance()->tick());
   return b;
 }

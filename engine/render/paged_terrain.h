@@ -23,8 +23,9 @@
 // for on its own thread before drawing, so each frame is the error rule's full answer whatever the
 // timing.
 //
-// Memory: each resident chunk costs twice its arrays (ChunkMesh::bytes(): OSG keeps its copy and
-// the GL driver another; with llvmpipe both live in the process). The cache holds at most
+// Memory: each resident chunk costs twice the arrays its nodes hold (ChunkNodeMaker::bytes(): the
+// vertex arrays and texture once, each surface's 16-bit indices; OSG keeps its copy and the GL
+// driver another; with llvmpipe both live in the process). The cache holds at most
 // budgetBytes: chunks are asked for only while they fit, and after each cull the chunks it did not
 // use go, oldest first, leaves of the resident tree before their parents, until the cache fits. A
 // budget smaller than the view needs keeps the view coarser; it never breaks it (the root stays).
@@ -98,7 +99,7 @@ std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::Terr
                                                              double heightShift);
 
 /// The chunk bytes a cull makes drawable at most (paged_terrain.h's "Loading"): 16 MiB, about
-/// 100 chunks of 64 cells, copied into GL buffers in a few milliseconds at memory speed (a fifth of
+/// 70 chunks of 64 cells over the 3.2 cm survey of bench render's sweep (level 0 with its refinements), copied into GL buffers in a few milliseconds at memory speed (a fifth of
 /// a 60 Hz frame), where a frame of llvmpipe at 1280 x 720 takes 15-60 ms.
 inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(16) << 20;
 

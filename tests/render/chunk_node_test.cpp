@@ -96,6 +96,31 @@ TEST(ChunkNode, EveryVertexLooksUpItsOwnColourInTheTexture) {
   }
 }
 
+TEST(ChunkNode, CountsTheBytesItsNodesHoldSharedArraysOnce) {
+  // What the paged terrain's budget counts (paged_terrain.h, "Memory"): the arrays found in the
+  // nodes, the shared ones once, against the maker's count as the nodes are made.
+  const auto hf = test::hills();
+  const terrain::ChunkLayout layout(hf->cols(), hf->rows(), 16);
+  const terrain::ChunkMesh m = terrain::buildChunk(*hf, layout, {1, 2, 3});
+  const ChunkNodeMaker maker(m);
+  const osg::ref_ptr<osg::MatrixTransform> first = maker({{m.quadrants[0].firstIndex, m.quadrants[0].indexCount}}, "");
+  const osg::Geometry& g = geometryOf(*first);
+  const auto* texture = dynamic_cast<const osg::Texture2D*>(
+      first->getChild(0)->getStateSet()->getTextureAttribute(0, osg::StateAttribute::TEXTURE));
+  ASSERT_NE(texture, nullptr);
+  const std::size_t shared = g.getVertexArray()->getNumElements() * sizeof(osg::Vec3f) +
+                             g.getTexCoordArray(0)->getNumElements() * sizeof(osg::Vec2f) +
+                             g.getColorArray()->getNumElements() * sizeof(osg::Vec4ub) +
+                             std::size_t(texture->getImage()->s()) * std::size_t(texture->getImage()->t()) * 4;
+  const std::size_t firstIndices = m.quadrants[0].indexCount * sizeof(std::uint16_t);
+  EXPECT_EQ(maker.bytes(), shared + firstIndices);
+  const osg::ref_ptr<osg::MatrixTransform> second =
+      maker({{m.quadrants[1].firstIndex, m.quadrants[1].indexCount}, {m.quadrants[2].firstIndex, m.quadrants[2].indexCount}}, "");
+  EXPECT_EQ(maker.bytes(), shared + firstIndices +
+                               (m.quadrants[1].indexCount + m.quadrants[2].indexCount) * sizeof(std::uint16_t));
+  EXPECT_EQ(geometryOf(*second).getVertexArray(), g.getVertexArray());  // counted once, as it is held once
+}
+
 TEST(ChunkNode, ChunksOfMoreThan65535VerticesGet32BitIndices) {
   const auto hf = test::hills();
   const terrain::ChunkLayout layout(hf->cols(), hf->rows(), 256);  // 257 x 257 samples and skirts

@@ -248,9 +248,8 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
                                                             std::size_t* bytes) const {
   const osg::Timer_t t0 = osg::Timer::instance()->tick();
   const terrain::ChunkMesh m = terrain::buildChunk(*hf, layout, key, shading, simplifyFraction);
-  const std::size_t counted = 2 * m.bytes();
-  if (bytes) *bytes = counted;
   osg::ref_ptr<ChunkLod> lod;
+  if (bytes) *bytes = 0;  // a chunk without triangles holds nothing
   if (!m.empty()) {
     // The primary surface: every quadrant's range (surface and skirts); level 0 simplified also has
     // its exact grid (each simplified quadrant's exact range, the others' own).
@@ -275,6 +274,11 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
                         : simplified      ? Finer::ExactGrid
                                           : Finer::None;
     const osg::BoundingBox box = toBox(m.boxMin, m.boxMax);
+    const ChunkNodeMaker node(m);  // the mesh and the exact grid share the arrays
+    osg::ref_ptr<osg::MatrixTransform> mesh = node(primary, " mesh");
+    osg::ref_ptr<osg::MatrixTransform> grid = finer == Finer::ExactGrid ? node(exact, " exact grid") : nullptr;
+    const std::size_t counted = 2 * node.bytes();  // as the own quadtree counts a chunk (paged_terrain.h)
+    if (bytes) *bytes = counted;
     lod = new ChunkLod(this, m.maxError, box.radius(), counted, finer);
     lod->setName("chunk lod " + std::to_string(key.level) + "/" + std::to_string(key.x) + "/" + std::to_string(key.y));
     lod->setRangeMode(osg::LOD::DISTANCE_FROM_EYE_POINT);
@@ -283,8 +287,6 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
     lod->setCenterMode(osg::LOD::UNION_OF_BOUNDING_SPHERE_AND_USER_DEFINED);
     lod->setCenter(box.center());
     lod->setRadius(box.radius());
-    const ChunkNodeMaker node(m);  // the mesh and the exact grid share the arrays
-    osg::ref_ptr<osg::MatrixTransform> mesh = node(primary, " mesh");
     mesh->setCullCallback(new DrawnChunk(this, m, primaryTriangles, false));
     const float split = threshold(m.maxError, box.radius());
     switch (finer) {
@@ -299,7 +301,6 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
         break;
       case Finer::ExactGrid: {
         lod->addChild(mesh.get(), split, kEverywhere);
-        osg::ref_ptr<osg::MatrixTransform> grid = node(exact, " exact grid");
         grid->setCullCallback(new DrawnChunk(this, m, exactTriangles, true));
         lod->addChild(grid.get(), 0.0f, split);
         break;

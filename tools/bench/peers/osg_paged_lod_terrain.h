@@ -38,7 +38,7 @@
 // for a chunk. waitUntilIdle() waits for the pager to finish what has been asked for. A frame is
 // complete (the rule's full answer) when its cull wanted nothing: lastStats().chunksWanted == 0.
 //
-// Memory: each resident chunk is counted at twice its arrays (ChunkMesh::bytes(), as PagedTerrain
+// Memory: each resident chunk is counted at twice its nodes' arrays (ChunkNodeMaker::bytes(), as PagedTerrain
 // counts it: OSG's copy and the GL driver's). The budget (budgetBytes, 0: defaultTerrainBudgetBytes())
 // is handed to the pager as its target number of PagedLODs (budget / the root chunk's count; the
 // chunks of one tree have about as many vertices), set on the pager at the first cull; the pager
