@@ -1,6 +1,12 @@
-// The background builder the paged terrain's chunks and the imagery's tiles share: one thread that
-// takes keys from a queue the drawing thread replaces each frame, builds each with the given
-// function and leaves the result for the drawing thread to take (paged_terrain.h, imagery_tiles.h).
+// The background builder the paged terrain's chunks and the imagery's tiles share: worker threads
+// that take keys from a queue the drawing thread replaces each frame, build each with the given
+// function and leave the result for the drawing thread to take (paged_terrain.h, imagery_tiles.h).
+//
+// Workers: the first runs at the process's priority; the others (helpers) run kHelperNiceIncrement
+// lower (Linux's per-thread nice value), so that they take the cores the drawing thread and the
+// first worker leave idle (the settling view waiting for its chunks) and yield them to a frame that
+// is drawing. Each worker takes the queue's first key; a key's build may finish before an earlier
+// one's, so results come in any order.
 //
 // Shared state (Shared): the queue (what to build next, first first), the keys being built and the
 // built results not yet taken. Both sides reach it only through locked(), under one mutex; the
@@ -8,9 +14,10 @@
 // skipped when it comes up again. A build that throws (out of memory) leaves nothing; the first such
 // error is kept (error(), prefixed with the key's name) and the caller draws what stands in for it.
 //
-// Result must have a `key` member comparable with Key. Ownership: the builder owns its thread,
-// which it starts on construction and stops and joins on destruction (after the build in progress);
-// whatever the build function reads must outlive the builder.
+// Result must have a `key` member comparable with Key. The build function is called from every worker
+// at once and must be safe so. Ownership: the builder owns its threads, which it starts on
+// construction and stops and joins on destruction (after the builds in progress); whatever the build
+// function reads must outlive the builder.
 #pragma once
 
 #include <algorithm>
@@ -21,10 +28,23 @@
 #include <optional>
 #include <string>
 #include <thread>
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
 namespace nestwalk {
+
+/// Helper workers' nice value above the process's: CFS then gives a busy drawing thread about ten
+/// times their share of a core (weights 1024 against 110), and them all of an idle one.
+inline constexpr int kHelperNiceIncrement = 10;
+
+/// Workers for a builder on this machine: one per hardware thread, at least 1, at most `most`.
+inline int builderWorkers(int most) {
+  return std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, most));
+}
 
 template <class Key, class Result>
 class BuildQueue {
@@ -40,25 +60,26 @@ class BuildQueue {
     }
   };
 
-  BuildQueue(std::function<Result(const Key&)> build, std::function<std::string(const Key&)> name)
-      : build_(std::move(build)), name_(std::move(name)), thread_([this] { loop(); }) {}
-  ~BuildQueue() {
-    {
-      std::lock_guard lock(mutex_);
-      stop_ = true;
+  /// `workers` threads (at least 1), the first at the process's priority, the rest as helpers.
+  BuildQueue(std::function<Result(const Key&)> build, std::function<std::string(const Key&)> name, int workers = 1)
+      : build_(std::move(build)), name_(std::move(name)) {
+    try {
+      for (int w = 0; w < std::max(1, workers); ++w) threads_.emplace_back([this, w] { loop(w > 0); });
+    } catch (...) {
+      stop();  // a thread that could not start: the ones that did are joined before the throw
+      throw;
     }
-    wake_.notify_all();
-    thread_.join();
   }
+  ~BuildQueue() { stop(); }
   BuildQueue(const BuildQueue&) = delete;
   BuildQueue& operator=(const BuildQueue&) = delete;
 
-  /// Runs f(Shared&) under the lock and wakes the builder (a queue it changed is picked up).
+  /// Runs f(Shared&) under the lock and wakes the workers (a queue it changed is picked up).
   template <class F>
   decltype(auto) locked(F&& f) {
     struct Wake {
       std::condition_variable& cv;
-      ~Wake() { cv.notify_one(); }
+      ~Wake() { cv.notify_all(); }
     } wake{wake_};
     std::lock_guard lock(mutex_);
     return f(shared_);
@@ -77,7 +98,19 @@ class BuildQueue {
   }
 
  private:
-  void loop() {
+  void stop() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+
+  void loop(bool helper) {
+    // A failure leaves the helper at the process's priority: slower to settle where cores are
+    // short, never wrong.
+    if (helper) (void)::setpriority(PRIO_PROCESS, id_t(::syscall(SYS_gettid)), ::getpriority(PRIO_PROCESS, 0) + kHelperNiceIncrement);
     std::unique_lock lock(mutex_);
     for (;;) {
       wake_.wait(lock, [&] { return stop_ || !shared_.queue.empty(); });
@@ -110,7 +143,7 @@ class BuildQueue {
   Shared shared_;
   bool stop_ = false;
   std::string error_;
-  std::thread thread_;  // last: started once everything above exists
+  std::vector<std::thread> threads_;  // last: started once everything above exists
 };
 
 }  // namespace nestwalk

@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -119,14 +120,21 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
     : hf_(std::move(heightfield)),
       options_(std::move(options)),
       layout_(hf_ ? hf_->cols() : 0, hf_ ? hf_->rows() : 0, options_.chunkCells) {
-  if (!(options_.pixelsPerRadian > 0) || !(options_.maxPixels >= 0))
-    throw std::invalid_argument("PagedTerrain: pixelsPerRadian must be positive and maxPixels not negative");
+  if (!(options_.pixelsPerRadian > 0) || !(options_.maxPixels >= 0) || options_.loaderThreads < 0)
+    throw std::invalid_argument("PagedTerrain: pixelsPerRadian must be positive, maxPixels and loaderThreads not negative");
   if (options_.pyramid && (options_.chunkCells != terrain::kPyramidTopCells ||
                            options_.pyramid->layout().cols != hf_->cols() || options_.pyramid->layout().rows != hf_->rows()))
     throw std::invalid_argument("PagedTerrain: the pyramid is not of the heightfield's grid and 64-cell chunks");
   budget_ = options_.budgetBytes > 0 ? options_.budgetBytes : defaultTerrainBudgetBytes();
   shading_.shade = options_.shade;
-  shading_.imagery = options_.imagery;
+  if (options_.imagery) {
+    // Called from every loader thread: one at a time (see "Ownership and threads").
+    shading_.imagery = [reader = options_.imagery, reading = std::make_shared<std::mutex>()](
+                           double x0, double y0, double sx, double sy, int width, int height) {
+      const std::lock_guard lock(*reading);
+      return reader(x0, y0, sx, sy, width, height);
+    };
+  }
   shading_.mapOrigin = options_.mapOrigin;
   if (const auto range = hf_->heightRange()) {
     shading_.heightLo = range->first;
@@ -156,7 +164,9 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
                                                             [](const ChunkKey& key) {
                                                               return "terrain chunk " + std::to_string(key.level) + "/" +
                                                                      std::to_string(key.x) + "/" + std::to_string(key.y);
-                                                            });
+                                                            },
+                                                            options_.loaderThreads > 0 ? options_.loaderThreads
+                                                                                       : builderWorkers(kMaxChunkLoaders));
 }
 
 PagedTerrain::~PagedTerrain() { loader_.reset(); }  // before the members its builds read

@@ -13,9 +13,10 @@
 // Chunks are simplified within their exact error (simplifyFraction, terrain_chunk.h); at level 0 a
 // quadrant whose simplified surface would show more than maxPixels draws its exact grid instead.
 //
-// Loading: Background (the interactive window and timed runs): one loader thread builds the chunks
-// the last cull asked for, coarser levels first (then most visible error first), so the whole view
-// refines a level at a time; a cull never waits for it, it draws what is resident (the root is built
+// Loading: Background (the interactive window and timed runs): loader threads (build_queue.h: one
+// per core, up to kMaxChunkLoaders, all but the first at a lower priority so that they use the
+// cores a frame leaves idle) build the chunks the last cull asked for, coarser levels first (then
+// most visible error first), so the whole view refines a level at a time; a cull never waits for it, it draws what is resident (the root is built
 // by the constructor, so there is always something). A cull makes at most mergeBytesPerFrame of
 // built chunks drawable (coarser first; always at least one), the rest waiting for the next frames:
 // the GL objects a frame creates and uploads stay bounded however many chunks the loader finished
@@ -33,9 +34,9 @@
 // Frames: the node's children are in the mesh frame of terrain_chunk.h (metres from the heightfield's
 // sample (0, 0)); the caller places it with a transform (view_graph.cpp).
 //
-// Ownership and threads: the node shares the heightfield (shared_ptr, read from both threads: it is
-// immutable) and owns the imagery reader, which only the loader thread (or, in Complete mode, the
-// cull thread) calls. Cull and draw on one thread (the viewers here are SingleThreaded); the
+// Ownership and threads: the node shares the heightfield (shared_ptr, read from every thread: it is
+// immutable) and owns the imagery reader, which the loader threads (or, in Complete mode, the cull
+// thread) call one at a time (a mutex: the reader is not thread-safe, terrain_imagery.h). Cull and draw on one thread (the viewers here are SingleThreaded); the
 // destructor stops the loader thread.
 #pragma once
 
@@ -103,6 +104,11 @@ std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::Terr
 /// a 60 Hz frame), where a frame of llvmpipe at 1280 x 720 takes 15-60 ms.
 inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(16) << 20;
 
+/// Chunk loader threads at most (PagedTerrainOptions::loaderThreads): a chunk of levels 0-3 costs
+/// 5-25 ms, so a few threads settle a view in a fraction of the time; more would mostly contend for
+/// the terrain file's reads, which are serialised (height_tiles.h).
+inline constexpr int kMaxChunkLoaders = 4;
+
 /// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
 std::size_t defaultTerrainBudgetBytes();
 
@@ -113,6 +119,7 @@ struct PagedTerrainOptions {
   std::size_t budgetBytes = 0;      // 0: defaultTerrainBudgetBytes()
   std::size_t mergeBytesPerFrame = kChunkMergeBytesPerFrame;  // Background: built chunk bytes made drawable a cull
   TerrainLoading loading = TerrainLoading::Background;
+  int loaderThreads = 0;            // Background: chunk loader threads (0: one per core, up to kMaxChunkLoaders)
   bool shade = true;                // bake Horn's hillshade into the colours
   /// Each chunk quadrant simplified to about this multiple of its level grid's error (exact error
   /// kept, terrain_chunk.h); 0: the level grids as they are.
