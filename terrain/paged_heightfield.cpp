@@ -3,6 +3,9 @@
 #include "nestwalk/core/input_error.h"
 #include "nestwalk/terrain/dem_reader.h"
 
+#include <gdal.h>
+#include <cpl_conv.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
@@ -69,6 +72,8 @@ Heightfield openPagedHeightfield(std::shared_ptr<const TerrainPyramid> pyramid, 
         if (!(noData && x == *noData)) x = shifted(x, dz);
     return v;
   };
+  if (!CPLGetConfigOption("GDAL_CACHEMAX", nullptr) && GDALGetCacheMax64() > GIntBig(kPagedGdalBlockCacheBytes))
+    GDALSetCacheMax64(GIntBig(kPagedGdalBlockCacheBytes));  // see "GDAL's block cache"
   auto tiles = std::make_shared<const HeightTileCache>(cols, rows, noData, std::move(loader), std::move(tileRanges),
                                                        options.budgetBytes);
   const RasterFrame& f = pyramid->frame();

@@ -8,6 +8,11 @@
 // tests compare ground heights, rays and samples); `shift` moves the map frame as the scene
 // loader's mapShift does (heights by shift.z, rounded to float; holes stay holes).
 //
+// GDAL's block cache: the tiles keep what a query reads, so GDAL's cache of the terrain file's own
+// tiles (and the pyramid's pages) only needs the few a tile's read decodes; opening lowers it, for
+// the whole process, to kPagedGdalBlockCacheBytes (never raises it; a GDAL_CACHEMAX set by the user
+// stays). A run over a 1 G-sample survey: peak resident memory 1,673 -> 1,463 MiB.
+//
 // Errors: the pyramid's (InputError naming the file) when the tiles are read; std::invalid_argument
 // for a grid of at most 8 cells a side (too small to page). Ownership: the heightfield and its
 // tile cache share the pyramid. Thread safety: as Heightfield.
@@ -25,6 +30,10 @@
 #include <vector>
 
 namespace nestwalk::terrain {
+
+/// GDAL's block cache while a paged heightfield is open (see above): 64 COG tiles of 512 x 512
+/// floats, the up to 4 a height tile's read decodes and their neighbours many times over.
+inline constexpr std::size_t kPagedGdalBlockCacheBytes = std::size_t(64) << 20;
 
 struct PagedHeightfieldOptions {
   std::size_t budgetBytes = kDefaultHeightTileBudgetBytes;

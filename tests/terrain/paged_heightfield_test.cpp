@@ -15,6 +15,8 @@
 #include "tests/common/test_data.h"
 #include "tests/terrain/rough_heights.h"
 
+#include <cpl_conv.h>
+#include <gdal.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -134,6 +136,19 @@ TEST(PagedHeightfield, AnswersBitForBitAsTheResidentHeightfieldThroughABudgetOfF
   EXPECT_GT(s.evicted, 100u);
   EXPECT_LE(s.reads - s.evicted, 4u) << "tiles held: those read less those evicted, four at most";
   EXPECT_GE(s.waits, s.reads - s.prefetched) << "every tile a query read itself was a wait";
+}
+
+TEST(PagedHeightfield, OpeningLowersGdalsBlockCacheButNeverRaisesIt) {
+  if (CPLGetConfigOption("GDAL_CACHEMAX", nullptr)) GTEST_SKIP() << "GDAL_CACHEMAX is set: the user's value stands";
+  PagedCase c(600, 500, 5, 0.0);
+  const GIntBig before = GDALGetCacheMax64();
+  GDALSetCacheMax64(GIntBig(256) << 20);
+  { const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path)); }
+  EXPECT_EQ(GDALGetCacheMax64(), GIntBig(terrain::kPagedGdalBlockCacheBytes));
+  GDALSetCacheMax64(GIntBig(16) << 20);
+  { const Heightfield paged = terrain::openPagedHeightfield(std::make_shared<const terrain::TerrainPyramid>(c.path)); }
+  EXPECT_EQ(GDALGetCacheMax64(), GIntBig(16) << 20);
+  GDALSetCacheMax64(before);
 }
 
 TEST(PagedHeightfield, ChunksBuiltFromItAreTheResidentOnesBitForBit) {
