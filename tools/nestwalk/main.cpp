@@ -11,15 +11,24 @@
 #include "nestwalk/version.h"
 #include "tools/nestwalk/commands.h"
 
+#include <malloc.h>
+
 #include <cstdio>
 #include <exception>
 #include <string>
 
 namespace {
 constexpr int kExitInputError = 1, kExitUsage = 2, kExitInternalError = 4;
+/// glibc's malloc arenas at most: by default each thread that allocates may get its own (up to 8 a
+/// core), and memory one thread frees stays in the arena of the thread that allocated it. The
+/// terrain's loader threads build chunks that the drawing thread frees, so a run over a 1 G-sample
+/// survey held 150 MiB more at its peak with the default than with 2 (1,463 against 1,315 MiB), at
+/// the same frame and settle times.
+constexpr int kMallocArenas = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
+  mallopt(M_ARENA_MAX, kMallocArenas);  // before any thread starts
   nestwalk::routeOsgMessagesToStderr();
   CLI::App app{"nestwalk: real-time walkthrough engine for terrain scenes with deployed equipment"};
   app.require_subcommand(1);
