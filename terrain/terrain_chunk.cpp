@@ -268,7 +268,6 @@ std::optional<GridPlane> planeThrough(const std::array<Eigen::Vector2d, 3>& v, c
 /// sample inside the triangle (found with exact integer edge tests) or where one of its edges crosses
 /// a fine column, row or diagonal (terrain_chunk.h, "Simplification").
 double triangleError(const ChunkGrid& g, const FineTriangle& t) {
-  const Heightfield& hf = g.hf;
   // Named corners, not a structured binding: clang 14 (the sanitizer builds) cannot capture those.
   const std::array<int, 2>& a = t.v[0];
   const std::array<int, 2>& b = t.v[1];
@@ -292,20 +291,35 @@ double triangleError(const ChunkGrid& g, const FineTriangle& t) {
         continue;
       if (g.fineValid(col, row)) err = std::max(err, std::abs(g.fineHeight(col, row) - plane(col, row)));
     }
-  // Edge crossings with fine columns (col = k), rows (row = k) and diagonals (col - row = k).
-  const Eigen::Vector2d o = hf.origin();
-  auto at = [&](const std::array<int, 2>& p, const std::array<int, 2>& q, double s) {
-    const double col = p[0] + s * (q[0] - p[0]), row = p[1] + s * (q[1] - p[1]);
-    if (const std::optional<double> fine = hf.groundHeight(o.x() + col * hf.dx(), o.y() - row * hf.dy()))
-      err = std::max(err, std::abs(*fine - plane(col, row)));
-  };
-  auto crossings = [&](const std::array<int, 2>& p, const std::array<int, 2>& q, int from, int to) {
-    for (int k = std::min(from, to) + 1; k < std::max(from, to); ++k) at(p, q, double(k - from) / (to - from));
+  // Edge crossings with fine columns (col = k), rows (row = k) and diagonals (col - row = k). Along
+  // each of those lines the fine surface is linear between the line's two samples around the
+  // crossing, read from the fine samples (no map position, no tile lookup); a point of a line has
+  // ground where both samples are valid, at a sample where it is (as Heightfield::groundHeight).
+  auto onLine = [&](int c0, int r0, int dc, int dr, double f, double col, double row) {
+    if (!g.fineValid(c0, r0)) return;
+    const double h0 = g.fineHeight(c0, r0);
+    double fine = h0;
+    if (f > 0) {
+      if (!g.fineValid(c0 + dc, r0 + dr)) return;
+      fine = h0 + f * (g.fineHeight(c0 + dc, r0 + dr) - h0);
+    }
+    err = std::max(err, std::abs(fine - plane(col, row)));
   };
   for (const auto& [p, q] : {std::pair(a, b), std::pair(b, c), std::pair(c, a)}) {
-    crossings(p, q, p[0], q[0]);
-    crossings(p, q, p[1], q[1]);
-    crossings(p, q, p[0] - p[1], q[0] - q[1]);
+    const double dcol = q[0] - p[0], drow = q[1] - p[1];
+    for (int k = std::min(p[0], q[0]) + 1; k < std::max(p[0], q[0]); ++k) {  // columns
+      const double row = p[1] + (k - p[0]) / dcol * drow, r0 = std::floor(row);
+      onLine(k, int(r0), 0, 1, row - r0, k, row);
+    }
+    for (int k = std::min(p[1], q[1]) + 1; k < std::max(p[1], q[1]); ++k) {  // rows
+      const double col = p[0] + (k - p[1]) / drow * dcol, c0 = std::floor(col);
+      onLine(int(c0), k, 1, 0, col - c0, col, k);
+    }
+    const int d0 = p[0] - p[1], d1 = q[0] - q[1];
+    for (int k = std::min(d0, d1) + 1; k < std::max(d0, d1); ++k) {  // diagonals: (c, r) to (c + 1, r + 1)
+      const double col = p[0] + double(k - d0) / (d1 - d0) * dcol, c0 = std::floor(col);
+      onLine(int(c0), int(c0) - k, 1, 1, col - c0, col, col - k);
+    }
   }
   return err;
 }

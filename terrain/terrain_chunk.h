@@ -92,8 +92,8 @@
 // Reading: a chunk whose errors come from the fine samples reads each of them several times (the
 // grid's error, the simplified surface's, shading, skirts); from a paged heightfield it first copies
 // its fine window (at most 2^20 samples: levels 0 to 3 of 64-cell chunks) tile by tile, the same
-// samples, so those reads cost no tile lookup (a simplified triangle's edge crossings still ask the
-// heightfield's groundHeight).
+// samples, so those reads cost no tile lookup (a simplified triangle's edge crossings too: they
+// interpolate the two samples of the fine line they cross, as the heightfield's ground does there).
 //
 // Ownership: a ChunkMesh owns its arrays. Thread safety: ChunkLayout is immutable; buildChunk only
 // reads the heightfield and may run on several threads at once (the colour reader is called on the

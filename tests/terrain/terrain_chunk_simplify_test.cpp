@@ -229,6 +229,56 @@ TEST(TerrainChunkSimplify, ErrorsAreTheExactMaximumAndBlocksHoldEveryPoint) {
   EXPECT_GT(points, 8000u);
 }
 
+TEST(TerrainChunkSimplify, ErrorsAreTheMaximumOverTheCandidatesReadThroughTheGroundQuery) {
+  // terrain_chunk.h's candidates, found here independently: every fine sample inside each simplified
+  // triangle and every crossing of its edges with a fine column, row or diagonal, the fine surface
+  // read through Heightfield::groundHeight (the chunk reads its samples directly) and the triangle's
+  // own plane by barycentric weights. Their maximum is the recorded error, to rounding.
+  const Heightfield hf = terraces(97, 81);  // 1 m cells: fine (column, row) = (x, -y) in the mesh frame
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  std::size_t surfaces = 0, crossings = 0;
+  for (const ChunkKey& k : allChunks(l)) {
+    const ChunkMesh m = buildChunk(hf, l, k, {}, kFraction);
+    for (std::size_t q = 0; q < 4; ++q) {
+      if (m.quadrants[q].empty()) continue;
+      for (const SurfaceRange& quad : surfacesOf(m.quadrants[q])) {
+        SCOPED_TRACE(quad.name);
+        double worst = 0;
+        for (const auto& t : triangles(m, quad.firstIndex, quad.surfaceTriangles)) {
+          const double a = area2(t);
+          if (a == 0) continue;  // a border sliver: no area, no surface of its own
+          auto plane = [&](double x, double y) {
+            const double w1 = ((x - t[0].x()) * (t[2].y() - t[0].y()) - (y - t[0].y()) * (t[2].x() - t[0].x())) / a;
+            const double w2 = ((t[1].x() - t[0].x()) * (y - t[0].y()) - (t[1].y() - t[0].y()) * (x - t[0].x())) / a;
+            return (1 - w1 - w2) * t[0].z() + w1 * t[1].z() + w2 * t[2].z();
+          };
+          auto candidate = [&](double x, double y) {
+            if (const std::optional<double> fine = fineAt(hf, x, y)) worst = std::max(worst, std::abs(*fine - plane(x, y)));
+          };
+          const Footprint f = footprintOf({t});
+          for (double y = std::ceil(f.y0); y <= f.y1; y += 1.0)
+            for (double x = std::ceil(f.x0); x <= f.x1; x += 1.0)
+              if (heightAt({t}, x, y)) candidate(x, y);
+          for (int e = 0; e < 3; ++e) {
+            const Eigen::Vector3d &p = t[std::size_t(e)], &r = t[std::size_t((e + 1) % 3)];
+            // Along the edge, s in (0, 1): where x, y or x + y (column - row) is a whole number.
+            for (const auto& [from, to] : {std::pair(p.x(), r.x()), std::pair(p.y(), r.y()), std::pair(p.x() + p.y(), r.x() + r.y())})
+              for (double v = std::floor(std::min(from, to)) + 1; v < std::max(from, to); v += 1.0) {
+                const double s = (v - from) / (to - from);
+                candidate(p.x() + s * (r.x() - p.x()), p.y() + s * (r.y() - p.y()));
+                ++crossings;
+              }
+          }
+        }
+        EXPECT_NEAR(quad.maxError, worst, 1e-9) << "level " << k.level << " quadrant " << q;
+        ++surfaces;
+      }
+    }
+  }
+  EXPECT_GT(surfaces, 100u);
+  EXPECT_GT(crossings, 10000u);
+}
+
 TEST(TerrainChunkSimplify, LevelZeroKeepsItsExactGridBesideTheSimplifiedOne) {
   const Heightfield hf = terraces(97, 81, 0.01);
   const ChunkLayout l(hf.cols(), hf.rows(), 16);
