@@ -121,6 +121,22 @@ std::vector<SurfaceRange> surfacesOf(const ChunkQuadrant& q) {
   return v;
 }
 
+/// Calls visit(key, quadrant, mesh, surface) for every simplified surface (own and refinements) of
+/// every chunk quadrant of the layout, the chunks simplified at kFraction.
+template <class Visit>
+void forEachSimplifiedSurface(const Heightfield& hf, const ChunkLayout& l, Visit&& visit) {
+  for (const ChunkKey& k : allChunks(l)) {
+    const ChunkMesh m = buildChunk(hf, l, k, {}, kFraction);
+    for (std::size_t q = 0; q < 4; ++q) {
+      if (m.quadrants[q].empty()) continue;
+      for (const SurfaceRange& quad : surfacesOf(m.quadrants[q])) {
+        SCOPED_TRACE(quad.name);
+        visit(k, q, m, quad);
+      }
+    }
+  }
+}
+
 TEST(TerrainChunkSimplify, QuadrantsTileTheirGridAndKeepEveryBorderVertex) {
   for (const double holes : {0.0, 0.01}) {
     const Heightfield hf = terraces(131, 97, holes);
@@ -184,47 +200,40 @@ TEST(TerrainChunkSimplify, ErrorsAreTheExactMaximumAndBlocksHoldEveryPoint) {
   constexpr double kSpacingSlackM = 0.05;  // |slope| <= 1.5 of the difference times 1/64 m, rounded up
   std::mt19937 rng(3);
   std::size_t checked = 0, points = 0;
-  for (const ChunkKey& k : allChunks(l)) {
-    const ChunkMesh m = buildChunk(hf, l, k, {}, kFraction);
-    for (std::size_t q = 0; q < 4; ++q) {
-      if (m.quadrants[q].empty()) continue;
-      for (const SurfaceRange& quad : surfacesOf(m.quadrants[q])) {
-        SCOPED_TRACE(quad.name);
-        const auto tris = triangles(m, quad.firstIndex, quad.surfaceTriangles);
-        const Footprint f = footprintOf(tris);
-        double brute = 0;
-        auto visit = [&](double x, double y) {
-          const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
-          if (s && fine) brute = std::max(brute, std::abs(*s - *fine));
-        };
-        for (double y = f.y1; y >= f.y0 - 1e-9; y -= 1.0)
-          for (double x = f.x0; x <= f.x1 + 1e-9; x += 1.0)
-            for (int i = 0; i < kPerEdge; ++i) {
-              const double t = double(i) / kPerEdge;
-              visit(x + t, y);      // along the row
-              visit(x, y - t);      // along the column
-              visit(x + t, y - t);  // along the north-west to south-east diagonal
-            }
-        EXPECT_GE(quad.maxError, brute - 1e-9) << "level " << k.level << " quadrant " << q;
-        EXPECT_LE(quad.maxError, brute + kSpacingSlackM) << "level " << k.level << " quadrant " << q;
-        ++checked;
-        std::uniform_real_distribution<double> ux(f.x0, f.x1), uy(f.y0, f.y1);
-        for (int i = 0; i < 200; ++i) {
-          const double x = ux(rng), y = uy(rng);
-          const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
-          if (!s || !fine) continue;
-          const Eigen::Vector3d p(x, y, *s);
-          const double e = std::abs(*s - *fine);
-          const bool held = std::any_of(quad.blocks->begin(), quad.blocks->end(), [&](const ChunkBlock& b) {
-            return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
-                   b.error >= e - 1e-8;
-          });
-          EXPECT_TRUE(held) << "level " << k.level << " quadrant " << q << " at " << x << " " << y;
-          ++points;
+  forEachSimplifiedSurface(hf, l, [&](const ChunkKey& k, std::size_t q, const ChunkMesh& m, const SurfaceRange& quad) {
+    const auto tris = triangles(m, quad.firstIndex, quad.surfaceTriangles);
+    const Footprint f = footprintOf(tris);
+    double brute = 0;
+    auto visit = [&](double x, double y) {
+      const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
+      if (s && fine) brute = std::max(brute, std::abs(*s - *fine));
+    };
+    for (double y = f.y1; y >= f.y0 - 1e-9; y -= 1.0)
+      for (double x = f.x0; x <= f.x1 + 1e-9; x += 1.0)
+        for (int i = 0; i < kPerEdge; ++i) {
+          const double t = double(i) / kPerEdge;
+          visit(x + t, y);      // along the row
+          visit(x, y - t);      // along the column
+          visit(x + t, y - t);  // along the north-west to south-east diagonal
         }
-      }
+    EXPECT_GE(quad.maxError, brute - 1e-9) << "level " << k.level << " quadrant " << q;
+    EXPECT_LE(quad.maxError, brute + kSpacingSlackM) << "level " << k.level << " quadrant " << q;
+    ++checked;
+    std::uniform_real_distribution<double> ux(f.x0, f.x1), uy(f.y0, f.y1);
+    for (int i = 0; i < 200; ++i) {
+      const double x = ux(rng), y = uy(rng);
+      const std::optional<double> s = heightAt(tris, x, y), fine = fineAt(hf, x, y);
+      if (!s || !fine) continue;
+      const Eigen::Vector3d p(x, y, *s);
+      const double e = std::abs(*s - *fine);
+      const bool held = std::any_of(quad.blocks->begin(), quad.blocks->end(), [&](const ChunkBlock& b) {
+        return (p.array() >= b.min.array() - 1e-9).all() && (p.array() <= b.max.array() + 1e-9).all() &&
+               b.error >= e - 1e-8;
+      });
+      EXPECT_TRUE(held) << "level " << k.level << " quadrant " << q << " at " << x << " " << y;
+      ++points;
     }
-  }
+  });
   EXPECT_GT(checked, 40u);
   EXPECT_GT(points, 8000u);
 }
@@ -237,44 +246,37 @@ TEST(TerrainChunkSimplify, ErrorsAreTheMaximumOverTheCandidatesReadThroughTheGro
   const Heightfield hf = terraces(97, 81);  // 1 m cells: fine (column, row) = (x, -y) in the mesh frame
   const ChunkLayout l(hf.cols(), hf.rows(), 16);
   std::size_t surfaces = 0, crossings = 0;
-  for (const ChunkKey& k : allChunks(l)) {
-    const ChunkMesh m = buildChunk(hf, l, k, {}, kFraction);
-    for (std::size_t q = 0; q < 4; ++q) {
-      if (m.quadrants[q].empty()) continue;
-      for (const SurfaceRange& quad : surfacesOf(m.quadrants[q])) {
-        SCOPED_TRACE(quad.name);
-        double worst = 0;
-        for (const auto& t : triangles(m, quad.firstIndex, quad.surfaceTriangles)) {
-          const double a = area2(t);
-          if (a == 0) continue;  // a border sliver: no area, no surface of its own
-          auto plane = [&](double x, double y) {
-            const double w1 = ((x - t[0].x()) * (t[2].y() - t[0].y()) - (y - t[0].y()) * (t[2].x() - t[0].x())) / a;
-            const double w2 = ((t[1].x() - t[0].x()) * (y - t[0].y()) - (t[1].y() - t[0].y()) * (x - t[0].x())) / a;
-            return (1 - w1 - w2) * t[0].z() + w1 * t[1].z() + w2 * t[2].z();
-          };
-          auto candidate = [&](double x, double y) {
-            if (const std::optional<double> fine = fineAt(hf, x, y)) worst = std::max(worst, std::abs(*fine - plane(x, y)));
-          };
-          const Footprint f = footprintOf({t});
-          for (double y = std::ceil(f.y0); y <= f.y1; y += 1.0)
-            for (double x = std::ceil(f.x0); x <= f.x1; x += 1.0)
-              if (heightAt({t}, x, y)) candidate(x, y);
-          for (int e = 0; e < 3; ++e) {
-            const Eigen::Vector3d &p = t[std::size_t(e)], &r = t[std::size_t((e + 1) % 3)];
-            // Along the edge, s in (0, 1): where x, y or x + y (column - row) is a whole number.
-            for (const auto& [from, to] : {std::pair(p.x(), r.x()), std::pair(p.y(), r.y()), std::pair(p.x() + p.y(), r.x() + r.y())})
-              for (double v = std::floor(std::min(from, to)) + 1; v < std::max(from, to); v += 1.0) {
-                const double s = (v - from) / (to - from);
-                candidate(p.x() + s * (r.x() - p.x()), p.y() + s * (r.y() - p.y()));
-                ++crossings;
-              }
+  forEachSimplifiedSurface(hf, l, [&](const ChunkKey& k, std::size_t q, const ChunkMesh& m, const SurfaceRange& quad) {
+    double worst = 0;
+    for (const auto& t : triangles(m, quad.firstIndex, quad.surfaceTriangles)) {
+      const double a = area2(t);
+      if (a == 0) continue;  // a border sliver: no area, no surface of its own
+      auto plane = [&](double x, double y) {
+        const double w1 = ((x - t[0].x()) * (t[2].y() - t[0].y()) - (y - t[0].y()) * (t[2].x() - t[0].x())) / a;
+        const double w2 = ((t[1].x() - t[0].x()) * (y - t[0].y()) - (t[1].y() - t[0].y()) * (x - t[0].x())) / a;
+        return (1 - w1 - w2) * t[0].z() + w1 * t[1].z() + w2 * t[2].z();
+      };
+      auto candidate = [&](double x, double y) {
+        if (const std::optional<double> fine = fineAt(hf, x, y)) worst = std::max(worst, std::abs(*fine - plane(x, y)));
+      };
+      const Footprint f = footprintOf({t});
+      for (double y = std::ceil(f.y0); y <= f.y1; y += 1.0)
+        for (double x = std::ceil(f.x0); x <= f.x1; x += 1.0)
+          if (heightAt({t}, x, y)) candidate(x, y);
+      for (int e = 0; e < 3; ++e) {
+        const Eigen::Vector3d &p = t[std::size_t(e)], &r = t[std::size_t((e + 1) % 3)];
+        // Along the edge, s in (0, 1): where x, y or x + y (column - row) is a whole number.
+        for (const auto& [from, to] : {std::pair(p.x(), r.x()), std::pair(p.y(), r.y()), std::pair(p.x() + p.y(), r.x() + r.y())})
+          for (double v = std::floor(std::min(from, to)) + 1; v < std::max(from, to); v += 1.0) {
+            const double s = (v - from) / (to - from);
+            candidate(p.x() + s * (r.x() - p.x()), p.y() + s * (r.y() - p.y()));
+            ++crossings;
           }
-        }
-        EXPECT_NEAR(quad.maxError, worst, 1e-9) << "level " << k.level << " quadrant " << q;
-        ++surfaces;
       }
     }
-  }
+    EXPECT_NEAR(quad.maxError, worst, 1e-9) << "level " << k.level << " quadrant " << q;
+    ++surfaces;
+  });
   EXPECT_GT(surfaces, 100u);
   EXPECT_GT(crossings, 10000u);
 }
