@@ -28,7 +28,7 @@ struct Built {
   int nice = 0;
 };
 
-TEST(BuildQueue, SeveralWorkersBuildEachKeyOnceAndTheHelpersYield) {
+TEST(BuildQueue, SeveralWorkersBuildEachKeyOnceAndTheHelpersRunAtALowerPriority) {
   constexpr int kWorkers = 3, kKeys = 60;
   std::atomic<int> running{0}, mostAtOnce{0};
   std::mutex calls;
