@@ -31,8 +31,8 @@
 
 namespace nestwalk::terrain {
 
-/// GDAL's block cache while a paged heightfield is open (see above): 64 COG tiles of 512 x 512
-/// floats, the up to 4 a height tile's read decodes and their neighbours many times over.
+/// GDAL's block cache from the first paged heightfield's opening on (see above): 64 COG tiles of
+/// 512 x 512 floats, the up to 4 a height tile's read decodes and their neighbours many times over.
 inline constexpr std::size_t kPagedGdalBlockCacheBytes = std::size_t(64) << 20;
 
 struct PagedHeightfieldOptions {

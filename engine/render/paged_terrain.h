@@ -16,7 +16,8 @@
 // Loading: Background (the interactive window and timed runs): loader threads (build_queue.h: one
 // per core, up to kMaxChunkLoaders, all but the first at a lower priority so that they use the
 // cores a frame leaves idle) build the chunks the last cull asked for, coarser levels first (then
-// most visible error first), so the whole view refines a level at a time; a cull never waits for it, it draws what is resident (the root is built
+// most visible error first), so the whole view refines a level at a time; a cull never waits for
+// them, it draws what is resident (the root is built
 // by the constructor, so there is always something). A cull makes at most mergeBytesPerFrame of
 // built chunks drawable (coarser first; always at least one), the rest waiting for the next frames:
 // the GL objects a frame creates and uploads stay bounded however many chunks the loader finished
@@ -36,7 +37,8 @@
 //
 // Ownership and threads: the node shares the heightfield (shared_ptr, read from every thread: it is
 // immutable) and owns the imagery reader, which the loader threads (or, in Complete mode, the cull
-// thread) call one at a time (a mutex: the reader is not thread-safe, terrain_imagery.h). Cull and draw on one thread (the viewers here are SingleThreaded); the
+// thread) call one at a time (a mutex: the reader is not thread-safe, terrain_imagery.h). Cull and
+// draw on one thread (the viewers here are SingleThreaded); the
 // destructor stops the loader thread.
 #pragma once
 
@@ -100,13 +102,15 @@ std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::Terr
                                                              double heightShift);
 
 /// The chunk bytes a cull makes drawable at most (paged_terrain.h's "Loading"): 16 MiB, about
-/// 70 chunks of 64 cells over the 3.2 cm survey of bench render's sweep (level 0 with its refinements), copied into GL buffers in a few milliseconds at memory speed (a fifth of
+/// 70 chunks of 64 cells over the 3.2 cm survey of bench render's sweep (level 0 with its
+/// refinements), copied into GL buffers in a few milliseconds at memory speed (a fifth of
 /// a 60 Hz frame), where a frame of llvmpipe at 1280 x 720 takes 15-60 ms.
 inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(16) << 20;
 
 /// Chunk loader threads at most (PagedTerrainOptions::loaderThreads): a chunk of levels 0-3 costs
-/// 5-25 ms, so a few threads settle a view in a fraction of the time; more would mostly contend for
-/// the terrain file's reads, which are serialised (height_tiles.h).
+/// 3-10 ms of CPU over the 1 G-sample survey, so a few threads settle a view in a fraction of the
+/// time; more would mostly contend for the terrain file's reads, which one mutex serialises
+/// (terrain_pyramid.h).
 inline constexpr int kMaxChunkLoaders = 4;
 
 /// The default cache budget: a sixteenth of the machine's memory, within [256 MiB, 1 GiB].
