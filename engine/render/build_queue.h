@@ -110,7 +110,8 @@ class BuildQueue {
   void loop(bool helper) {
     // A failure leaves the helper at the process's priority: slower to settle where cores are
     // short, never wrong.
-    if (helper) (void)::setpriority(PRIO_PROCESS, id_t(::syscall(SYS_gettid)), ::getpriority(PRIO_PROCESS, 0) + kHelperNiceIncrement);
+    if (helper)
+      (void)::setpriority(PRIO_PROCESS, id_t(::syscall(SYS_gettid)), ::getpriority(PRIO_PROCESS, 0) + kHelperNiceIncrement);
     std::unique_lock lock(mutex_);
     for (;;) {
       wake_.wait(lock, [&] { return stop_ || !shared_.queue.empty(); });
