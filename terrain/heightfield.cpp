@@ -52,6 +52,10 @@ constexpr double kCeilingSlackRelative = 1e-12;
 /// placed in the cell on the line's other side), so every cell a query in the rectangle reads is
 /// covered; small enough to add a block only for rectangles ending within it of a block's edge.
 constexpr double kCeilingPadCells = 1e-3;
+/// groundCeiling(): a rectangle touching at most this many cells is bounded by the samples of
+/// those cells (at most 5 x 5, a few cache lines) rather than by the 8 x 8-cell blocks around them:
+/// a flying leg's short ranges (walker.h: highestFlyingFeet) are then bounded to the cell.
+constexpr int kCeilingCellsRead = 16;
 
 /// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
 /// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
@@ -734,9 +738,34 @@ std::optional<double> Heightfield::groundCeiling(double x0, double y0, double x1
   };
   const auto [c0, c1] = cellRange((x0 - originX_) * invDx_, (x1 - originX_) * invDx_, A.cellsX);
   const auto [r0, r1] = cellRange((originY_ - y1) * invDy_, (originY_ - y0) * invDy_, A.cellsY);
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  auto ceiling = [&lo, &hi]() -> std::optional<double> {
+    if (!(lo <= hi)) return std::nullopt;  // not expected: a rectangle without holes has samples
+    const double magnitude = std::max(std::abs(double(lo)), std::abs(double(hi)));
+    return double(hi) + kCeilingSlackRelative * magnitude;
+  };
+  // A few cells: the highest of their own samples (a height is a convex combination of its
+  // triangle's corners), when the cells lie in one tile (height_tiles.h; resident grids take the
+  // same choice, so that paged answers stay the resident ones).
+  if ((c1 - c0 + 1) * (r1 - r0 + 1) <= kCeilingCellsRead && c0 / kHeightTileCells == c1 / kHeightTileCells &&
+      r0 / kHeightTileCells == r1 / kHeightTileCells) {
+    const float* H = clean_ ? clean_ + std::size_t(r0) * std::size_t(cols_) + std::size_t(c0) : nullptr;
+    std::size_t stride = std::size_t(cols_);
+    if (!clean_) {
+      const HeightTile& tile = tiles_->threadTile(c0 / kHeightTileCells, r0 / kHeightTileCells);
+      H = tile.at(c0, r0);
+      stride = std::size_t(tile.cols);
+    }
+    for (int r = 0; r <= r1 - r0 + 1; ++r)
+      for (int c = 0; c <= c1 - c0 + 1; ++c) {
+        const float h = H[std::size_t(r) * stride + std::size_t(c)];
+        if (std::isnan(h)) return std::nullopt;
+        lo = std::min(lo, h), hi = std::max(hi, h);
+      }
+    return ceiling();
+  }
   const int K = A.baseLevel;
   const int i0 = c0 >> K, i1 = c1 >> K, j0 = r0 >> K, j1 = r1 >> K;
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   if (!A.levels.empty()) {
     const RayAccel::Level& L = A.levels.front();
     for (int j = j0; j <= j1; ++j)
@@ -760,9 +789,7 @@ std::optional<double> Heightfield::groundCeiling(double x0, double y0, double x1
           }
       }
   }
-  if (!(lo <= hi)) return std::nullopt;  // not expected: a block without holes has samples
-  const double magnitude = std::max(std::abs(double(lo)), std::abs(double(hi)));
-  return double(hi) + kCeilingSlackRelative * magnitude;
+  return ceiling();
 }
 
 std::optional<std::pair<float, float>> Heightfield::heightRange() const {

@@ -116,24 +116,69 @@ std::optional<double> Walker::highestFootprintGround(double x, double y, const F
   return top;
 }
 
-std::array<bool, 5> Walker::flyingSamplesNeeded(const Eigen::Vector3d& start, const Eigen::Vector3d& move, int n,
+Walker::PathCeilings Walker::flyingPathCeilings(const Eigen::Vector3d& start, const Eigen::Vector3d& move, int n,
                                                 const Footprint& footprint) const {
-  std::array<bool, 5> sampled{true, true, true, true, true};
-  if (n == 0) return sampled;
-  // The leg ends no lower than this, at whichever sample it stops: start.z + move.z (k / n) rounds
-  // monotonically in k, so it lies between its ends.
-  const double floor = std::min(start.z(), (start + move).z());
+  PathCeilings ceilings{};
+  if (n == 0) return ceilings;
   // Each footprint point's positions over the leg lie between its first and last (the same
   // monotone rounding, coordinate by coordinate), so their box holds every one (a build that fuses
   // the multiply-add moves one by an ulp, well inside groundCeiling's padding).
-  const Eigen::Vector3d first = start + move * (1.0 / n), last = start + move * (double(n) / n);
-  const auto pa = footprintPoints(Eigen::Vector2d(first.x(), first.y()), footprint.forward, footprint.side);
-  const auto pb = footprintPoints(Eigen::Vector2d(last.x(), last.y()), footprint.forward, footprint.side);
-  for (int i = 0; i < 5; ++i) {
-    const std::optional<double> ceiling = terrain_.groundCeiling(pa[i].x(), pa[i].y(), pb[i].x(), pb[i].y());
-    sampled[std::size_t(i)] = !(ceiling && *ceiling + state_.clearance <= floor);
+  const auto pa = flyingSamplePoints(start, move, 1, n, footprint);
+  const auto pb = flyingSamplePoints(start, move, n, n, footprint);
+  for (std::size_t i = 0; i < 5; ++i)
+    ceilings[i] = terrain_.groundCeiling(pa[i].x(), pa[i].y(), pb[i].x(), pb[i].y());
+  return ceilings;
+}
+
+std::array<Eigen::Vector2d, 5> Walker::flyingSamplePoints(const Eigen::Vector3d& start, const Eigen::Vector3d& move,
+                                                          int k, int n, const Footprint& footprint) {
+  // The same expression as walkLeg's sample k, so the same bits.
+  const Eigen::Vector3d p = start + move * (double(k) / n);
+  return footprintPoints(Eigen::Vector2d(p.x(), p.y()), footprint.forward, footprint.side);
+}
+
+std::optional<double> Walker::highestFlyingFeet(const Eigen::Vector3d& start, const Eigen::Vector3d& move, int n,
+                                                const Footprint& footprint, const PathCeilings& ceilings,
+                                                double floorZ) const {
+  const double clearance = state_.clearance;
+  double best = floorZ;
+  // Sample k of point i: its ground lifts `best` when higher; false when it has no ground (not
+  // expected under a ceiling, which certifies ground on the whole box: the caller scans instead).
+  auto sample = [&](std::size_t i, int k) {
+    const Eigen::Vector2d q = flyingSamplePoints(start, move, k, n, footprint)[i];
+    const std::optional<double> z = terrain_.groundHeight(q.x(), q.y());
+    if (z) best = std::max(best, *z + clearance);
+    return z.has_value();
+  };
+  // The leg's last samples first: a climb's highest ground is usually there, and every range
+  // whose ceiling is no higher is then skipped whole.
+  for (std::size_t i = 0; i < 5; ++i)
+    if (*ceilings[i] + clearance > best && !sample(i, n)) return std::nullopt;
+  // Then samples 1 .. n-1 of each point, a range at a time, depth first (the later half first).
+  struct Range {
+    std::size_t point;
+    int first, last;
+  };
+  std::array<Range, 5 + 64> stack;  // each split adds one entry, at most log2(n) < 31 deep
+  std::size_t size = 0;
+  for (std::size_t i = 5; i-- > 0;)
+    if (n > 1 && *ceilings[i] + clearance > best) stack[size++] = {i, 1, n - 1};
+  while (size > 0) {
+    const Range r = stack[--size];
+    if (r.last - r.first < kFlyingSampledRange) {
+      for (int k = r.first; k <= r.last; ++k)
+        if (!sample(r.point, k)) return std::nullopt;
+      continue;
+    }
+    const Eigen::Vector2d a = flyingSamplePoints(start, move, r.first, n, footprint)[r.point];
+    const Eigen::Vector2d b = flyingSamplePoints(start, move, r.last, n, footprint)[r.point];
+    const std::optional<double> ceiling = terrain_.groundCeiling(a.x(), a.y(), b.x(), b.y());
+    if (ceiling && *ceiling + clearance <= best) continue;  // no sample of it can lift the body
+    const int mid = r.first + (r.last - r.first) / 2;
+    stack[size++] = {r.point, r.first, mid};
+    stack[size++] = {r.point, mid + 1, r.last};
   }
-  return sampled;
+  return best;
 }
 
 std::optional<double> Walker::lowestFlyingFeet(double x, double y) const {
@@ -190,19 +235,38 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   const int n = len > 0 ? std::max(1, int(std::ceil(len / sampleSpacing_))) : 0;
   std::array<double, 5> h{};
   if (state_.flying) {
-    const std::array<bool, 5> sampled = flyingSamplesNeeded(start, move, n, footprint);
+    const PathCeilings ceilings = flyingPathCeilings(start, move, n, footprint);
     double lowest = -std::numeric_limits<double>::infinity();
     int good = 0;
-    for (int k = 1; k <= n; ++k) {
-      const Eigen::Vector3d p = start + move * (double(k) / n);
-      const std::optional<double> top = highestFootprintGround(p.x(), p.y(), footprint, sampled);
-      if (!top) {
-        leg.blocked = true;
-        leg.reason = BlockReason::TerrainEdge;
-        break;
+    // Ground under the whole leg (every point's ceiling certifies it): the leg is not stopped, and
+    // only its highest sample matters, found by bounds. Else every sample in order, so that the
+    // leg stops at the first without ground.
+    const bool grounded = std::all_of(ceilings.begin(), ceilings.end(), [](const auto& c) { return c.has_value(); });
+    const std::optional<double> highest =
+        n > kFlyingSampledRange && grounded
+            ? highestFlyingFeet(start, move, n, footprint, ceilings, (start + move * (double(n) / n)).z())
+            : std::nullopt;
+    if (highest) {
+      lowest = *highest;
+      good = n;
+    } else {
+      // The leg ends no lower than this, at whichever sample it stops: start.z + move.z (k / n)
+      // rounds monotonically in k, so it lies between its ends. A point whose ceiling plus the
+      // clearance is no higher can neither lift the body nor end the leg at an edge: not sampled.
+      const double floor = std::min(start.z(), (start + move).z());
+      std::array<bool, 5> sampled{};
+      for (std::size_t i = 0; i < 5; ++i) sampled[i] = !(ceilings[i] && *ceilings[i] + state_.clearance <= floor);
+      for (int k = 1; k <= n; ++k) {
+        const Eigen::Vector3d p = start + move * (double(k) / n);
+        const std::optional<double> top = highestFootprintGround(p.x(), p.y(), footprint, sampled);
+        if (!top) {
+          leg.blocked = true;
+          leg.reason = BlockReason::TerrainEdge;
+          break;
+        }
+        lowest = std::max(lowest, *top + state_.clearance);
+        good = k;
       }
-      lowest = std::max(lowest, *top + state_.clearance);
-      good = k;
     }
     target = n == 0 ? Eigen::Vector3d(start + move) : Eigen::Vector3d(start + move * (double(good) / n));
     if (n == 0 && footprintHeights(target.x(), target.y(), footprint, h))

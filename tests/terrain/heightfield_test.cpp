@@ -246,7 +246,8 @@ TEST(Heightfield, RasterEdge) {
 }
 
 TEST(Heightfield, GroundCeilingBoundsEveryGroundHeightInItsRectangleAndRefusesHolesAndEdges) {
-  // Random heights with a patch of holes; rectangles of up to 30 cells, some reaching past the edge
+  // Random heights with a patch of holes; rectangles of up to 30 cells (a third of them up to 3, which
+  // their cells' own samples bound rather than the 8 x 8-cell blocks), some reaching past the edge
   // or onto the patch, some with corners exactly on samples. Brute force: the ground is linear on
   // each triangle, so its highest point in a rectangle is at a sample inside it, a corner, or where
   // a side crosses a grid line or a cell diagonal; every such point is asked for.
@@ -265,6 +266,7 @@ TEST(Heightfield, GroundCeilingBoundsEveryGroundHeightInItsRectangleAndRefusesHo
     std::uniform_real_distribution<double> uc(-3.0, cols + 2.0), ur(-3.0, rows + 2.0), size(0.0, 30.0);
     for (int k = 0; k < 3000; ++k) {
       double c0 = uc(rng), r0 = ur(rng), c1 = c0 + size(rng), r1 = r0 + size(rng);
+      if (k % 3 == 1) c1 = c0 + (c1 - c0) / 10, r1 = r0 + (r1 - r0) / 10;  // at most 3 cells: bounded by their samples
       if (k % 4 == 0) c0 = std::floor(c0), r0 = std::floor(r0), c1 = std::floor(c1), r1 = std::floor(r1);
       const double x0 = o.x + c0 * dx, x1 = o.x + c1 * dx, y0 = o.y - r1 * dy, y1 = o.y - r0 * dy;
       // Points: the corners, every sample inside, the sides' crossings with grid lines and diagonals.
@@ -304,7 +306,9 @@ TEST(Heightfield, GroundCeilingBoundsEveryGroundHeightInItsRectangleAndRefusesHo
       // Inside the hull and more than a block (8 cells) from the hole patch: never refused.
       const bool clear = c0 >= 0 && r0 >= 0 && c1 <= cols - 1 && r1 <= rows - 1 &&
                          (c1 < holeC0 - 9 || c0 > holeC1 + 9 || r1 < holeR0 - 9 || r0 > holeR1 + 9);
-      if (clear) ASSERT_TRUE(ceiling) << "rectangle " << k;
+      if (clear) {
+        ASSERT_TRUE(ceiling) << "rectangle " << k;
+      }
       ceiling ? ++bounded : ++refused;
     }
   }
