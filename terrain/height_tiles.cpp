@@ -191,7 +191,7 @@ bool HeightTileCache::holds(int tx, int ty) const {
 }
 
 void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
-  bool queued = false;
+  std::vector<std::uint64_t> first;  // this call's tiles not held, in its order
   {
     const std::lock_guard lock(mutex_);
     for (const auto& [tx, ty] : tiles) {
@@ -202,15 +202,17 @@ void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const
         touch(it->second);
         continue;
       }
-      if (inFlight_.count(k) || std::find(queue_.begin(), queue_.end(), k) != queue_.end()) continue;
-      queue_.push_back(k);
-      queued = true;
+      if (inFlight_.count(k) || std::find(first.begin(), first.end(), k) != first.end()) continue;
+      if (const auto queued = std::find(queue_.begin(), queue_.end(), k); queued != queue_.end()) queue_.erase(queued);
+      first.push_back(k);
     }
+    // Ahead of what earlier calls queued: the latest call knows where the walk goes now.
+    queue_.insert(queue_.begin(), first.begin(), first.end());
     // Started on the first prefetch, not with the cache: a scene loader forks to read models
     // (core/guarded_process.h) while no other thread runs.
-    if (queued && !prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
+    if (!first.empty() && !prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
   }
-  if (queued) changed_.notify_all();
+  if (!first.empty()) changed_.notify_all();
 }
 
 void HeightTileCache::prefetchLoop() const {

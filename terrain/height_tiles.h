@@ -121,7 +121,9 @@ class HeightTileCache {
   /// calling thread's slots) at least until this thread next asks any cache for a tile. For the
   /// hot single-sample queries (a ground height), which read it at once.
   const HeightTile& threadTile(int tx, int ty) const;
-  /// Queues the tiles (tx, ty pairs; out of range ones ignored) not held yet for the background thread.
+  /// Queues the tiles (tx, ty pairs; out of range ones ignored) not held yet for the background
+  /// thread, read in the order given and before the tiles that earlier calls queued (the latest
+  /// call names where a walk goes now).
   void prefetch(std::span<const std::pair<int, int>> tiles) const;
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;

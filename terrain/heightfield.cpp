@@ -282,12 +282,27 @@ std::optional<std::array<int, 4>> Heightfield::tilesUnder(double x0, double y0, 
   return std::array<int, 4>{tx0, ty0, tx1, ty1};
 }
 
-void Heightfield::prefetch(double x0, double y0, double x1, double y1) const {
+void Heightfield::holdTiles(double x0, double y0, double x1, double y1) const {
+  const auto r = tilesUnder(x0, y0, x1, y1);
+  if (!r) return;
+  for (int ty = (*r)[1]; ty <= (*r)[3]; ++ty)
+    for (int tx = (*r)[0]; tx <= (*r)[2]; ++tx) tiles_->tile(tx, ty);
+}
+
+void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from) const {
   const auto r = tilesUnder(x0, y0, x1, y1);
   if (!r) return;
   std::vector<std::pair<int, int>> wanted;
   for (int ty = (*r)[1]; ty <= (*r)[3]; ++ty)
     for (int tx = (*r)[0]; tx <= (*r)[2]; ++tx) wanted.emplace_back(tx, ty);
+  // Nearest first: the distance in cells from `from` to each tile's cells (0 for its own tile).
+  const double u = (from.x() - originX_) * invDx_, v = (originY_ - from.y()) * invDy_;
+  auto gap = [](double at, int tile) {
+    const double lo = double(tile) * kHeightTileCells, hi = lo + kHeightTileCells;
+    return at < lo ? lo - at : at > hi ? at - hi : 0.0;
+  };
+  auto distance = [&](const std::pair<int, int>& t) { return std::hypot(gap(u, t.first), gap(v, t.second)); };
+  std::stable_sort(wanted.begin(), wanted.end(), [&](const auto& a, const auto& b) { return distance(a) < distance(b); });
   tiles_->prefetch(wanted);
 }
 

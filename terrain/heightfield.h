@@ -90,8 +90,12 @@ class Heightfield {
   bool paged() const { return tiles_ != nullptr; }
   const std::shared_ptr<const HeightTileCache>& tiles() const { return tiles_; }
   /// Paged: queues the tiles under the map rectangle [x0, x1] x [y0, y1] (either order) that are not
-  /// held for reading in the background. Resident: nothing to do.
-  void prefetch(double x0, double y0, double x1, double y1) const;
+  /// held for reading in the background, nearest to the map point `from` first (a walker's feet),
+  /// ahead of the tiles queued by earlier calls. Resident: nothing to do.
+  void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from) const;
+  /// Paged: reads every tile under the rectangle that is not held yet, waiting for each (a walker
+  /// placed somewhere new reads the ground around it before its first step). Resident: nothing.
+  void holdTiles(double x0, double y0, double x1, double y1) const;
   /// Paged: the tiles under that rectangle, {tx0, ty0, tx1, ty1} inclusive; nullopt when resident
   /// or when the rectangle misses the grid. What prefetch() would ask for, at the cost of a few
   /// multiplications (a walker asks again only when it changes).

@@ -211,7 +211,14 @@ std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double hea
   s.time = state_.time;
   s.pitchDeg = state_.pitchDeg;
   state_ = s;
-  prefetchGround(Eigen::Vector3d::Zero(), true);
+  // Somewhere new: the ground around the feet is read now, so that the first steps find it held
+  // (a prefetch queued now could not be read before the next step on a fine DEM: a tile takes
+  // milliseconds), and the ground ahead is asked for at the first step, once the motion is known.
+  if (terrain_.paged()) {
+    const auto [x0, y0, x1, y1] = groundAhead(Eigen::Vector3d::Zero());
+    terrain_.holdTiles(x0, y0, x1, y1);
+    prefetchGround(Eigen::Vector3d::Zero(), true);
+  }
   return {};
 }
 
@@ -347,19 +354,22 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   return leg;
 }
 
-void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
-  if (!terrain_.paged()) return;
+std::array<double, 4> Walker::groundAhead(const Eigen::Vector3d& velocity) const {
   Eigen::Vector2d ahead = kPrefetchSeconds * velocity.head<2>();
   const double reach = kPrefetchMaxAheadTiles * terrain::kHeightTileCells * std::min(terrain_.dx(), terrain_.dy());
   if (ahead.norm() > reach) ahead *= reach / ahead.norm();
   const Eigen::Vector2d a = state_.feet.head<2>(), b = a + ahead;
   const double m = kPrefetchMarginMetres + 2.0 * std::max(terrain_.dx(), terrain_.dy());
-  const double x0 = std::min(a.x(), b.x()) - m, y0 = std::min(a.y(), b.y()) - m;
-  const double x1 = std::max(a.x(), b.x()) + m, y1 = std::max(a.y(), b.y()) + m;
+  return {std::min(a.x(), b.x()) - m, std::min(a.y(), b.y()) - m, std::max(a.x(), b.x()) + m, std::max(a.y(), b.y()) + m};
+}
+
+void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
+  if (!terrain_.paged()) return;
+  const auto [x0, y0, x1, y1] = groundAhead(velocity);
   const auto tiles = terrain_.tilesUnder(x0, y0, x1, y1);
   if (!tiles || (*tiles == prefetchedTiles_ && !force)) return;
   prefetchedTiles_ = *tiles;
-  terrain_.prefetch(x0, y0, x1, y1);
+  terrain_.prefetch(x0, y0, x1, y1, state_.feet.head<2>());
 }
 
 StepReport Walker::step(const StepInput& in) {

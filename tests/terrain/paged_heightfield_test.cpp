@@ -20,6 +20,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <cstring>
 #include <random>
 
@@ -226,7 +228,8 @@ TEST(HeightTileCache, KeepsToItsBudgetLeastRecentlyUsedOutFirstAndCountsWaits) {
 
   // Prefetched tiles are held before they are asked for: no wait.
   paged.prefetch(paged.samplePosition(1100, 500).x(), paged.samplePosition(1100, 500).y(),
-                 paged.samplePosition(1390, 890).x(), paged.samplePosition(1390, 890).y());
+                 paged.samplePosition(1390, 890).x(), paged.samplePosition(1390, 890).y(),
+                 paged.samplePosition(1100, 500));
   tiles.waitForPrefetch();
   const std::uint64_t before = tiles.stats().waits;
   EXPECT_TRUE(tiles.holds(4, 1) && tiles.holds(5, 1) && tiles.holds(4, 3) && tiles.holds(5, 3));
@@ -266,6 +269,86 @@ TEST(HeightTileCache, EachThreadKeepsItsLastFourTilesAliveAndReadsThemNoMore) {
   EXPECT_EQ(tiles.stats().reads, reads + 1);
   tiles.threadTile(1, 1);
   EXPECT_EQ(tiles.stats().reads, reads + 2);
+}
+
+/// A tile cache of 8 x 8 tiles of flat ground whose loader records the order of its reads and holds
+/// the first until released, so that prefetched tiles queue up behind it: the order they are then
+/// read in is the queue's.
+struct RecordedReads {
+  static constexpr int kTiles = 8;
+  std::mutex m;
+  std::condition_variable cv;
+  bool released = false;
+  std::vector<std::pair<int, int>> order;
+  std::shared_ptr<const terrain::HeightTileCache> tiles = std::make_shared<const terrain::HeightTileCache>(
+      kTiles * terrain::kHeightTileCells + 1, kTiles * terrain::kHeightTileCells + 1, std::nullopt,
+      [this](int c0, int r0, int w, int h) {
+        std::unique_lock lock(m);
+        order.emplace_back(c0 / terrain::kHeightTileCells, r0 / terrain::kHeightTileCells);
+        cv.notify_all();
+        if (order.size() == 1) cv.wait(lock, [this] { return released; });
+        return std::vector<float>(std::size_t(w) * std::size_t(h), 1.0f);
+      },
+      std::vector<float>{});
+  /// Prefetches tile (7, 7) and waits until its read holds the background thread.
+  void block() {
+    const std::pair<int, int> blocker[1] = {{kTiles - 1, kTiles - 1}};
+    tiles->prefetch(blocker);
+    std::unique_lock lock(m);
+    cv.wait(lock, [this] { return !order.empty(); });
+  }
+  /// Lets the reads go on, waits for them, and returns their order after the blocking one.
+  std::vector<std::pair<int, int>> release() {
+    {
+      const std::lock_guard lock(m);
+      released = true;
+    }
+    cv.notify_all();
+    tiles->waitForPrefetch();
+    return {order.begin() + 1, order.end()};
+  }
+};
+
+TEST(HeightTileCache, PrefetchReadsTheLatestCallsTilesFirstInItsOrder) {
+  RecordedReads reads;
+  reads.block();
+  const std::pair<int, int> earlier[3] = {{0, 0}, {1, 0}, {2, 0}};
+  reads.tiles->prefetch(earlier);
+  const std::pair<int, int> latest[3] = {{3, 3}, {1, 0}, {3, 3}};  // (1, 0) again, (3, 3) twice
+  reads.tiles->prefetch(latest);
+  const std::vector<std::pair<int, int>> expected = {{3, 3}, {1, 0}, {0, 0}, {2, 0}};
+  EXPECT_EQ(reads.release(), expected);
+}
+
+TEST(PagedHeightfield, PrefetchAsksForTheTilesNearestTheGivenPointFirst) {
+  // 1 m cells. Reference: each tile of the rectangle by the distance from the point to the nearest
+  // of its cells' corners (a brute-force walk over its border), ties in row-major order.
+  const int T = terrain::kHeightTileCells;
+  RecordedReads reads;
+  const Heightfield paged(RecordedReads::kTiles * T + 1, RecordedReads::kTiles * T + 1, reads.tiles,
+                          std::pair<float, float>{1.0f, 1.0f}, 500000.0, 7000000.0, 1.0, 1.0);
+  reads.block();
+  const double col = 3 * T + 200.0, row = 2 * T + 10.0;  // in tile (3, 2), 10 cells below its top
+  paged.prefetch(paged.samplePosition(T + 5, T + 5).x(), paged.samplePosition(T + 5, T + 5).y(),
+                 paged.samplePosition(5 * T - 5, 4 * T - 5).x(), paged.samplePosition(5 * T - 5, 4 * T - 5).y(),
+                 Eigen::Vector2d(500000.0 + col, 7000000.0 - row));
+  std::vector<std::pair<double, std::pair<int, int>>> byDistance;
+  for (int ty = 1; ty <= 3; ++ty)
+    for (int tx = 1; tx <= 4; ++tx) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int k = 0; k <= T; ++k)
+        for (const auto& [c, r] : {std::pair{tx * T + k, ty * T}, std::pair{tx * T + k, (ty + 1) * T},
+                                   std::pair{tx * T, ty * T + k}, std::pair{(tx + 1) * T, ty * T + k}})
+          nearest = std::min(nearest, std::hypot(c - col, r - row));
+      const bool inside = col >= tx * T && col <= (tx + 1) * T && row >= ty * T && row <= (ty + 1) * T;
+      byDistance.push_back({inside ? 0.0 : nearest, {tx, ty}});
+    }
+  std::stable_sort(byDistance.begin(), byDistance.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<int, int>> expected;
+  for (const auto& entry : byDistance) expected.push_back(entry.second);
+  EXPECT_EQ(reads.release(), expected);
+  EXPECT_EQ(expected[0], (std::pair<int, int>{3, 2}));
+  EXPECT_EQ(expected[1], (std::pair<int, int>{3, 1}));  // 10 cells up, against 56 to the right
 }
 
 TEST(PagedHeightfield, RealDemsAnswerAsTheirResidentHeightfields) {

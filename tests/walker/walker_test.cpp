@@ -2,6 +2,7 @@
 // haul ramp cut into it) with boxes as equipment, at the origin and at UTM magnitudes. Gaps are
 // checked against FCL's box-box distance (an independent GJK) and the static SAT.
 #include "nestwalk/core/angles.h"
+#include "nestwalk/terrain/height_tiles.h"
 #include "nestwalk/walker/walker.h"
 
 #include <fcl/narrowphase/distance.h>
@@ -14,6 +15,7 @@
 #include <numbers>
 #include <memory>
 #include <random>
+#include <thread>
 
 namespace nestwalk {
 namespace {
@@ -277,6 +279,48 @@ TEST(Walker, SameInputsGiveTheSameStatesBitForBit) {
     return path;
   };
   EXPECT_EQ(run(), run());
+}
+
+TEST(Walker, PlacedOnAPagedTerrainItHoldsTheGroundAroundItsFeetSoItsFirstStepsNeverWait) {
+  // A 5 cm grid of 4 x 4 tiles (12.8 m a side each) whose reads take 5 ms, far longer than a step:
+  // a tile only prefetched when the walk starts would be waited for. Placed at the corner of four
+  // tiles, its footprint within one, the walker holds all four (every tile within
+  // kPrefetchMarginMetres) at once, and its first steps, across the corner into the others, wait
+  // for none.
+  const int T = terrain::kHeightTileCells, n = 4 * T + 1;
+  const double cell = 0.05, x0 = 512345.0, y0 = 7765432.0;
+  auto tiles = std::make_shared<const terrain::HeightTileCache>(
+      n, n, std::nullopt,
+      [](int c0, int r0, int w, int h) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        std::vector<float> heights(std::size_t(w) * std::size_t(h));
+        for (int r = 0; r < h; ++r)
+          for (int c = 0; c < w; ++c) heights[std::size_t(r) * std::size_t(w) + std::size_t(c)] = float(10 + 0.01 * (c0 + c) + 0.02 * (r0 + r));
+        return heights;
+      },
+      std::vector<float>{});
+  const terrain::Heightfield hf(n, n, tiles, std::pair<float, float>{10.0f, float(10 + 0.03 * n)}, x0,
+                               y0 + (n - 1) * cell, cell, cell);
+  const CollisionWorld world({}, {}, {}, MethodSpec{});
+  WalkerOptions opts;
+  Walker w(hf, world, Eigen::Vector3d(x0, y0, 0), opts);
+  const Eigen::Vector2d corner = hf.samplePosition(2 * T, 2 * T);
+  ASSERT_EQ(w.place(Eigen::Vector3d(corner.x() + 0.6, corner.y() - 0.6, 0), false, 0, false, 0), "");
+  const auto near = hf.tilesUnder(corner.x() - kPrefetchMarginMetres, corner.y() - kPrefetchMarginMetres,
+                                  corner.x() + kPrefetchMarginMetres, corner.y() + kPrefetchMarginMetres);
+  ASSERT_TRUE(near);
+  EXPECT_EQ(*near, (std::array<int, 4>{1, 1, 2, 2}));
+  for (int ty = (*near)[1]; ty <= (*near)[3]; ++ty)
+    for (int tx = (*near)[0]; tx <= (*near)[2]; ++tx) EXPECT_TRUE(tiles->holds(tx, ty)) << tx << "," << ty;
+  for (int k = 0; k < 8; ++k) {
+    StepInput in;
+    in.move = Eigen::Vector3d(-0.15, k < 4 ? 0.15 : 0.0, 0);  // north-west across the corner, then west
+    in.headingDeg = w.state().bodyYawDeg;
+    EXPECT_EQ(w.step(in).groundWaits, 0u) << "step " << k;
+    EXPECT_FALSE(w.state().blocked) << "step " << k;
+  }
+  EXPECT_LT(w.state().feet.x(), corner.x());  // it crossed into tiles (1, 1) and (1, 2)
+  EXPECT_GT(w.state().feet.y(), corner.y());
 }
 
 TEST(Walker, FlyingLegsAnswerAsSamplingEveryFootprintPointToTheBit) {
