@@ -90,9 +90,11 @@ class Heightfield {
   bool paged() const { return tiles_ != nullptr; }
   const std::shared_ptr<const HeightTileCache>& tiles() const { return tiles_; }
   /// Paged: queues the tiles under the map rectangle [x0, x1] x [y0, y1] (either order) that are not
-  /// held for reading in the background, nearest to the map point `from` first (a walker's feet),
-  /// ahead of the tiles queued by earlier calls. Resident: nothing to do.
-  void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from) const;
+  /// held for reading in the background, ahead of the tiles queued by earlier calls, the soonest
+  /// reached first by a walk along the map segment `from` -> `to` (a walker's feet and where its
+  /// motion takes it): the tiles the segment crosses in the order it enters them, the others by
+  /// the shortest walk along it and then off it. Resident: nothing to do.
+  void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   /// Paged: reads every tile under the rectangle that is not held yet, waiting for each (a walker
   /// placed somewhere new reads the ground around it before its first step). Resident: nothing.
   void holdTiles(double x0, double y0, double x1, double y1) const;

@@ -354,11 +354,15 @@ Walker::Leg Walker::walkLeg(const Eigen::Vector3d& move, StepReport& report) {
   return leg;
 }
 
-std::array<double, 4> Walker::groundAhead(const Eigen::Vector3d& velocity) const {
+Eigen::Vector2d Walker::aheadOf(const Eigen::Vector3d& velocity) const {
   Eigen::Vector2d ahead = kPrefetchSeconds * velocity.head<2>();
   const double reach = kPrefetchMaxAheadTiles * terrain::kHeightTileCells * std::min(terrain_.dx(), terrain_.dy());
   if (ahead.norm() > reach) ahead *= reach / ahead.norm();
-  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + ahead;
+  return ahead;
+}
+
+std::array<double, 4> Walker::groundAhead(const Eigen::Vector3d& velocity) const {
+  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + aheadOf(velocity);
   const double m = kPrefetchMarginMetres + 2.0 * std::max(terrain_.dx(), terrain_.dy());
   return {std::min(a.x(), b.x()) - m, std::min(a.y(), b.y()) - m, std::max(a.x(), b.x()) + m, std::max(a.y(), b.y()) + m};
 }
@@ -369,7 +373,7 @@ void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
   const auto tiles = terrain_.tilesUnder(x0, y0, x1, y1);
   if (!tiles || (*tiles == prefetchedTiles_ && !force)) return;
   prefetchedTiles_ = *tiles;
-  terrain_.prefetch(x0, y0, x1, y1, state_.feet.head<2>());
+  terrain_.prefetch(x0, y0, x1, y1, state_.feet.head<2>(), state_.feet.head<2>() + aheadOf(velocity));
 }
 
 StepReport Walker::step(const StepInput& in) {

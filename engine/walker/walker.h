@@ -18,7 +18,7 @@
 // body yaw, max_slope_deg). `origin` is the map point of the scene's local frame (Scene::origin).
 // Ownership: the walker keeps references to `terrain` and `world`; both must outlive it.
 // Paged terrain (terrain/heightfield.h): the walker asks for the tiles under a box around its feet
-// and kPrefetchSeconds of its current motion ahead (when they change), nearest first, so that a walk
+// and kPrefetchSeconds of its current motion ahead (when they change), the soonest reached first, so that a walk
 // (at 8 m/s: 16 m ahead, two tiles of a 3.2 cm DEM) finds its ground read before it arrives; a step
 // that had to wait for a tile counts it (StepReport::groundWaits). place() reads the tiles of the
 // box around the feet before it returns (the one wait of a teleport, outside any step).
@@ -206,6 +206,8 @@ class Walker {
   /// The map rectangle {x0, y0, x1, y1} whose ground prefetchGround() asks for: the feet, and
   /// kPrefetchSeconds of `velocity` ahead (at most kPrefetchMaxAheadTiles), widened by the margin.
   std::array<double, 4> groundAhead(const Eigen::Vector3d& velocity) const;
+  /// Where kPrefetchSeconds of `velocity` take the feet, from them (at most kPrefetchMaxAheadTiles).
+  Eigen::Vector2d aheadOf(const Eigen::Vector3d& velocity) const;
   std::array<int, 4> prefetchedTiles_{-1, -1, -1, -1};
 };
 

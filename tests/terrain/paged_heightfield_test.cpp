@@ -229,7 +229,7 @@ TEST(HeightTileCache, KeepsToItsBudgetLeastRecentlyUsedOutFirstAndCountsWaits) {
   // Prefetched tiles are held before they are asked for: no wait.
   paged.prefetch(paged.samplePosition(1100, 500).x(), paged.samplePosition(1100, 500).y(),
                  paged.samplePosition(1390, 890).x(), paged.samplePosition(1390, 890).y(),
-                 paged.samplePosition(1100, 500));
+                 paged.samplePosition(1100, 500), paged.samplePosition(1100, 500));
   tiles.waitForPrefetch();
   const std::uint64_t before = tiles.stats().waits;
   EXPECT_TRUE(tiles.holds(4, 1) && tiles.holds(5, 1) && tiles.holds(4, 3) && tiles.holds(5, 3));
@@ -320,9 +320,10 @@ TEST(HeightTileCache, PrefetchReadsTheLatestCallsTilesFirstInItsOrder) {
   EXPECT_EQ(reads.release(), expected);
 }
 
-TEST(PagedHeightfield, PrefetchAsksForTheTilesNearestTheGivenPointFirst) {
-  // 1 m cells. Reference: each tile of the rectangle by the distance from the point to the nearest
-  // of its cells' corners (a brute-force walk over its border), ties in row-major order.
+TEST(PagedHeightfield, PrefetchAsksForTheTilesTheWalkReachesFirstFirst) {
+  // 1 m cells. Standing (the path is a point): each tile of the rectangle by the distance from the
+  // point to the nearest of its cells' corners (a brute-force walk over its border), ties in
+  // row-major order.
   const int T = terrain::kHeightTileCells;
   RecordedReads reads;
   const Heightfield paged(RecordedReads::kTiles * T + 1, RecordedReads::kTiles * T + 1, reads.tiles,
@@ -331,7 +332,7 @@ TEST(PagedHeightfield, PrefetchAsksForTheTilesNearestTheGivenPointFirst) {
   const double col = 3 * T + 200.0, row = 2 * T + 10.0;  // in tile (3, 2), 10 cells below its top
   paged.prefetch(paged.samplePosition(T + 5, T + 5).x(), paged.samplePosition(T + 5, T + 5).y(),
                  paged.samplePosition(5 * T - 5, 4 * T - 5).x(), paged.samplePosition(5 * T - 5, 4 * T - 5).y(),
-                 Eigen::Vector2d(500000.0 + col, 7000000.0 - row));
+                 Eigen::Vector2d(500000.0 + col, 7000000.0 - row), Eigen::Vector2d(500000.0 + col, 7000000.0 - row));
   std::vector<std::pair<double, std::pair<int, int>>> byDistance;
   for (int ty = 1; ty <= 3; ++ty)
     for (int tx = 1; tx <= 4; ++tx) {
@@ -349,6 +350,29 @@ TEST(PagedHeightfield, PrefetchAsksForTheTilesNearestTheGivenPointFirst) {
   EXPECT_EQ(reads.release(), expected);
   EXPECT_EQ(expected[0], (std::pair<int, int>{3, 2}));
   EXPECT_EQ(expected[1], (std::pair<int, int>{3, 1}));  // 10 cells up, against 56 to the right
+
+  // Walking: the tiles the path crosses are read first, in the order it enters them (brute force:
+  // the path every tenth of a cell), the feet's tile first. The path runs from tile (4, 1)
+  // south-west into (1, 3).
+  RecordedReads walk;
+  const Heightfield walked(RecordedReads::kTiles * T + 1, RecordedReads::kTiles * T + 1, walk.tiles,
+                           std::pair<float, float>{1.0f, 1.0f}, 500000.0, 7000000.0, 1.0, 1.0);
+  walk.block();
+  const Eigen::Vector2d from(4 * T + 100.0, T + 30.0), to(T + 60.0, 3 * T + 200.0);  // (col, row)
+  auto map = [](const Eigen::Vector2d& cr) { return Eigen::Vector2d(500000.0 + cr.x(), 7000000.0 - cr.y()); };
+  walked.prefetch(map({T + 5.0, T + 5.0}).x(), map({T + 5.0, T + 5.0}).y(), map({5 * T - 5.0, 4 * T - 5.0}).x(),
+                  map({5 * T - 5.0, 4 * T - 5.0}).y(), map(from), map(to));
+  std::vector<std::pair<int, int>> crossed;
+  for (int k = 0; k <= 10 * 1000; ++k) {
+    const Eigen::Vector2d p = from + (to - from) * (k / 10000.0);
+    const std::pair<int, int> t{int(p.x()) / T, int(p.y()) / T};
+    if (std::find(crossed.begin(), crossed.end(), t) == crossed.end()) crossed.push_back(t);
+  }
+  ASSERT_GE(crossed.size(), 5u);
+  const std::vector<std::pair<int, int>> order = walk.release();
+  ASSERT_EQ(order.size(), 12u);
+  const std::vector<std::pair<int, int>> first(order.begin(), order.begin() + std::ptrdiff_t(crossed.size()));
+  EXPECT_EQ(first, crossed);
 }
 
 TEST(PagedHeightfield, RealDemsAnswerAsTheirResidentHeightfields) {
