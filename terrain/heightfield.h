@@ -125,11 +125,12 @@ class Heightfield {
 
   /// An upper bound of every groundHeight() answer in the map rectangle [x0, x1] x [y0, y1] (either
   /// order), when every point of it has ground: the highest sample of the ray blocks (8 x 8 cells)
-  /// the rectangle touches, plus the interpolation's rounding (kCeilingSlackRelative,
-  /// heightfield.cpp). nullopt when the rectangle leaves the sample hull or a block it touches holds a
-  /// hole (it may have ground everywhere and still get nullopt: the answer is a cheap certificate,
-  /// not a search). Costs a few block reads, whatever the rectangle's size in cells (a walker's leg
-  /// of a few blocks). Paged: reads the tiles under it as groundHeight() would.
+  /// the rectangle touches, or of its cells themselves when it touches at most 16 within one tile
+  /// (kCeilingCellsRead), plus the interpolation's rounding (kCeilingSlackRelative,
+  /// heightfield.cpp). nullopt when the rectangle leaves the sample hull or a block (or cell) it
+  /// touches holds a hole (it may have ground everywhere and still get nullopt: the answer is a cheap
+  /// certificate, not a search). Costs a few block reads, or at most 25 samples, whatever the
+  /// rectangle's size in cells (a walker's leg of a few blocks). Paged: reads the tiles under it as groundHeight() would.
   std::optional<double> groundCeiling(double x0, double y0, double x1, double y1) const;
 
   /// Lowest and highest valid sample (nullopt when every sample is a hole).
