@@ -53,13 +53,14 @@ constexpr double kCeilingSlackRelative = 1e-12;
 /// covered; small enough to add a block only for rectangles ending within it of a block's edge.
 constexpr double kCeilingPadCells = 1e-3;
 /// groundCeiling(): a rectangle touching at most this many cells is bounded by the samples of
-/// those cells (at most 5 x 5, a few cache lines) rather than by the 8 x 8-cell blocks around them:
+/// those cells (at most 34, a few cache lines) rather than by the 8 x 8-cell blocks around them:
 /// a flying leg's short ranges (walker.h: highestFlyingFeet) are then bounded to the cell.
 constexpr int kCeilingCellsRead = 16;
-/// prefetch(): the path's points are taken this many cells apart (an eighth of a tile) to order
-/// the tiles by when the walk reaches them; a tile a step's worth off the path comes a little late,
-/// never out of order by more than the step.
+/// prefetch(): tiles off the walk's path are ordered by the path's points taken this many cells
+/// apart (an eighth of a tile), at most kPrefetchPathPoints of them (a walker's path is at most a
+/// few tiles; a far `to` from another caller costs no more).
 constexpr double kPrefetchPathStepCells = kHeightTileCells / 8.0;
+constexpr int kPrefetchPathPoints = 64;
 
 /// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
 /// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
@@ -300,16 +301,35 @@ void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eig
   std::vector<std::pair<int, int>> wanted;
   for (int ty = (*r)[1]; ty <= (*r)[3]; ++ty)
     for (int tx = (*r)[0]; tx <= (*r)[2]; ++tx) wanted.emplace_back(tx, ty);
-  // Soonest reached first: the tiles the path crosses (it has a point in them, points every
-  // kPrefetchPathStepCells) in the order it enters them, then the others by the least of (cells
-  // along the path to a point) + (cells from that point to the tile).
+  // Soonest reached first: the tiles the path crosses in the order it enters them (where it meets
+  // the tile's cells, Liang-Barsky), then the others by the least of (cells along the path to a
+  // point) + (cells from that point to the tile), over at most kPrefetchPathPoints points.
   const Eigen::Vector2d a((from.x() - originX_) * invDx_, (originY_ - from.y()) * invDy_);
-  const Eigen::Vector2d b((to.x() - originX_) * invDx_, (originY_ - to.y()) * invDy_);
+  Eigen::Vector2d b((to.x() - originX_) * invDx_, (originY_ - to.y()) * invDy_);
+  if (!std::isfinite((b - a).norm())) b = a;  // no usable direction: a standing walker
   const double length = (b - a).norm();
-  const int steps = std::isfinite(length) ? int(std::ceil(length / kPrefetchPathStepCells)) : 0;
+  const int steps = std::min(kPrefetchPathPoints - 1, int(std::ceil(length / kPrefetchPathStepCells)));
   auto gap = [](double at, int tile) {
     const double lo = double(tile) * kHeightTileCells, hi = lo + kHeightTileCells;
     return at < lo ? lo - at : at > hi ? at - hi : 0.0;
+  };
+  // Where the path a -> b enters tile t's cells, as a fraction of it (nullopt: it misses them).
+  auto entry = [&](const std::pair<int, int>& t) -> std::optional<double> {
+    double t0 = 0.0, t1 = 1.0;
+    const int tile[2] = {t.first, t.second};
+    for (int axis = 0; axis < 2; ++axis) {
+      const double lo = double(tile[axis]) * kHeightTileCells, hi = lo + kHeightTileCells;
+      const double d = b[axis] - a[axis];
+      if (d == 0.0) {
+        if (a[axis] < lo || a[axis] > hi) return std::nullopt;
+        continue;
+      }
+      double enter = (lo - a[axis]) / d, leave = (hi - a[axis]) / d;
+      if (enter > leave) std::swap(enter, leave);
+      t0 = std::max(t0, enter), t1 = std::min(t1, leave);
+      if (t0 > t1) return std::nullopt;
+    }
+    return t0;
   };
   struct Reach {
     bool offPath = true;
@@ -317,13 +337,12 @@ void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eig
     bool operator<(const Reach& o) const { return offPath != o.offPath ? !offPath : cells < o.cells; }
   };
   auto reach = [&](const std::pair<int, int>& t) {
+    if (const std::optional<double> at = entry(t)) return Reach{false, *at * length};
     Reach best;
     for (int k = 0; k <= steps; ++k) {
       const double along = steps == 0 ? 0.0 : double(k) / steps;
       const Eigen::Vector2d p = a + (b - a) * along;
-      const double off = std::hypot(gap(p.x(), t.first), gap(p.y(), t.second));
-      if (off == 0.0) return Reach{false, along * length};  // entered here
-      best.cells = std::min(best.cells, along * length + off);
+      best.cells = std::min(best.cells, along * length + std::hypot(gap(p.x(), t.first), gap(p.y(), t.second)));
     }
     return best;
   };
@@ -790,8 +809,9 @@ std::optional<double> Heightfield::groundCeiling(double x0, double y0, double x1
   // A few cells: the highest of their own samples (a height is a convex combination of its
   // triangle's corners), when the cells lie in one tile (height_tiles.h; resident grids take the
   // same choice, so that paged answers stay the resident ones).
-  if ((c1 - c0 + 1) * (r1 - r0 + 1) <= kCeilingCellsRead && c0 / kHeightTileCells == c1 / kHeightTileCells &&
-      r0 / kHeightTileCells == r1 / kHeightTileCells) {
+  // (The tile test first: then the product is at most a tile's cells, no overflow.)
+  if (c0 / kHeightTileCells == c1 / kHeightTileCells && r0 / kHeightTileCells == r1 / kHeightTileCells &&
+      (c1 - c0 + 1) * (r1 - r0 + 1) <= kCeilingCellsRead) {
     const float* H = clean_ ? clean_ + std::size_t(r0) * std::size_t(cols_) + std::size_t(c0) : nullptr;
     std::size_t stride = std::size_t(cols_);
     if (!clean_) {

@@ -129,7 +129,7 @@ class Heightfield {
   /// (kCeilingCellsRead), plus the interpolation's rounding (kCeilingSlackRelative,
   /// heightfield.cpp). nullopt when the rectangle leaves the sample hull or a block (or cell) it
   /// touches holds a hole (it may have ground everywhere and still get nullopt: the answer is a cheap
-  /// certificate, not a search). Costs a few block reads, or at most 25 samples, whatever the
+  /// certificate, not a search). Costs a few block reads, or at most 34 samples, whatever the
   /// rectangle's size in cells (a walker's leg of a few blocks). Paged: reads the tiles under it as groundHeight() would.
   std::optional<double> groundCeiling(double x0, double y0, double x1, double y1) const;
 

@@ -210,15 +210,16 @@ std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double hea
   s.frame = state_.frame;
   s.time = state_.time;
   s.pitchDeg = state_.pitchDeg;
-  state_ = s;
   // Somewhere new: the ground around the feet is read now, so that the first steps find it held
   // (a prefetch queued now could not be read before the next step on a fine DEM: a tile takes
   // milliseconds), and the ground ahead is asked for at the first step, once the motion is known.
+  // Before the state changes: a read that fails leaves the walker where it was.
   if (terrain_.paged()) {
-    const auto [x0, y0, x1, y1] = groundAhead(Eigen::Vector3d::Zero());
+    const auto [x0, y0, x1, y1] = groundAhead(s.feet.head<2>(), Eigen::Vector3d::Zero());
     terrain_.holdTiles(x0, y0, x1, y1);
-    prefetchGround(Eigen::Vector3d::Zero(), true);
   }
+  state_ = s;
+  prefetchGround(Eigen::Vector3d::Zero(), true);
   return {};
 }
 
@@ -361,15 +362,15 @@ Eigen::Vector2d Walker::aheadOf(const Eigen::Vector3d& velocity) const {
   return ahead;
 }
 
-std::array<double, 4> Walker::groundAhead(const Eigen::Vector3d& velocity) const {
-  const Eigen::Vector2d a = state_.feet.head<2>(), b = a + aheadOf(velocity);
+std::array<double, 4> Walker::groundAhead(const Eigen::Vector2d& feet, const Eigen::Vector3d& velocity) const {
+  const Eigen::Vector2d a = feet, b = a + aheadOf(velocity);
   const double m = kPrefetchMarginMetres + 2.0 * std::max(terrain_.dx(), terrain_.dy());
   return {std::min(a.x(), b.x()) - m, std::min(a.y(), b.y()) - m, std::max(a.x(), b.x()) + m, std::max(a.y(), b.y()) + m};
 }
 
 void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
   if (!terrain_.paged()) return;
-  const auto [x0, y0, x1, y1] = groundAhead(velocity);
+  const auto [x0, y0, x1, y1] = groundAhead(state_.feet.head<2>(), velocity);
   const auto tiles = terrain_.tilesUnder(x0, y0, x1, y1);
   if (!tiles || (*tiles == prefetchedTiles_ && !force)) return;
   prefetchedTiles_ = *tiles;

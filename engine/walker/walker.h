@@ -203,9 +203,9 @@ class Walker {
   /// Paged terrain: asks for the tiles around the feet and ahead along `velocity` (m/s, map axes)
   /// when they changed since the last time, or `force`.
   void prefetchGround(const Eigen::Vector3d& velocity, bool force);
-  /// The map rectangle {x0, y0, x1, y1} whose ground prefetchGround() asks for: the feet, and
-  /// kPrefetchSeconds of `velocity` ahead (at most kPrefetchMaxAheadTiles), widened by the margin.
-  std::array<double, 4> groundAhead(const Eigen::Vector3d& velocity) const;
+  /// The map rectangle {x0, y0, x1, y1} whose ground prefetchGround() asks for: the feet (map x, y),
+  /// and kPrefetchSeconds of `velocity` ahead (at most kPrefetchMaxAheadTiles), widened by the margin.
+  std::array<double, 4> groundAhead(const Eigen::Vector2d& feet, const Eigen::Vector3d& velocity) const;
   /// Where kPrefetchSeconds of `velocity` take the feet, from them (at most kPrefetchMaxAheadTiles).
   Eigen::Vector2d aheadOf(const Eigen::Vector3d& velocity) const;
   std::array<int, 4> prefetchedTiles_{-1, -1, -1, -1};

@@ -290,6 +290,14 @@ struct RecordedReads {
         return std::vector<float>(std::size_t(w) * std::size_t(h), 1.0f);
       },
       std::vector<float>{});
+  /// Releases a read still held (a test that failed before release()), so the cache can stop.
+  ~RecordedReads() {
+    {
+      const std::lock_guard lock(m);
+      released = true;
+    }
+    cv.notify_all();
+  }
   /// Prefetches tile (7, 7) and waits until its read holds the background thread.
   void block() {
     const std::pair<int, int> blocker[1] = {{kTiles - 1, kTiles - 1}};
@@ -373,6 +381,18 @@ TEST(PagedHeightfield, PrefetchAsksForTheTilesTheWalkReachesFirstFirst) {
   ASSERT_EQ(order.size(), 12u);
   const std::vector<std::pair<int, int>> first(order.begin(), order.begin() + std::ptrdiff_t(crossed.size()));
   EXPECT_EQ(first, crossed);
+
+  // A path that clips tile (1, 1) for under 6 cells, 4 cells from its corner: entered, so read
+  // between the two tiles it joins, before (2, 2), which it misses.
+  RecordedReads clip;
+  const Heightfield clipped(RecordedReads::kTiles * T + 1, RecordedReads::kTiles * T + 1, clip.tiles,
+                            std::pair<float, float>{1.0f, 1.0f}, 500000.0, 7000000.0, 1.0, 1.0);
+  clip.block();
+  clipped.prefetch(map({T + 5.0, T + 5.0}).x(), map({T + 5.0, T + 5.0}).y(), map({3 * T - 5.0, 3 * T - 5.0}).x(),
+                   map({3 * T - 5.0, 3 * T - 5.0}).y(), map({2 * T - 200.0, 2 * T + 196.0}),
+                   map({2 * T + 196.0, 2 * T - 200.0}));
+  const std::vector<std::pair<int, int>> clipOrder = {{1, 2}, {1, 1}, {2, 1}, {2, 2}};
+  EXPECT_EQ(clip.release(), clipOrder);
 }
 
 TEST(PagedHeightfield, RealDemsAnswerAsTheirResidentHeightfields) {

@@ -314,7 +314,7 @@ TEST(Walker, PlacedOnAPagedTerrainItHoldsTheGroundAroundItsFeetSoItsFirstStepsNe
     for (int tx = (*near)[0]; tx <= (*near)[2]; ++tx) EXPECT_TRUE(tiles->holds(tx, ty)) << tx << "," << ty;
   for (int k = 0; k < 8; ++k) {
     StepInput in;
-    in.move = Eigen::Vector3d(-0.15, k < 4 ? 0.15 : 0.0, 0);  // north-west across the corner, then west
+    in.move = Eigen::Vector3d(-0.15, k < 5 ? 0.15 : 0.0, 0);  // north-west across the corner, then west
     in.headingDeg = w.state().bodyYawDeg;
     EXPECT_EQ(w.step(in).groundWaits, 0u) << "step " << k;
     EXPECT_FALSE(w.state().blocked) << "step " << k;
