@@ -67,7 +67,11 @@ int writeCogFrom(GDALDatasetH staging, const std::string& stagingPath, const std
   GDALDriverH cog = GDALGetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver");
   OutputFile tmp(out, ".tif");
-  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "BLOCKSIZE=512", "OVERVIEWS=AUTO",
+  // PREDICTOR=STANDARD: horizontal differencing of the floats' bits, lossless; the floating-point
+  // predictor packs 7-16 % tighter but doubles the time a tile takes to decode (bench render's
+  // 3.2 cm survey: 5.4 against 2.8 ms a 512 x 512 tile), and the paged ground and the chunk loader
+  // decode tiles while the walker and the view wait.
+  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=STANDARD", "BLOCKSIZE=512", "OVERVIEWS=AUTO",
                            "OVERVIEW_RESAMPLING=AVERAGE", "BIGTIFF=IF_SAFER", "NUM_THREADS=ALL_CPUS", nullptr};
   CPLErrorReset();
   GDALDatasetH ds = GDALCreateCopy(cog, tmp.tempPath().c_str(), staging, FALSE, const_cast<char**>(options),

@@ -1,6 +1,6 @@
 // The terrain import pipeline behind `nestwalk import-terrain IN OUT`: any raster GDAL reads becomes
 // the engine's terrain format, a Cloud-Optimized GeoTIFF of Float32 heights in metres (tiled 512 x
-// 512, DEFLATE with the floating-point predictor, overviews, the CRS; nodata = kTerrainNoData).
+// 512, DEFLATE with the horizontal predictor, overviews, the CRS; nodata = kTerrainNoData).
 //
 // Stages, all streaming block by block so memory stays bounded whatever the raster's size:
 //   1. IN is opened read-only and its samples checked: unreadable data (truncated file), NaN or
