@@ -158,7 +158,12 @@ class FineSamples {
     r0_ = r0;
     w_ = int(w);
     h_ = int(h);
-    window_.resize(w * h);
+    // The thread's buffer, reused: a fresh window of up to kFineWindowSamples floats would be zeroed
+    // and faulted in page by page for every chunk, only to be overwritten. One FineSamples lives
+    // on a thread at a time (buildChunk makes one and does not recurse).
+    thread_local std::vector<float> buffer;
+    if (buffer.size() < w * h) buffer.resize(w * h);
+    window_ = buffer.data();
     const HeightTileCache& tiles = *hf.tiles();
     const std::optional<float> noData = hf.noData();
     for (int r = r0; r <= r1; ++r) {
@@ -190,7 +195,7 @@ class FineSamples {
   }
   const Heightfield& hf_;
   int c0_ = 0, r0_ = 0, w_ = 0, h_ = 0;  // no window: w_ = 0
-  std::vector<float> window_;
+  float* window_ = nullptr;  // the constructing thread's buffer (w_ x h_ samples)
 };
 
 /// The kept samples of one chunk and which coarse triangles exist: read from the heightfield, or
