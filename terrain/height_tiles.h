@@ -58,8 +58,11 @@ inline constexpr int kHeightTileBlockCells = 8;
 /// Tiles each thread keeps for lock-free hits (see above): the up to 4 tiles a footprint astride a
 /// tile corner reads.
 inline constexpr std::size_t kThreadTileSlots = 4;
-/// The default budget: some 970 tiles, 64 M samples (64 km^2 at 1 m cells, 6.5 ha at 3.2 cm).
-inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(256) << 20;
+/// The default budget: some 480 tiles, 32 M samples (32 km^2 at 1 m cells, 3.3 ha at 3.2 cm). With
+/// the chunk cache's 1 GiB (paged_terrain.h) a survey's run stays within 1.5 GB: bench render's
+/// 1 G-sample run peaked at 1.45-1.57 GB with 256 MiB of tiles, 1.33-1.36 GB with 128 MiB, the
+/// walker waiting for no read and the views as fast.
+inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(128) << 20;
 
 struct HeightTile {
   int c0 = 0, r0 = 0;      // the fine sample held at (0, 0)

@@ -24,7 +24,7 @@ void printSceneNote(const std::string& text);
 
 /// A paged terrain's tile budget by default, bytes: terrain::kDefaultHeightTileBudgetBytes
 /// (height_tiles.h, not installed; the loader checks they agree).
-inline constexpr std::size_t kDefaultTerrainTileBudget = std::size_t(256) << 20;
+inline constexpr std::size_t kDefaultTerrainTileBudget = std::size_t(128) << 20;
 
 struct SceneLoadOptions {
   // Added to every map coordinate (terrain georeference, equipment positions, origin): tests load
