@@ -59,9 +59,9 @@ inline constexpr int kHeightTileBlockCells = 8;
 /// tile corner reads.
 inline constexpr std::size_t kThreadTileSlots = 4;
 /// The default budget: some 480 tiles, 32 M samples (32 km^2 at 1 m cells, 3.3 ha at 3.2 cm). With
-/// the chunk cache's 1 GiB (paged_terrain.h) a survey's run stays within 1.5 GB: bench render's
-/// 1 G-sample run peaked at 1.45-1.57 GB with 256 MiB of tiles, 1.33-1.36 GB with 128 MiB, the
-/// walker waiting for no read and the views as fast.
+/// the chunk cache's 1 GiB (paged_terrain.h) a survey's run stays within 1.5 GB (1,430 MiB): bench
+/// render's 1 G-sample run peaked at 1,452-1,575 MiB with 256 MiB of tiles, 1,334-1,359 MiB with
+/// 128 MiB, the walker waiting for no read and the views as fast.
 inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(128) << 20;
 
 struct HeightTile {
