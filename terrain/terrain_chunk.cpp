@@ -141,8 +141,8 @@ void fillHoleTexels(std::vector<std::uint8_t>& texture, std::size_t w, std::size
 
 /// A paged chunk's fine window is copied when it holds at most this many samples (4 MiB of floats):
 /// levels 0 to 3 of 64-cell chunks (level 3: 513 x 513), the finest, which read every fine sample
-/// under them (coarser ones take their errors from the pyramid: kPyramidErrorsFromLevel); level 4's
-/// 1025 x 1025 is over it.
+/// under them (coarser ones take their errors from the pyramid: kPyramidErrorsFromLevel, paged_terrain.h);
+/// level 4's 1025 x 1025 is over it.
 constexpr std::size_t kFineWindowSamples = std::size_t(1) << 20;
 
 /// The fine samples a chunk's error passes read, each several times: the heightfield's own when it
@@ -164,13 +164,17 @@ class FineSamples {
     thread_local std::vector<float> buffer;
     if (buffer.size() < w * h) buffer.resize(w * h);
     window_ = buffer.data();
+    // From the tiles that hold the window's cells: a tile holds its closing column and row
+    // (height_tiles.h), so a window aligned on tiles, as a chunk of levels 1 to 3 is, reads only
+    // the tiles under its cells, not a ring of neighbours for its last row and column (a level-3
+    // chunk: 4 tiles instead of 9).
     const HeightTileCache& tiles = *hf.tiles();
     const std::optional<float> noData = hf.noData();
     for (int r = r0; r <= r1; ++r) {
-      const int ty = std::min(r / kHeightTileCells, tiles.tilesY() - 1);
+      const int ty = std::min((r > r0 && r % kHeightTileCells == 0 ? r - 1 : r) / kHeightTileCells, tiles.tilesY() - 1);
       for (int c = c0; c <= c1;) {
         const int tx = std::min(c / kHeightTileCells, tiles.tilesX() - 1);
-        const int last = tx == tiles.tilesX() - 1 ? c1 : std::min(c1, (tx + 1) * kHeightTileCells - 1);
+        const int last = tx == tiles.tilesX() - 1 ? c1 : std::min(c1, (tx + 1) * kHeightTileCells);
         const float* from = tiles.threadTile(tx, ty).at(c, r);
         float* to = &window_[std::size_t(r - r0) * w + std::size_t(c - c0)];
         for (int k = 0; k <= last - c; ++k)
@@ -409,7 +413,7 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
 }  // namespace
 
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key, const ChunkShading& shading,
-                     double simplifyFraction, const ChunkPyramidData* gridErrors) {
+                     double simplifyFraction, const ChunkPyramidData* fromPyramid) {
   if (layout.cols() != hf.cols() || layout.rows() != hf.rows() || !layout.exists(key))
     throw std::invalid_argument("buildChunk: the chunk is not in the heightfield's layout");
   ChunkMesh m;
@@ -418,17 +422,19 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   g.step = 1 << key.level;
   g.levelCol0 = key.x * layout.chunkCells();
   g.levelRow0 = key.y * layout.chunkCells();
-  if (gridErrors && key.level > 0 && !gridErrors->heights.empty()) {
-    const ChunkPyramidData& d = *gridErrors;
+  // The pyramid's errors of the level grid's blocks (null: evaluated at the fine samples).
+  const ChunkPyramidData* gridErrors = fromPyramid && !fromPyramid->error.empty() ? fromPyramid : nullptr;
+  if (fromPyramid && key.level > 0 && !fromPyramid->heights.empty()) {
+    const ChunkPyramidData& d = *fromPyramid;
     if (d.heights.size() != std::size_t(d.width) * std::size_t(d.height) || d.x0 > g.levelCol0 || d.y0 > g.levelRow0 ||
         d.x0 + d.width < g.levelCol0 + int(g.nc()) || d.y0 + d.height < g.levelRow0 + int(g.nr()) ||
         d.blockLow.size() != std::size_t(d.blockWidth) * std::size_t(d.blockHeight))
       throw std::invalid_argument("buildChunk: the pyramid's samples do not cover the chunk");
     g.level = &d;
   }
-  // Without the pyramid's page the error passes read every fine sample under the chunk.
+  // Without the pyramid's errors the error passes read every fine sample under the chunk.
   std::optional<FineSamples> fine;
-  if (!g.level && hf.paged()) g.fine = &fine.emplace(hf, g.cols.front(), g.rows.front(), g.cols.back(), g.rows.back());
+  if (!(gridErrors && g.level) && hf.paged()) g.fine = &fine.emplace(hf, g.cols.front(), g.rows.front(), g.cols.back(), g.rows.back());
   const std::size_t blockCells = std::size_t(chunkBlockCells(layout));
   if (gridErrors &&
       (gridErrors->blocksX != int((g.nc() - 1 + blockCells - 1) / blockCells) ||

@@ -55,6 +55,11 @@
 // bound is at least the exact error and at most the exact error plus twice the largest grid error
 // of the blocks the triangle crosses; the 1 px rule stays a guarantee, a quadrant is only replaced
 // by its children sooner (bench render's 100 M terrain: 18 % more triangles when settled).
+// Given without errors (the finer levels, where that bound would cost triangles: kPyramidErrorsFromLevel,
+// paged_terrain.h), the level page and the blocks' lows are used as above and the errors are
+// evaluated exactly at the fine samples under the chunk, which are then the only fine samples read:
+// the hillshade's neighbours and the skirts' reach beyond the chunk would otherwise read the tiles
+// around it (over a paged heightfield a level-3 chunk read 9 to 16 tiles instead of its own 4).
 //
 // Refinements: near the eye a level-0 quadrant's simplified surface can show more than the allowed
 // error while the exact grid would draw far more triangles than needed. Level 0 therefore also keeps
@@ -195,6 +200,7 @@ inline int chunkBlockCells(const ChunkLayout& layout) { return std::max(1, layou
 /// is built without reading a fine sample (see "Errors from the pyramid" above):
 /// - the level grid's exact errors of the chunk's blocks: blocksX x blocksY of them, row-major, the
 ///   chunk's blocks of chunkBlockCells() cells (fewer at the grid's east and south edges), metres;
+///   none (empty, blocksX = blocksY = 0): the errors are evaluated at the fine samples, exactly;
 /// - the level's own samples around the chunk (its level page): level columns [x0, x0 + width) and
 ///   rows [y0, y0 + height), row-major, holes NaN; the chunk's kept samples and their neighbours
 ///   one step out (the hillshade's); empty: the samples are read from the heightfield;
@@ -290,13 +296,13 @@ Eigen::Vector3d terrainRampColour(double h, double lo, double hi);
 
 /// Builds one chunk (see above). The layout must be the heightfield's (same cols and rows).
 /// simplifyFraction > 0 simplifies each quadrant's surface (see "Simplification" above) to about
-/// that fraction of its grid's own error; 0 keeps the level's grid. gridErrors: what the pyramid
+/// that fraction of its grid's own error; 0 keeps the level's grid. fromPyramid: what the pyramid
 /// knows of the chunk (see "Errors from the pyramid" and ChunkPyramidData); null: everything from
 /// the heightfield, errors exact. std::invalid_argument when its errors are not the chunk's blocks or
 /// its windows do not cover the chunk.
 ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const ChunkKey& key,
                      const ChunkShading& shading = {}, double simplifyFraction = 0,
-                     const ChunkPyramidData* gridErrors = nullptr);
+                     const ChunkPyramidData* fromPyramid = nullptr);
 
 /// The coarse surface of a chunk at mesh-frame (x, y): the closed union of its existing triangles
 /// (nullopt outside them). For tests and measurements; O(1).

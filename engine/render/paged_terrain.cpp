@@ -30,8 +30,13 @@ const char* terrainLoadingName(TerrainLoading l) {
 
 std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::TerrainPyramid* pyramid,
                                                              const ChunkKey& key, int fromLevel, double heightShift) {
-  if (!pyramid || key.level < std::max(1, fromLevel)) return std::nullopt;
-  return pyramid->chunkPyramidData(key, heightShift);
+  if (!pyramid || key.level < 1) return std::nullopt;
+  terrain::ChunkPyramidData d = pyramid->chunkPyramidData(key, heightShift);
+  if (key.level < fromLevel) {  // its level page and lows only: the errors are evaluated exactly
+    d.error.clear();
+    d.blocksX = d.blocksY = 0;
+  }
+  return d;
 }
 
 std::size_t defaultTerrainBudgetBytes() {

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <array>
 #include <random>
 #include <set>
@@ -415,6 +416,76 @@ TEST(TerrainPyramid, ACoarseChunkFromItsPageHasTheHeightfieldsSurfaceAndColoursD
     EXPECT_GT(edges, 10);
     EXPECT_GT(skirts, 1000);
   }
+}
+
+TEST(TerrainPyramid, AFineChunkWithItsPageAndExactErrorsIsTheHeightfieldsChunkAndReadsOnlyTheTilesUnderIt) {
+  // Levels 1 to 3 (paged_terrain.h's kPyramidErrorsFromLevel): the level page and the blocks' lows
+  // from the pyramid, the errors evaluated at the fine samples. Simplified as the renderer does.
+  PyramidCase c(2001, 1501, 23, 0.01);
+  const auto pyramid = std::make_shared<const TerrainPyramid>(c.terrain);
+  const terrain::ChunkLayout l(c.hf.cols(), c.hf.rows(), terrain::kPyramidTopCells);
+  terrain::ChunkShading shading;
+  shading.heightLo = 80;
+  shading.heightHi = 160;
+  constexpr double kSimplify = 1.5;
+  const terrain::Heightfield shared = terrain::openPagedHeightfield(pyramid, {.budgetBytes = std::size_t(64) << 20});
+  int chunks = 0, simplified = 0, checkedTiles = 0;
+  for (int level = 1; level <= 3; ++level)
+    for (int y = 0; y < l.chunksY(level); ++y)
+      for (int x = 0; x < l.chunksX(level); ++x) {
+        const terrain::ChunkKey key{level, x, y};
+        const std::string where = "chunk " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y);
+        terrain::ChunkPyramidData data = pyramid->chunkPyramidData(key);
+        data.error.clear();
+        data.blocksX = data.blocksY = 0;
+        const terrain::ChunkMesh plain = terrain::buildChunk(c.hf, l, key, shading, kSimplify);
+        // On a paged heightfield of its own (level 2 and 3 chunks): which tiles the build reads.
+        const bool own = level >= 2;
+        std::optional<terrain::Heightfield> fresh;
+        if (own) fresh.emplace(terrain::openPagedHeightfield(pyramid, {.budgetBytes = std::size_t(64) << 20}));
+        const terrain::Heightfield& paged = own ? *fresh : shared;
+        const terrain::ChunkMesh m = terrain::buildChunk(paged, l, key, shading, kSimplify, &data);
+        ASSERT_EQ(plain.surfaceVertices, m.surfaceVertices) << where;
+        ASSERT_EQ(plain.positions.size(), m.positions.size()) << where;
+        const std::size_t n = 3 * plain.surfaceVertices;
+        EXPECT_TRUE(std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), m.positions.begin()))
+            << where;
+        for (std::size_t k = n; k < plain.positions.size(); k += 3) {  // skirt bottoms: the lows', at or below
+          EXPECT_EQ(plain.positions[k], m.positions[k]) << where;
+          EXPECT_EQ(plain.positions[k + 1], m.positions[k + 1]) << where;
+          EXPECT_LE(m.positions[k + 2], plain.positions[k + 2]) << where;
+        }
+        EXPECT_EQ(plain.indices, m.indices) << where;
+        EXPECT_EQ(plain.colours, m.colours) << where;
+        EXPECT_EQ(plain.texture, m.texture) << where;
+        // The errors are the exact ones, bit for bit.
+        EXPECT_TRUE(sameFloat(float(plain.maxError), float(m.maxError)) && plain.maxError == m.maxError) << where;
+        for (std::size_t q = 0; q < 4; ++q) {
+          ASSERT_EQ(plain.quadrants[q].blocks.size(), m.quadrants[q].blocks.size()) << where;
+          EXPECT_EQ(plain.quadrants[q].maxError, m.quadrants[q].maxError) << where;
+          for (std::size_t b = 0; b < plain.quadrants[q].blocks.size(); ++b)
+            EXPECT_EQ(plain.quadrants[q].blocks[b].error, m.quadrants[q].blocks[b].error) << where;
+          simplified += plain.quadrants[q].surfaceTriangles < 2 * 32 * 32 ? 1 : 0;
+        }
+        ++chunks;
+        if (!own) continue;
+        // Only the tiles holding the chunk's cells: not the neighbours' for its last row and column,
+        // the hillshade's neighbours or the skirts' reach.
+        const std::vector<int> cols = l.columns(key), rows = l.rowsOf(key);
+        const terrain::HeightTileCache& tiles = *paged.tiles();
+        for (int ty = 0; ty < tiles.tilesY(); ++ty)
+          for (int tx = 0; tx < tiles.tilesX(); ++tx) {
+            const bool under = tx * terrain::kHeightTileCells < cols.back() &&
+                               (tx + 1) * terrain::kHeightTileCells > cols.front() &&
+                               ty * terrain::kHeightTileCells < rows.back() &&
+                               (ty + 1) * terrain::kHeightTileCells > rows.front();
+            EXPECT_TRUE(under || !tiles.holds(tx, ty)) << where << " read tile " << tx << ", " << ty;
+            checkedTiles += under && tiles.holds(tx, ty) ? 1 : 0;
+          }
+      }
+  EXPECT_GT(chunks, 200);
+  EXPECT_GT(simplified, 100);
+  EXPECT_GT(checkedTiles, 60);
 }
 
 TEST(TerrainPyramid, StripesOfAnyHeightWriteTheSamePyramid) {
