@@ -147,7 +147,8 @@ class Heightfield {
   float noDataCompare_;  // *noData_, or NaN (never equal) when there is no sentinel
   double xLast_, yLast_;  // map x of the last column, map y of the last row
   double invDx_, invDy_;
-  const float* clean_ = nullptr;  // heights with holes as NaN, owned by *accel_ (shared, so copies stay valid); nullptr when paged
+  // Heights with holes as NaN, owned by *accel_ (shared, so copies stay valid); nullptr when paged.
+  const float* clean_ = nullptr;
   std::shared_ptr<const HeightTileCache> tiles_;  // paged only
   void initFrame(double originX, double originY, double dx, double dy);
   [[gnu::cold]] float pagedSample(int col, int row) const;

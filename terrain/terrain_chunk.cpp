@@ -434,7 +434,8 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   }
   // Without the pyramid's errors the error passes read every fine sample under the chunk.
   std::optional<FineSamples> fine;
-  if (!(gridErrors && g.level) && hf.paged()) g.fine = &fine.emplace(hf, g.cols.front(), g.rows.front(), g.cols.back(), g.rows.back());
+  if (!(gridErrors && g.level) && hf.paged())
+    g.fine = &fine.emplace(hf, g.cols.front(), g.rows.front(), g.cols.back(), g.rows.back());
   const std::size_t blockCells = std::size_t(chunkBlockCells(layout));
   if (gridErrors &&
       (gridErrors->blocksX != int((g.nc() - 1 + blockCells - 1) / blockCells) ||

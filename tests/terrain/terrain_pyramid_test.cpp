@@ -448,7 +448,8 @@ TEST(TerrainPyramid, AFineChunkWithItsPageAndExactErrorsIsTheHeightfieldsChunkAn
         ASSERT_EQ(plain.surfaceVertices, m.surfaceVertices) << where;
         ASSERT_EQ(plain.positions.size(), m.positions.size()) << where;
         const std::size_t n = 3 * plain.surfaceVertices;
-        EXPECT_TRUE(std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), m.positions.begin()))
+        EXPECT_TRUE(
+            std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), m.positions.begin()))
             << where;
         for (std::size_t k = n; k < plain.positions.size(); k += 3) {  // skirt bottoms: the lows', at or below
           EXPECT_EQ(plain.positions[k], m.positions[k]) << where;
