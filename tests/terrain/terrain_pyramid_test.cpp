@@ -26,6 +26,7 @@
 #include <array>
 #include <random>
 #include <set>
+#include <string>
 #include <utility>
 
 namespace nestwalk::test {
@@ -55,6 +56,32 @@ struct PyramidCase {
 };
 
 bool sameFloat(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// A chunk built with the pyramid's page against the one built from the heightfield alone: the same
+/// surface vertices, triangles, colours and texture; skirt bottoms in the same place, at or below the
+/// lowest fine sample of their line's reach (the pyramid's block lows). Returns the skirt bottoms.
+int expectSameSurfaceDeeperSkirts(const terrain::ChunkMesh& plain, const terrain::ChunkMesh& fromPage,
+                                  const std::string& where) {
+  EXPECT_EQ(plain.surfaceVertices, fromPage.surfaceVertices) << where;
+  if (plain.positions.size() != fromPage.positions.size()) {
+    ADD_FAILURE() << where << ": " << plain.positions.size() << " positions against " << fromPage.positions.size();
+    return 0;
+  }
+  const std::size_t n = 3 * plain.surfaceVertices;
+  const auto surfaceEnd = plain.positions.begin() + std::ptrdiff_t(n);
+  EXPECT_TRUE(std::equal(plain.positions.begin(), surfaceEnd, fromPage.positions.begin())) << where;
+  EXPECT_EQ(plain.colours, fromPage.colours) << where;
+  EXPECT_EQ(plain.texture, fromPage.texture) << where;
+  EXPECT_EQ(plain.indices, fromPage.indices) << where;
+  int skirts = 0;
+  for (std::size_t k = n; k < plain.positions.size(); k += 3, ++skirts) {
+    EXPECT_EQ(plain.positions[k], fromPage.positions[k]) << where;
+    EXPECT_EQ(plain.positions[k + 1], fromPage.positions[k + 1]) << where;
+    EXPECT_LE(fromPage.positions[k + 2], plain.positions[k + 2]) << where;
+  }
+  return skirts;
+}
+
 
 TEST(TerrainPyramid, EveryLevelHoldsTheDemsOwnSamplesAtTheChunkLayoutsColumnsAndRows) {
   PyramidCase c(301, 237, 11, 0.03);
@@ -395,22 +422,7 @@ TEST(TerrainPyramid, ACoarseChunkFromItsPageHasTheHeightfieldsSurfaceAndColoursD
           const bool edge = l.columns(key).back() == c.hf.cols() - 1 || l.rowsOf(key).back() == c.hf.rows() - 1;
           interior += edge ? 0 : 1;
           edges += edge ? 1 : 0;
-          ASSERT_EQ(plain.surfaceVertices, fromPage.surfaceVertices) << where;
-          ASSERT_EQ(plain.positions.size(), fromPage.positions.size()) << where;
-          const std::size_t n = 3 * plain.surfaceVertices;
-          EXPECT_TRUE(
-              std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), fromPage.positions.begin()))
-              << where;
-          EXPECT_EQ(plain.colours, fromPage.colours) << where;
-          EXPECT_EQ(plain.texture, fromPage.texture) << where;
-          EXPECT_EQ(plain.indices, fromPage.indices) << where;
-          // Skirt bottoms: the same place, at or below the lowest fine sample of their line's reach.
-          for (std::size_t k = n; k < plain.positions.size(); k += 3) {
-            EXPECT_EQ(plain.positions[k], fromPage.positions[k]) << where;
-            EXPECT_EQ(plain.positions[k + 1], fromPage.positions[k + 1]) << where;
-            EXPECT_LE(fromPage.positions[k + 2], plain.positions[k + 2]) << where;
-            ++skirts;
-          }
+          skirts += expectSameSurfaceDeeperSkirts(plain, fromPage, where);
         }
     EXPECT_GT(interior, 20);
     EXPECT_GT(edges, 10);
@@ -445,20 +457,7 @@ TEST(TerrainPyramid, AFineChunkWithItsPageAndExactErrorsIsTheHeightfieldsChunkAn
         if (own) fresh.emplace(terrain::openPagedHeightfield(pyramid, {.budgetBytes = std::size_t(64) << 20}));
         const terrain::Heightfield& paged = own ? *fresh : shared;
         const terrain::ChunkMesh m = terrain::buildChunk(paged, l, key, shading, kSimplify, &data);
-        ASSERT_EQ(plain.surfaceVertices, m.surfaceVertices) << where;
-        ASSERT_EQ(plain.positions.size(), m.positions.size()) << where;
-        const std::size_t n = 3 * plain.surfaceVertices;
-        EXPECT_TRUE(
-            std::equal(plain.positions.begin(), plain.positions.begin() + std::ptrdiff_t(n), m.positions.begin()))
-            << where;
-        for (std::size_t k = n; k < plain.positions.size(); k += 3) {  // skirt bottoms: the lows', at or below
-          EXPECT_EQ(plain.positions[k], m.positions[k]) << where;
-          EXPECT_EQ(plain.positions[k + 1], m.positions[k + 1]) << where;
-          EXPECT_LE(m.positions[k + 2], plain.positions[k + 2]) << where;
-        }
-        EXPECT_EQ(plain.indices, m.indices) << where;
-        EXPECT_EQ(plain.colours, m.colours) << where;
-        EXPECT_EQ(plain.texture, m.texture) << where;
+        expectSameSurfaceDeeperSkirts(plain, m, where);
         // The errors are the exact ones, bit for bit.
         EXPECT_TRUE(sameFloat(float(plain.maxError), float(m.maxError)) && plain.maxError == m.maxError) << where;
         for (std::size_t q = 0; q < 4; ++q) {
