@@ -459,7 +459,7 @@ TEST(TerrainPyramid, AFineChunkWithItsPageAndExactErrorsIsTheHeightfieldsChunkAn
         const terrain::ChunkMesh m = terrain::buildChunk(paged, l, key, shading, kSimplify, &data);
         expectSameSurfaceDeeperSkirts(plain, m, where);
         // The errors are the exact ones, bit for bit.
-        EXPECT_TRUE(sameFloat(float(plain.maxError), float(m.maxError)) && plain.maxError == m.maxError) << where;
+        EXPECT_EQ(plain.maxError, m.maxError) << where;
         for (std::size_t q = 0; q < 4; ++q) {
           ASSERT_EQ(plain.quadrants[q].blocks.size(), m.quadrants[q].blocks.size()) << where;
           EXPECT_EQ(plain.quadrants[q].maxError, m.quadrants[q].maxError) << where;
