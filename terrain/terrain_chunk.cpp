@@ -751,14 +751,30 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     }
     quad.surfaceTriangles = (m.indices.size() - quad.firstIndex) / 3;
     m.maxError = std::max(m.maxError, quad.maxError);
-    // Skirts on the quadrant's edges inside the grid: the chunk's own edges there, and the midlines
-    // it shares with the chunk's other quadrants (drawn at another level when a child replaces one).
-    if (g.rows[j0] > 0) skirt(true, j0, i0, i1, {0, 1}, [&](std::size_t k) { return g.upper(k, j0); });
-    if (g.rows[j1] < rowsEnd) skirt(true, j1, i0, i1, {0, -1}, [&](std::size_t k) { return g.lower(k, j1 - 1); });
-    if (g.cols[i0] > 0) skirt(false, i0, j0, j1, {-1, 0}, [&](std::size_t k) { return g.lower(i0, k); });
-    if (g.cols[i1] < colsEnd) skirt(false, i1, j0, j1, {1, 0}, [&](std::size_t k) { return g.upper(i1 - 1, k); });
+    // Skirts on the quadrant's edges inside the grid: first the chunk's own edges there, then each
+    // midline it shares with another quadrant of the chunk, a range of its own (terrain_chunk.h,
+    // "Cracks"). Edges: north (row j0), south (row j1), west (column i0), east (column i1); the
+    // vertical midline is the east edge of a western quadrant (a = 0), the west edge of an eastern.
+    const std::array<bool, 4> midline{b == 1, b == 0, a == 1, a == 0};
+    const std::array<std::function<void()>, 4> edges{
+        [&] { if (g.rows[j0] > 0) skirt(true, j0, i0, i1, {0, 1}, [&](std::size_t k) { return g.upper(k, j0); }); },
+        [&] { if (g.rows[j1] < rowsEnd) skirt(true, j1, i0, i1, {0, -1}, [&](std::size_t k) { return g.lower(k, j1 - 1); }); },
+        [&] { if (g.cols[i0] > 0) skirt(false, i0, j0, j1, {-1, 0}, [&](std::size_t k) { return g.lower(i0, k); }); },
+        [&] { if (g.cols[i1] < colsEnd) skirt(false, i1, j0, j1, {1, 0}, [&](std::size_t k) { return g.upper(i1 - 1, k); }); }};
+    for (std::size_t e = 0; e < 4; ++e)
+      if (!midline[e]) edges[e]();
     quad.indexCount = m.indices.size() - quad.firstIndex;
     quad.skirtTriangles = quad.indexCount / 3 - quad.surfaceTriangles;
+    // Midline skirts: [0] on the vertical midline (beside quadrant q ^ 1: edge 2 or 3), [1] on the
+    // horizontal one (beside q ^ 2: edge 0 or 1).
+    for (std::size_t k = 0; k < 2; ++k) {
+      const std::size_t e = k == 0 ? (a == 1 ? 2 : 3) : (b == 1 ? 0 : 1);
+      ChunkSkirt& skirtRange = quad.midlineSkirts[k];
+      skirtRange.firstIndex = m.indices.size();
+      edges[e]();
+      skirtRange.indexCount = m.indices.size() - skirtRange.firstIndex;
+      m.midlineSkirtTriangles += skirtRange.indexCount / 3;
+    }
     m.surfaceTriangles += quad.surfaceTriangles;
     m.skirtTriangles += quad.skirtTriangles;
   }

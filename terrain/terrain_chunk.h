@@ -20,7 +20,8 @@
 //
 // Quadrants: a chunk's cells fall into four quadrants, those of its four children. The renderer
 // replaces a chunk quadrant by quadrant (a chunk near the eye on one side only sends one quadrant
-// down a level), so a quadrant's triangles and its own skirts are one range of the index array.
+// down a level), so a quadrant's triangles and its skirts on the chunk's own edges are one range of
+// the index array, and its skirts on the chunk's midlines two more (see "Cracks").
 //
 // Blocks: each quadrant's cells are grouped into blocks of chunkBlockCells() cells a side (aligned
 // on the level's grid: 8 x 8 cells for 64-cell chunks, the terrain pyramid's blocks), at most
@@ -77,6 +78,12 @@
 // through fine samples of the same line, every point of it no lower than the lower end of its
 // segment; so wherever the neighbour's level is at most log2(kSkirtReachSteps) levels away, the
 // higher of the two edges has a skirt reaching down to the lower one, and no gap shows.
+// Two quadrants of one chunk drawn side by side need no skirt between them: every surface keeps its
+// quadrant's border vertices, so both draw the midline as the same segments between the same
+// vertices (one vertex array, one transform: no rounding apart). Their midline skirts are therefore
+// ranges of their own (ChunkQuadrant::midlineSkirts), drawn only beside a quadrant that is not drawn
+// from the chunk (replaced by its child, or without triangles): at 3.2 cm cells they are half of the
+// skirts of a settled view.
 // Skirts face outward (front faces away from the chunk), so the terrain's back-face culling drops
 // the half that could never be seen.
 //
@@ -236,11 +243,23 @@ struct ChunkRefinement {
   std::vector<ChunkBlock> blocks;              // as the quadrant's
 };
 
+/// A skirt of a quadrant on a midline of its chunk (see "Cracks" above): `indexCount` indices from
+/// `firstIndex` of ChunkMesh::indices (none where that edge has no skirt).
+struct ChunkSkirt {
+  std::size_t firstIndex = 0, indexCount = 0;
+};
+
 /// A quadrant of a chunk: the cells its child (2x + a, 2y + b) covers (a east, b south; index a + 2b),
 /// drawn on its own while that child is not (see "Quadrants" above).
 struct ChunkQuadrant {
-  std::size_t firstIndex = 0, indexCount = 0;  // into ChunkMesh::indices: its surface, then its skirts
-  std::size_t surfaceTriangles = 0, skirtTriangles = 0;
+  /// Into ChunkMesh::indices: its surface, then its skirts on the chunk's own edges.
+  std::size_t firstIndex = 0, indexCount = 0;
+  std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // skirtTriangles: on the chunk's own edges
+  /// Its skirts on the chunk's midlines, each drawn only when the quadrant across is not drawn from
+  /// this chunk: [0] on the vertical midline (beside quadrant index ^ 1), [1] on the horizontal one
+  /// (beside index ^ 2). Every surface of the quadrant keeps the midline's vertices, so one range
+  /// serves them all. They follow the quadrant's range in ChunkMesh::indices.
+  std::array<ChunkSkirt, 2> midlineSkirts;
   double maxError = 0;                         // metres, exact
   std::vector<ChunkBlock> blocks;              // its cells' blocks (see "Blocks" above)
   /// Level 0, simplified: the exact grid's surface and the same skirts, drawn where the simplified
@@ -266,7 +285,8 @@ struct ChunkMesh {
   std::vector<float> texCoords;
   std::vector<std::uint32_t> indices;  // triangles (counter-clockwise), quadrant by quadrant
   std::array<ChunkQuadrant, 4> quadrants;
-  std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // over the quadrants
+  std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // over the quadrants (skirtTriangles: theirs)
+  std::size_t midlineSkirtTriangles = 0;               // over the quadrants' midline skirts
   std::size_t surfaceVertices = 0;     // vertices [0, surfaceVertices) lie on the surface; the rest
                                        // are skirt bottoms
   double maxError = 0;                 // metres, exact (see above)

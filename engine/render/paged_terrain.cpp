@@ -59,8 +59,21 @@ struct PagedTerrain::Entry {
   };
   struct Quadrant {
     std::vector<Surface> surfaces;
-    std::size_t skirtTriangles = 0;
+    std::size_t skirtTriangles = 0;  // on the chunk's own edges, drawn with every surface
+    /// Its skirts on both midlines (ChunkQuadrant::midlineSkirts; null: none), drawn with it when a
+    /// quadrant beside it is not drawn from this chunk. One node for both: a node costs some 1.5 KB
+    /// beside its indices, and drawing the other midline's skirt too is what every quadrant did
+    /// before they were split off.
+    osg::ref_ptr<osg::Node> midlineSkirts;
+    std::size_t midlineSkirtTriangles = 0;
     osg::BoundingBox box;  // everything any of its surfaces draws (skirts included), for frustum culling
+    /// Every node: its surfaces' and its midline skirts'.
+    std::vector<osg::Node*> nodes() const {
+      std::vector<osg::Node*> all;
+      for (const Surface& s : surfaces) all.push_back(s.node.get());
+      if (midlineSkirts) all.push_back(midlineSkirts.get());
+      return all;
+    }
     std::vector<terrain::ChunkBlock> texelBlocks;  // its primary surface's blocks, for the imagery's texel choice
   };
   std::array<Quadrant, 4> quadrants;
@@ -186,13 +199,13 @@ osg::BoundingSphere PagedTerrain::computeBound() const { return bound_; }
 void PagedTerrain::resizeGLObjectBuffers(unsigned maxSize) {
   for (auto& [key, e] : cache_)
     for (auto& q : e.quadrants)
-      for (const Entry::Surface& s : q.surfaces) s.node->resizeGLObjectBuffers(maxSize);
+      for (osg::Node* n : q.nodes()) n->resizeGLObjectBuffers(maxSize);
 }
 
 void PagedTerrain::releaseGLObjects(osg::State* state) const {
   for (const auto& [key, e] : cache_)
     for (const auto& q : e.quadrants)
-      for (const Entry::Surface& s : q.surfaces) s.node->releaseGLObjects(state);
+      for (osg::Node* n : q.nodes()) n->releaseGLObjects(state);
   if (tiles_) tiles_->releaseGLObjects(state);
 }
 
@@ -223,6 +236,14 @@ PagedTerrain::Built PagedTerrain::build(const ChunkKey& key) const {
       quad.skirtTriangles = mq.skirtTriangles;
       quad.box = rangeBox(m, mq.firstIndex, mq.indexCount);
       if (mq.exactIndexCount > 0) quad.box.expandBy(rangeBox(m, mq.exactFirstIndex, mq.exactIndexCount));
+      std::vector<IndexRange> midlines;
+      for (const terrain::ChunkSkirt& skirt : mq.midlineSkirts)
+        if (skirt.indexCount > 0) {
+          midlines.push_back({skirt.firstIndex, skirt.indexCount});
+          quad.midlineSkirtTriangles += skirt.indexCount / 3;
+          quad.box.expandBy(rangeBox(m, skirt.firstIndex, skirt.indexCount));
+        }
+      if (!midlines.empty()) quad.midlineSkirts = node(midlines, name + " midline skirts");
       if (tiles_) quad.texelBlocks = mq.blocks;
       quad.surfaces.push_back({node({{mq.firstIndex, mq.indexCount}}, name), blocksOf(mq.blocks), mq.maxError,
                                mq.surfaceTriangles + mq.skirtTriangles});
@@ -305,10 +326,20 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
   if (e.empty) return;  // all holes, nothing below either
   if (cv.isCulled(e.box)) return;
   const osg::Vec3d eye = cv.getEyePoint();
+  // What became of each quadrant, for the midline skirts (terrain_chunk.h, "Cracks"): drawn from
+  // this chunk (its part in drawList_), out of view (nothing of it is seen, nor of a skirt on its
+  // edge), or beside a gap a skirt must close (replaced by its child, or without triangles).
+  enum class Fate { Drawn, OutOfView, Other };
+  std::array<Fate, 4> fate{Fate::Other, Fate::Other, Fate::Other, Fate::Other};
+  std::array<std::size_t, 4> partOf{};
   for (int q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = e.quadrants[std::size_t(q)];
+    if (quad.surfaces.empty()) continue;
     // Out of view: neither drawn nor refined (its children are not asked for).
-    if (quad.surfaces.empty() || cv.isCulled(quad.box)) continue;
+    if (cv.isCulled(quad.box)) {
+      fate[std::size_t(q)] = Fate::OutOfView;
+      continue;
+    }
     // The projected error of a surface: the largest of its blocks' (terrain_chunk.h).
     auto projected = [&](const Entry::Surface& s) {
       double pixels = 0;
@@ -346,6 +377,8 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
       part.imageryTexelLevel = texelLevel;
       part.imageryWanted = ImageryTiles::wanted(key.level - 1, 2 * key.x + (q & 1), 2 * key.y + (q >> 1), texelLevel);
     }
+    fate[std::size_t(q)] = Fate::Drawn;
+    partOf[std::size_t(q)] = drawList_.size();
     drawList_.push_back(part);
     ++stats_.chunksDrawn;
     stats_.trianglesDrawn += surface.triangles;
@@ -357,6 +390,16 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
     }
     stats_.finestLevel = stats_.finestLevel < 0 ? key.level : std::min(stats_.finestLevel, key.level);
     stats_.coarsestLevel = std::max(stats_.coarsestLevel, key.level);
+  }
+  // A drawn quadrant's skirts on the midlines, where a quadrant across is neither drawn from this
+  // chunk nor out of view.
+  for (std::size_t q = 0; q < 4; ++q) {
+    const Entry::Quadrant& quad = e.quadrants[q];
+    if (fate[q] != Fate::Drawn || !quad.midlineSkirts || (fate[q ^ 1] != Fate::Other && fate[q ^ 2] != Fate::Other))
+      continue;
+    drawList_[partOf[q]].midlineSkirts = quad.midlineSkirts.get();
+    stats_.trianglesDrawn += quad.midlineSkirtTriangles;
+    stats_.skirtTrianglesDrawn += quad.midlineSkirtTriangles;
   }
 }
 
@@ -374,7 +417,7 @@ void PagedTerrain::evictUnused(std::size_t target) {
     if (victim == cache_.end()) return;
     const ChunkKey key = victim->first;
     for (const auto& q : victim->second.quadrants)
-      for (const Entry::Surface& s : q.surfaces) s.node->releaseGLObjects(nullptr);
+      for (osg::Node* n : q.nodes()) n->releaseGLObjects(nullptr);
     residentBytes_ -= victim->second.bytes;
     cache_.erase(victim);
     ++stats_.chunksEvicted;
@@ -464,6 +507,7 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
     }
     drawn_.push_back(part);
     part.node->accept(nv);
+    if (part.midlineSkirts) part.midlineSkirts->accept(nv);
     if (imagery) cv->popStateSet();
   }
   stats_.chunksWanted = wants.size();

@@ -158,6 +158,10 @@ struct DrawnPart {
   terrain::ChunkKey key;
   int quadrant = 0;
   osg::Node* node = nullptr;
+  /// Its skirts on the chunk's midlines (terrain_chunk.h, ChunkQuadrant::midlineSkirts), drawn with
+  /// it where a quadrant beside it (quadrant ^ 1, quadrant ^ 2) is neither drawn from the same chunk
+  /// nor out of view; else null.
+  osg::Node* midlineSkirts = nullptr;
   /// Imagery tiles: the texel level the part's view asks for, the tile that asks for (its area or an
   /// ancestor's) and the tile it was drawn with (that one, or a resident stand-in while it loads).
   int imageryTexelLevel = 0;

@@ -182,6 +182,15 @@ osg::ref_ptr<osg::Group> buildTerrainCut(const terrain::Heightfield& hf, const T
       ++stats.quadrants;
       stats.surfaceTriangles += surface;
       stats.skirtTriangles += quad.skirtTriangles;
+      // Its skirts on the chunk's midlines beside a quadrant the cut does not take from this chunk
+      // (refined, or without triangles; terrain_chunk.h, "Cracks").
+      for (std::size_t k = 0; k < 2; ++k) {
+        const int across = q ^ (k == 0 ? 1 : 2);
+        const terrain::ChunkSkirt& skirt = quad.midlineSkirts[k];
+        if (skirt.indexCount == 0 || std::find(quadrants.begin(), quadrants.end(), across) != quadrants.end()) continue;
+        ranges.push_back({skirt.firstIndex, skirt.indexCount});
+        stats.skirtTriangles += skirt.indexCount / 3;
+      }
       stats.maxErrorM = std::max(stats.maxErrorM, error);
     }
     group->addChild(ChunkNodeMaker(mesh)(ranges, ""));

@@ -127,6 +127,46 @@ TEST(PagedTerrain, ACompleteFrameIsTheCoarsestCutWithinAPixel) {
   EXPECT_LE(parentsGoodEnough, drawn.size() / 10) << "of " << drawn.size();
 }
 
+TEST(PagedTerrain, AMidlineSkirtIsDrawnOnlyBesideAQuadrantNotDrawnFromTheSameChunk) {
+  // The whole terrain in view from above (nothing culled), nearer at its centre: a quadrant not
+  // drawn from its chunk is replaced by finer parts, and the quadrants beside it close the gap with
+  // their skirts on the chunk's midlines; quadrants of one chunk drawn side by side share the
+  // midlines' vertices and need none (terrain_chunk.h, "Cracks").
+  const auto hf = hills();
+  osg::ref_ptr<PagedTerrain> node = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  cullOnce(node.get(), viewFrom({256, -256, 800}, {256, -256.01, 300}));
+  const std::vector<DrawnPart>& drawn = node->drawnParts();
+  const terrain::ChunkLayout& l = node->layout();
+  long long area = 0;
+  for (const DrawnPart& p : drawn) {
+    const PartRange r = partRange(l, p.key, p.quadrant);
+    area += (long long)(r.c1 - r.c0) * (r.r1 - r.r0);
+  }
+  ASSERT_EQ(area, (long long)(hf->cols() - 1) * (hf->rows() - 1)) << "the view must see all of the terrain";
+  ASSERT_LT(node->lastStats().finestLevel, node->lastStats().coarsestLevel);
+  std::size_t withSkirts = 0, withoutSkirts = 0, skirtTriangles = 0;
+  for (const DrawnPart& p : drawn) {
+    const terrain::ChunkMesh m = terrain::buildChunk(*hf, l, p.key, {}, 0.0);
+    const terrain::ChunkQuadrant& quad = m.quadrants[std::size_t(p.quadrant)];
+    skirtTriangles += quad.skirtTriangles;
+    bool besideAnother = false;  // a quadrant beside it on a midline drawn from another chunk
+    for (const int across : {p.quadrant ^ 1, p.quadrant ^ 2})
+      besideAnother = besideAnother || std::none_of(drawn.begin(), drawn.end(), [&](const DrawnPart& o) {
+                        return o.key == p.key && o.quadrant == across;
+                      });
+    // This grid has no holes and whole chunks: every quadrant has skirts on both midlines.
+    ASSERT_GT(quad.midlineSkirts[0].indexCount, 0u);
+    ASSERT_GT(quad.midlineSkirts[1].indexCount, 0u);
+    EXPECT_EQ(p.midlineSkirts != nullptr, besideAnother)
+        << p.key.level << " " << p.key.x << " " << p.key.y << " quadrant " << p.quadrant;
+    if (p.midlineSkirts) skirtTriangles += (quad.midlineSkirts[0].indexCount + quad.midlineSkirts[1].indexCount) / 3;
+    ++(p.midlineSkirts ? withSkirts : withoutSkirts);
+  }
+  EXPECT_GT(withSkirts, 0u);
+  EXPECT_GT(withoutSkirts, withSkirts);
+  EXPECT_EQ(node->lastStats().skirtTrianglesDrawn, skirtTriangles);
+}
+
 TEST(PagedTerrain, QuadrantsOutOfViewAreNeitherDrawnNorRefined) {
   // Every drawn part's box, taken here from the heightfield over its samples (down to the lowest
   // sample within the skirts' reach), has a corner on the inner side of each frustum plane in clip

@@ -53,6 +53,8 @@ std::vector<std::size_t> skirtFaces(const ChunkMesh& m, int quadrant = -1) {
     const ChunkQuadrant& quad = m.quadrants[std::size_t(q)];
     for (std::size_t f = quad.firstIndex / 3 + quad.surfaceTriangles; f < (quad.firstIndex + quad.indexCount) / 3; ++f)
       faces.push_back(f);
+    for (const ChunkSkirt& skirt : quad.midlineSkirts)
+      for (std::size_t f = skirt.firstIndex / 3; f < (skirt.firstIndex + skirt.indexCount) / 3; ++f) faces.push_back(f);
   }
   return faces;
 }
@@ -396,6 +398,52 @@ TEST(TerrainChunk, SkirtsCloseTheGapToNeighboursUpToThreeLevelsAway) {
     }
   EXPECT_GT(checked, 50000u);
   EXPECT_EQ(gaps, 0u);
+}
+
+TEST(TerrainChunk, AQuadrantsSkirtsOnItsChunksMidlinesAreRangesOfTheirOwn) {
+  // Holes, and a last column and row of narrower cells: midlines of every kind.
+  const Heightfield hf = roughField(100, 70, 31, 0.02);
+  const ChunkLayout l(hf.cols(), hf.rows(), 16);
+  std::size_t onMidlines = 0, onEdges = 0;
+  for (int level = 0; level < l.levels(); ++level)
+    for (const ChunkKey& k : chunksOf(l, level)) {
+      const ChunkMesh m = buildChunk(hf, l, k);
+      std::size_t midlineTriangles = 0;
+      for (int quadrant = 0; quadrant < 4; ++quadrant) {
+        const PartRange part = partRange(l, k, quadrant);
+        if (part.empty()) continue;
+        const ChunkQuadrant& quad = m.quadrants[std::size_t(quadrant)];
+        // The midlines: the quadrant's east or west column, its south or north row.
+        const double midX = ((quadrant & 1) ? part.c0 : part.c1) * hf.dx();
+        const double midY = -((quadrant >> 1) ? part.r0 : part.r1) * hf.dy();
+        auto allOn = [&](std::size_t f, int axis, double at) {
+          for (int i = 0; i < 3; ++i) {
+            const std::uint32_t v = m.indices[3 * f + std::size_t(i)];
+            if (std::abs(m.positions[3 * v + std::size_t(axis)] + m.offset[axis] - at) > 1e-6) return false;
+          }
+          return true;
+        };
+        // Its range's skirts: none on a midline.
+        for (std::size_t f = quad.firstIndex / 3 + quad.surfaceTriangles; f < (quad.firstIndex + quad.indexCount) / 3; ++f) {
+          EXPECT_FALSE(allOn(f, 0, midX) || allOn(f, 1, midY)) << k.level << " " << k.x << " " << k.y << " " << quadrant;
+          ++onEdges;
+        }
+        // Each midline range: all on its midline, [0] the vertical one, [1] the horizontal.
+        for (std::size_t j = 0; j < 2; ++j) {
+          const ChunkSkirt& skirt = quad.midlineSkirts[j];
+          EXPECT_EQ(skirt.indexCount % 3, 0u);
+          for (std::size_t f = skirt.firstIndex / 3; f < (skirt.firstIndex + skirt.indexCount) / 3; ++f) {
+            EXPECT_TRUE(j == 0 ? allOn(f, 0, midX) : allOn(f, 1, midY)) << k.level << " " << quadrant << " " << j;
+            ++onMidlines;
+          }
+          midlineTriangles += skirt.indexCount / 3;
+        }
+      }
+      EXPECT_EQ(m.midlineSkirtTriangles, midlineTriangles);
+    }
+  // Both kinds are many: the midlines carry about as many skirts as the chunks' own edges.
+  EXPECT_GT(onMidlines, 1000u);
+  EXPECT_GT(onEdges, 1000u);
 }
 
 TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {

@@ -172,9 +172,10 @@ class DrawnChunk : public osg::NodeCallback {
  public:
   /// The mesh's primary surface (exact = false: its errors and blocks) or level 0's exact grid
   /// (error 0).
-  DrawnChunk(const Source* source, const terrain::ChunkMesh& m, std::size_t triangles, bool exact)
+  DrawnChunk(const Source* source, const terrain::ChunkMesh& m, std::size_t triangles, std::size_t skirtTriangles,
+             bool exact)
       : source_(source), key_(m.key), offset_(m.offset.x(), m.offset.y(), m.offset.z()),
-        maxError_(exact ? 0.0 : m.maxError), triangles_(triangles), skirtTriangles_(m.skirtTriangles) {
+        maxError_(exact ? 0.0 : m.maxError), triangles_(triangles), skirtTriangles_(skirtTriangles) {
     if (exact) return;
     for (const terrain::ChunkQuadrant& q : m.quadrants)
       for (const terrain::ChunkBlock& b : q.blocks)
@@ -251,13 +252,20 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
   osg::ref_ptr<ChunkLod> lod;
   if (bytes) *bytes = 0;  // a chunk without triangles holds nothing
   if (!m.empty()) {
-    // The primary surface: every quadrant's range (surface and skirts); level 0 simplified also has
+    // The primary surface: every quadrant's range (surface and skirts; a midline's skirt only beside
+    // a quadrant without triangles, as the own quadtree draws them); level 0 simplified also has
     // its exact grid (each simplified quadrant's exact range, the others' own).
-    std::vector<IndexRange> primary, exact;
-    std::size_t primaryTriangles = 0, exactTriangles = 0;
+    std::vector<IndexRange> primary, exact, midlineSkirts;
+    std::size_t primaryTriangles = 0, exactTriangles = 0, midlineSkirtTriangles = 0;
     bool simplified = false;
-    for (const terrain::ChunkQuadrant& q : m.quadrants) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      const terrain::ChunkQuadrant& q = m.quadrants[i];
       if (q.empty()) continue;
+      for (std::size_t k = 0; k < 2; ++k)
+        if (m.quadrants[i ^ (k == 0 ? 1 : 2)].empty() && q.midlineSkirts[k].indexCount > 0) {
+          midlineSkirts.push_back({q.midlineSkirts[k].firstIndex, q.midlineSkirts[k].indexCount});
+          midlineSkirtTriangles += q.midlineSkirts[k].indexCount / 3;
+        }
       primary.push_back({q.firstIndex, q.indexCount});
       primaryTriangles += q.surfaceTriangles + q.skirtTriangles;
       if (q.exactIndexCount > 0) {
@@ -269,6 +277,10 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
         exactTriangles += q.surfaceTriangles + q.skirtTriangles;
       }
     }
+    primary.insert(primary.end(), midlineSkirts.begin(), midlineSkirts.end());
+    exact.insert(exact.end(), midlineSkirts.begin(), midlineSkirts.end());
+    primaryTriangles += midlineSkirtTriangles;
+    exactTriangles += midlineSkirtTriangles;
     const Finer finer = !(m.maxError > 0) ? Finer::None
                         : key.level > 0   ? Finer::Children
                         : simplified      ? Finer::ExactGrid
@@ -287,7 +299,7 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
     lod->setCenterMode(osg::LOD::UNION_OF_BOUNDING_SPHERE_AND_USER_DEFINED);
     lod->setCenter(box.center());
     lod->setRadius(box.radius());
-    mesh->setCullCallback(new DrawnChunk(this, m, primaryTriangles, false));
+    mesh->setCullCallback(new DrawnChunk(this, m, primaryTriangles, m.skirtTriangles + midlineSkirtTriangles, false));
     const float split = threshold(m.maxError, box.radius());
     switch (finer) {
       case Finer::None:
@@ -301,7 +313,7 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
         break;
       case Finer::ExactGrid: {
         lod->addChild(mesh.get(), split, kEverywhere);
-        grid->setCullCallback(new DrawnChunk(this, m, exactTriangles, true));
+        grid->setCullCallback(new DrawnChunk(this, m, exactTriangles, m.skirtTriangles + midlineSkirtTriangles, true));
         lod->addChild(grid.get(), 0.0f, split);
         break;
       }
