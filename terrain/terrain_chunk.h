@@ -82,8 +82,8 @@
 // quadrant's border vertices, so both draw the midline as the same segments between the same
 // vertices (one vertex array, one transform: no rounding apart). Their midline skirts are therefore
 // ranges of their own (ChunkQuadrant::midlineSkirts), drawn only beside a quadrant that is not drawn
-// from the chunk (replaced by its child, or without triangles): at 3.2 cm cells they are half of the
-// skirts of a settled view.
+// from the chunk (replaced by its child, or without triangles): at 3.2 cm cells they were half of
+// a settled view's skirts (bench render: 207,922 skirt triangles of 524,860, now 126,514 of 443,452).
 // Skirts face outward (front faces away from the chunk), so the terrain's back-face culling drops
 // the half that could never be seen.
 //
@@ -255,8 +255,8 @@ struct ChunkQuadrant {
   /// Into ChunkMesh::indices: its surface, then its skirts on the chunk's own edges.
   std::size_t firstIndex = 0, indexCount = 0;
   std::size_t surfaceTriangles = 0, skirtTriangles = 0;  // skirtTriangles: on the chunk's own edges
-  /// Its skirts on the chunk's midlines, each drawn only when the quadrant across is not drawn from
-  /// this chunk: [0] on the vertical midline (beside quadrant index ^ 1), [1] on the horizontal one
+  /// Its skirts on the chunk's midlines, each needed only where the quadrant across is not drawn
+  /// from this chunk: [0] on the vertical midline (beside quadrant index ^ 1), [1] on the horizontal one
   /// (beside index ^ 2). Every surface of the quadrant keeps the midline's vertices, so one range
   /// serves them all. They follow the quadrant's range in ChunkMesh::indices.
   std::array<ChunkSkirt, 2> midlineSkirts;
