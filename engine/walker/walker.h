@@ -66,7 +66,9 @@ inline constexpr int kFlyingSampledRange = 3;
 /// Seconds of motion ahead whose ground a paged terrain reads in the background: a tile takes a few
 /// milliseconds to read, 2 s leave a wide margin. The walker asks when the tiles under its box
 /// change, and every kPrefetchRefreshSteps steps anyway (so that the cache counts its tiles as
-/// used): asking costs microseconds (a lock, a look-up per tile), the check every step nanoseconds.
+/// used): asking costs microseconds (a lock, a look-up per tile; it is timed as part of the step's
+/// ground: at 3.2 cm cells it sets the step's p99, 30 us in bench render against 7 without it), the
+/// check every step nanoseconds.
 inline constexpr double kPrefetchSeconds = 2.0;
 inline constexpr int kPrefetchRefreshSteps = 600;
 /// Metres around the feet whose ground is always asked for: more than the body's half-width and a
