@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace nestwalk::terrain {
@@ -30,6 +32,60 @@ thread_local std::uint64_t waitsOfThisThread = 0;
 int tilesFor(int samples) { return std::max(1, (samples - 2) / kHeightTileCells + 1); }
 
 }  // namespace
+
+std::vector<std::pair<int, int>> tilesByReach(const TileRequest& request) {
+  std::vector<std::pair<int, int>> wanted;
+  for (int ty = request.ty0; ty <= request.ty1; ++ty)
+    for (int tx = request.tx0; tx <= request.tx1; ++tx) wanted.emplace_back(tx, ty);
+  const double a[2] = {request.fromCol, request.fromRow};
+  double b[2] = {request.toCol, request.toRow};
+  if (!std::isfinite(std::hypot(b[0] - a[0], b[1] - a[1]))) b[0] = a[0], b[1] = a[1];  // no usable direction
+  const double length = std::hypot(b[0] - a[0], b[1] - a[1]);
+  const int steps = std::min(kTileReachPathPoints - 1, int(std::ceil(length / kTileReachPathStepCells)));
+  auto gap = [](double at, int tile) {
+    const double lo = double(tile) * kHeightTileCells, hi = lo + kHeightTileCells;
+    return at < lo ? lo - at : at > hi ? at - hi : 0.0;
+  };
+  // Where the path a -> b enters tile t's cells, as a fraction of it (nullopt: it misses them).
+  auto entry = [&](const std::pair<int, int>& t) -> std::optional<double> {
+    double t0 = 0.0, t1 = 1.0;
+    const int tile[2] = {t.first, t.second};
+    for (int axis = 0; axis < 2; ++axis) {
+      const double lo = double(tile[axis]) * kHeightTileCells, hi = lo + kHeightTileCells;
+      const double d = b[axis] - a[axis];
+      if (d == 0.0) {
+        if (a[axis] < lo || a[axis] > hi) return std::nullopt;
+        continue;
+      }
+      double enter = (lo - a[axis]) / d, leave = (hi - a[axis]) / d;
+      if (enter > leave) std::swap(enter, leave);
+      t0 = std::max(t0, enter), t1 = std::min(t1, leave);
+      if (t0 > t1) return std::nullopt;
+    }
+    return t0;
+  };
+  struct Reach {
+    bool offPath = true;
+    double cells = std::numeric_limits<double>::infinity();
+    bool operator<(const Reach& o) const { return offPath != o.offPath ? !offPath : cells < o.cells; }
+  };
+  auto reach = [&](const std::pair<int, int>& t) {
+    if (const std::optional<double> at = entry(t)) return Reach{false, *at * length};
+    Reach best;
+    for (int k = 0; k <= steps; ++k) {
+      const double along = steps == 0 ? 0.0 : double(k) / steps;
+      const double px = a[0] + (b[0] - a[0]) * along, py = a[1] + (b[1] - a[1]) * along;
+      best.cells = std::min(best.cells, along * length + std::hypot(gap(px, t.first), gap(py, t.second)));
+    }
+    return best;
+  };
+  std::vector<std::pair<Reach, std::pair<int, int>>> byReach;
+  byReach.reserve(wanted.size());
+  for (const auto& t : wanted) byReach.push_back({reach(t), t});
+  std::stable_sort(byReach.begin(), byReach.end(), [](const auto& l, const auto& m) { return l.first < m.first; });
+  for (std::size_t i = 0; i < wanted.size(); ++i) wanted[i] = byReach[i].second;
+  return wanted;
+}
 
 HeightTileCache::HeightTileCache(int cols, int rows, std::optional<float> noData, Loader loader,
                                  std::vector<float> tileRanges, std::size_t budgetBytes)
@@ -190,36 +246,94 @@ bool HeightTileCache::holds(int tx, int ty) const {
   return held_.count(key(tx, ty)) != 0;
 }
 
+void HeightTileCache::queueFirst(std::span<const std::pair<int, int>> tiles) const {
+  std::vector<std::uint64_t> first;  // these tiles not held, in their order
+  for (const auto& [tx, ty] : tiles) {
+    if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) continue;
+    const std::uint64_t k = key(tx, ty);
+    if (auto it = held_.find(k); it != held_.end()) {
+      // Held: it counts as used now, so the walk's own tiles are not the next to go.
+      touch(it->second);
+      continue;
+    }
+    if (inFlight_.count(k) || std::find(first.begin(), first.end(), k) != first.end()) continue;
+    if (const auto queued = std::find(queue_.begin(), queue_.end(), k); queued != queue_.end()) queue_.erase(queued);
+    first.push_back(k);
+  }
+  // Ahead of what earlier calls queued: the latest call knows where the walk goes now.
+  queue_.insert(queue_.begin(), first.begin(), first.end());
+}
+
+void HeightTileCache::startThread() const {
+  // Started on the first prefetch, not with the cache: a scene loader forks to read models
+  // (core/guarded_process.h) while no other thread runs.
+  if (!prefetcher_.joinable()) {
+    prefetcher_ = std::thread([this] { prefetchLoop(); });
+    started_.store(true, std::memory_order_release);
+  }
+}
+
 void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
-  std::vector<std::uint64_t> first;  // this call's tiles not held, in its order
+  bool queued = false;
   {
     const std::lock_guard lock(mutex_);
-    for (const auto& [tx, ty] : tiles) {
-      if (tx < 0 || ty < 0 || tx >= tilesX_ || ty >= tilesY_) continue;
-      const std::uint64_t k = key(tx, ty);
-      if (auto it = held_.find(k); it != held_.end()) {
-        // Held: it counts as used now, so the walk's own tiles are not the next to go.
-        touch(it->second);
-        continue;
-      }
-      if (inFlight_.count(k) || std::find(first.begin(), first.end(), k) != first.end()) continue;
-      if (const auto queued = std::find(queue_.begin(), queue_.end(), k); queued != queue_.end()) queue_.erase(queued);
-      first.push_back(k);
-    }
-    // Ahead of what earlier calls queued: the latest call knows where the walk goes now.
-    queue_.insert(queue_.begin(), first.begin(), first.end());
-    // Started on the first prefetch, not with the cache: a scene loader forks to read models
-    // (core/guarded_process.h) while no other thread runs.
-    if (!first.empty() && !prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
+    queueFirst(tiles);
+    queued = !queue_.empty();
+    if (queued) startThread();
   }
-  if (!first.empty()) changed_.notify_all();
+  if (queued) changed_.notify_all();
+}
+
+void HeightTileCache::request(const TileRequest& request, bool wake) const {
+  if (request.tx0 > request.tx1 || request.ty0 > request.ty1) return;
+  {
+    const std::lock_guard lock(requestMutex_);
+    request_ = request;
+  }
+  pending_.store(true);
+  // The thread parks only after it looked at pending_ (see parked_): if it is parked now, it missed
+  // this request and must be woken; the lock makes sure it is waiting before the notification.
+  if (wake || !started_.load(std::memory_order_acquire) || parked_.load()) {
+    {
+      const std::lock_guard lock(mutex_);
+      startThread();
+    }
+    changed_.notify_all();
+  }
 }
 
 void HeightTileCache::prefetchLoop() const {
+  using Clock = std::chrono::steady_clock;
+  auto lastWork = Clock::now();
   std::unique_lock lock(mutex_);
   for (;;) {
-    changed_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
     if (stopping_) return;
+    if (pending_.exchange(false)) {
+      TileRequest r;
+      {
+        const std::lock_guard requestLock(requestMutex_);
+        r = request_;
+      }
+      ordering_ = true;
+      lock.unlock();
+      const std::vector<std::pair<int, int>> ordered = tilesByReach(r);  // no lock held: the sort is ours
+      lock.lock();
+      ordering_ = false;
+      queueFirst(ordered);
+      lastWork = Clock::now();
+      changed_.notify_all();  // waitForPrefetch() looks at pending_ too
+      continue;
+    }
+    if (queue_.empty()) {
+      if (Clock::now() - lastWork < std::chrono::milliseconds(kTileRequestActiveMs)) {
+        changed_.wait_for(lock, std::chrono::milliseconds(kTileRequestPollMs));
+      } else {
+        parked_.store(true);
+        if (!pending_.load()) changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
+        parked_.store(false);
+      }
+      continue;
+    }
     const std::uint64_t k = queue_.front();
     queue_.pop_front();
     if (held_.count(k) || inFlight_.count(k)) {
@@ -240,13 +354,14 @@ void HeightTileCache::prefetchLoop() const {
       insert(k, std::move(tile));
       ++stats_.prefetched;
     }
+    lastWork = Clock::now();
     changed_.notify_all();
   }
 }
 
 void HeightTileCache::waitForPrefetch() const {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return queue_.empty() && inFlight_.empty(); });
+  changed_.wait(lock, [&] { return queue_.empty() && inFlight_.empty() && !ordering_ && !pending_.load(); });
 }
 
 std::uint64_t HeightTileCache::threadWaits() { return waitsOfThisThread; }

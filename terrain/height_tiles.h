@@ -21,9 +21,17 @@
 // by a few tiles per thread. A tile counts as used (it moves to the front of the cache's use
 // order, in constant time under its lock) when a thread takes it into its slots, when tile() asks
 // for it while it is not the thread's most recent, and when prefetch() names it (a walker names
-// its own tiles as they change), not on every hit; eviction takes the back, also in constant time. prefetch() queues tiles for a background thread (started by the first one), so that
-// a walker's next tiles are read before it needs them; a tile asked for that is not held yet is a
-// wait (stats().waits), whether read there or in flight on the background thread.
+// its own tiles as they change), not on every hit; eviction takes the back, also in constant time.
+//
+// Background reads: prefetch() queues tiles for a background thread (started by the first call),
+// so that a walker's next tiles are read before it needs them; a tile asked for that is not held
+// yet is a wait (stats().waits), whether read there or in flight on the background thread.
+// request() names a walk's rectangle of tiles and its path instead, and leaves the rest to that
+// thread: it orders the tiles (tilesByReach), counts the held ones as used and queues the others
+// as prefetch() does. The caller only stores the request (a lock of its own, no look-up, no sort)
+// and wakes the thread only when it is parked: after work the thread looks for requests every
+// kTileRequestPollMs for kTileRequestActiveMs before it parks (a wake-up is a system call, often
+// the thread's preemption of the caller on 2 cores: tens of microseconds of a walker's step).
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
 // the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
@@ -63,6 +71,33 @@ inline constexpr std::size_t kThreadTileSlots = 4;
 /// render's 1 G-sample run peaked at 1,452-1,575 MiB with 256 MiB of tiles, 1,334-1,359 MiB with
 /// 128 MiB, the walker waiting for no read and the views as fast.
 inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(128) << 20;
+/// request(): how often the background thread looks for a request while active (a walker's box
+/// ahead is 2 s of motion (walker.h): a few milliseconds of delay cost nothing), and how
+/// long it stays active after its last work before it parks (a walk at 8 m/s over 3.2 cm cells
+/// changes its box of tiles several times a second; over 1 m cells every few seconds, and a
+/// wake-up that rare does not show in a step's p99).
+inline constexpr int kTileRequestPollMs = 1;
+inline constexpr int kTileRequestActiveMs = 2000;
+/// tilesByReach(): tiles off the walk's path are ordered by the path's points taken this many cells
+/// apart (an eighth of a tile), at most kTileReachPathPoints of them (a walker's path is at most a
+/// few tiles; a far `to` from another caller costs no more).
+inline constexpr double kTileReachPathStepCells = kHeightTileCells / 8.0;
+inline constexpr int kTileReachPathPoints = 64;
+
+/// Where a walk goes, in the grid's cell units (column, row: fractional, row down): the tiles
+/// [tx0, tx1] x [ty0, ty1] it wants (inclusive; clipped to the grid) and its path from `from` to
+/// `to` (the feet and where the motion takes them).
+struct TileRequest {
+  int tx0 = 0, ty0 = 0, tx1 = -1, ty1 = -1;
+  double fromCol = 0.0, fromRow = 0.0, toCol = 0.0, toRow = 0.0;
+};
+
+/// The request's tiles, the soonest reached first by a walk along its path: the tiles the path
+/// crosses in the order it enters their cells (Liang-Barsky), then the others by the least of
+/// (cells along the path to a point) + (cells from that point to the tile), over at most
+/// kTileReachPathPoints points; ties in row-major order. A path with no finite length is its
+/// start point.
+std::vector<std::pair<int, int>> tilesByReach(const TileRequest& request);
 
 struct HeightTile {
   int c0 = 0, r0 = 0;      // the fine sample held at (0, 0)
@@ -128,13 +163,18 @@ class HeightTileCache {
   /// thread, read in the order given and before the tiles that earlier calls queued (the latest
   /// call names where a walk goes now).
   void prefetch(std::span<const std::pair<int, int>> tiles) const;
+  /// Replaces the pending request (if the thread has not taken it yet) with this one: the thread
+  /// queues its tiles in tilesByReach order as prefetch() would (see above). Costs the caller a
+  /// lock of its own and, when the thread is parked or `wake` is set, a wake-up (`wake`: the
+  /// tiles are wanted within a poll period, as a walker's are just after it is placed somewhere new).
+  void request(const TileRequest& request, bool wake = false) const;
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;
   HeightTileStats stats() const;
   /// Waits (see stats()) of the calling thread, on every cache, since it started: a walker's count
   /// of ground reads that waited, apart from the renderer's.
   static std::uint64_t threadWaits();
-  /// Waits until the prefetch queue is empty (tests, benchmarks).
+  /// Waits until the prefetch queue is empty and no request is pending (tests, benchmarks).
   void waitForPrefetch() const;
 
  private:
@@ -149,6 +189,8 @@ class HeightTileCache {
   void insert(std::uint64_t key, std::shared_ptr<const HeightTile> tile) const;  // mutex_ held
   void touch(Held& held) const;                                                   // mutex_ held: used now
   void prefetchLoop() const;
+  void startThread() const;                                        // mutex_ held
+  void queueFirst(std::span<const std::pair<int, int>> tiles) const;  // mutex_ held: prefetch()'s queueing
   std::uint64_t key(int tx, int ty) const { return std::uint64_t(ty) * std::uint64_t(tilesX_) + std::uint64_t(tx); }
 
   int cols_, rows_, tilesX_, tilesY_;
@@ -167,7 +209,17 @@ class HeightTileCache {
   mutable HeightTileStats stats_;
   mutable std::mutex readMutex_;  // the loader, one call at a time
   bool stopping_ = false;
-  mutable std::thread prefetcher_;  // started by the first prefetch()
+  mutable std::thread prefetcher_;  // started by the first prefetch() or request()
+  mutable std::atomic<bool> started_{false};
+
+  // request()'s mailbox: the latest request, taken by the thread. pending_ and parked_ are read and
+  // written in this order on both sides (sequentially consistent), so either the thread sees the
+  // request before it parks or the caller sees it parked and wakes it.
+  mutable std::mutex requestMutex_;
+  mutable TileRequest request_;
+  mutable std::atomic<bool> pending_{false};
+  mutable std::atomic<bool> parked_{false};
+  mutable bool ordering_ = false;  // mutex_: the thread is ordering a request it took
 };
 
 }  // namespace nestwalk::terrain

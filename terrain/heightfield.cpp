@@ -56,11 +56,6 @@ constexpr double kCeilingPadCells = 1e-3;
 /// those cells (at most 34, a few cache lines) rather than by the 8 x 8-cell blocks around them:
 /// a flying leg's short ranges (walker.h: highestFlyingFeet) are then bounded to the cell.
 constexpr int kCeilingCellsRead = 16;
-/// prefetch(): tiles off the walk's path are ordered by the path's points taken this many cells
-/// apart (an eighth of a tile), at most kPrefetchPathPoints of them (a walker's path is at most a
-/// few tiles; a far `to` from another caller costs no more).
-constexpr double kPrefetchPathStepCells = kHeightTileCells / 8.0;
-constexpr int kPrefetchPathPoints = 64;
 
 /// Allocator for the large per-sample arrays: blocks of 2 MiB and more are 2 MiB aligned and, on
 /// Linux, marked for transparent huge pages, so that random lookups and ray walks over a large grid
@@ -295,62 +290,19 @@ void Heightfield::holdTiles(double x0, double y0, double x1, double y1) const {
 }
 
 void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from,
-                           const Eigen::Vector2d& to) const {
+                           const Eigen::Vector2d& to, bool now) const {
   const auto r = tilesUnder(x0, y0, x1, y1);
   if (!r) return;
-  std::vector<std::pair<int, int>> wanted;
-  for (int ty = (*r)[1]; ty <= (*r)[3]; ++ty)
-    for (int tx = (*r)[0]; tx <= (*r)[2]; ++tx) wanted.emplace_back(tx, ty);
-  // Soonest reached first: the tiles the path crosses in the order it enters them (where it meets
-  // the tile's cells, Liang-Barsky), then the others by the least of (cells along the path to a
-  // point) + (cells from that point to the tile), over at most kPrefetchPathPoints points.
-  const Eigen::Vector2d a((from.x() - originX_) * invDx_, (originY_ - from.y()) * invDy_);
-  Eigen::Vector2d b((to.x() - originX_) * invDx_, (originY_ - to.y()) * invDy_);
-  if (!std::isfinite((b - a).norm())) b = a;  // no usable direction: a standing walker
-  const double length = (b - a).norm();
-  const int steps = std::min(kPrefetchPathPoints - 1, int(std::ceil(length / kPrefetchPathStepCells)));
-  auto gap = [](double at, int tile) {
-    const double lo = double(tile) * kHeightTileCells, hi = lo + kHeightTileCells;
-    return at < lo ? lo - at : at > hi ? at - hi : 0.0;
-  };
-  // Where the path a -> b enters tile t's cells, as a fraction of it (nullopt: it misses them).
-  auto entry = [&](const std::pair<int, int>& t) -> std::optional<double> {
-    double t0 = 0.0, t1 = 1.0;
-    const int tile[2] = {t.first, t.second};
-    for (int axis = 0; axis < 2; ++axis) {
-      const double lo = double(tile[axis]) * kHeightTileCells, hi = lo + kHeightTileCells;
-      const double d = b[axis] - a[axis];
-      if (d == 0.0) {
-        if (a[axis] < lo || a[axis] > hi) return std::nullopt;
-        continue;
-      }
-      double enter = (lo - a[axis]) / d, leave = (hi - a[axis]) / d;
-      if (enter > leave) std::swap(enter, leave);
-      t0 = std::max(t0, enter), t1 = std::min(t1, leave);
-      if (t0 > t1) return std::nullopt;
-    }
-    return t0;
-  };
-  struct Reach {
-    bool offPath = true;
-    double cells = std::numeric_limits<double>::infinity();
-    bool operator<(const Reach& o) const { return offPath != o.offPath ? !offPath : cells < o.cells; }
-  };
-  auto reach = [&](const std::pair<int, int>& t) {
-    if (const std::optional<double> at = entry(t)) return Reach{false, *at * length};
-    Reach best;
-    for (int k = 0; k <= steps; ++k) {
-      const double along = steps == 0 ? 0.0 : double(k) / steps;
-      const Eigen::Vector2d p = a + (b - a) * along;
-      best.cells = std::min(best.cells, along * length + std::hypot(gap(p.x(), t.first), gap(p.y(), t.second)));
-    }
-    return best;
-  };
-  std::vector<std::pair<Reach, std::pair<int, int>>> byReach;
-  for (const auto& t : wanted) byReach.push_back({reach(t), t});
-  std::stable_sort(byReach.begin(), byReach.end(), [](const auto& l, const auto& m) { return l.first < m.first; });
-  for (std::size_t i = 0; i < wanted.size(); ++i) wanted[i] = byReach[i].second;
-  tiles_->prefetch(wanted);
+  // The ordering and the look-ups are the background thread's (height_tiles.h: request()).
+  tiles_->request({.tx0 = (*r)[0],
+                   .ty0 = (*r)[1],
+                   .tx1 = (*r)[2],
+                   .ty1 = (*r)[3],
+                   .fromCol = (from.x() - originX_) * invDx_,
+                   .fromRow = (originY_ - from.y()) * invDy_,
+                   .toCol = (to.x() - originX_) * invDx_,
+                   .toRow = (originY_ - to.y()) * invDy_},
+                  now);
 }
 
 bool Heightfield::valid(int col, int row) const {

@@ -271,6 +271,10 @@ struct ChunkQuadrant {
   bool empty() const { return indexCount == 0; }
 };
 
+/// The quadrant across midline k (0 vertical, 1 horizontal; ChunkQuadrant::midlineSkirts) from
+/// quadrant q of the same chunk.
+constexpr int quadrantAcrossMidline(int q, int k) { return q ^ (k == 0 ? 1 : 2); }
+
 struct ChunkMesh {
   ChunkKey key;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // mesh frame position of the stored (0, 0, 0)

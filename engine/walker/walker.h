@@ -66,9 +66,11 @@ inline constexpr int kFlyingSampledRange = 3;
 /// Seconds of motion ahead whose ground a paged terrain reads in the background: a tile takes a few
 /// milliseconds to read, 2 s leave a wide margin. The walker asks when the tiles under its box
 /// change, and every kPrefetchRefreshSteps steps anyway (so that the cache counts its tiles as
-/// used): asking costs microseconds (a lock, a look-up per tile; it is timed as part of the step's
-/// ground: at 3.2 cm cells it sets the step's p99, 30 us in bench render against 7 without it), the
-/// check every step nanoseconds.
+/// used). Asking stores the request for the terrain's reader thread, which orders and looks up the
+/// tiles itself (terrain/height_tiles.h, request()); it is timed as part of the step's ground. Done
+/// on the step's own thread, the look-ups, the ordering and the wake-up set the step's p99 at 3.2 cm
+/// cells (bench render, 2026-11-29: 30 us with them against 7 without). The check every step costs
+/// nanoseconds.
 inline constexpr double kPrefetchSeconds = 2.0;
 inline constexpr int kPrefetchRefreshSteps = 600;
 /// Metres around the feet whose ground is always asked for: more than the body's half-width and a
@@ -211,6 +213,9 @@ class Walker {
   /// Where kPrefetchSeconds of `velocity` take the feet, from them (at most kPrefetchMaxAheadTiles).
   Eigen::Vector2d aheadOf(const Eigen::Vector3d& velocity) const;
   std::array<int, 4> prefetchedTiles_{-1, -1, -1, -1};
+  /// Placed somewhere new, no step since: the requests wake the terrain's reader at once (its poll
+  /// period would let the first steps reach tiles not read yet: terrain/height_tiles.h, request()).
+  bool justPlaced_ = false;
 };
 
 }  // namespace nestwalk

@@ -19,9 +19,11 @@
 #include <gdal.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <mutex>
+#include <thread>
 #include <cstring>
 #include <random>
 
@@ -326,6 +328,31 @@ TEST(HeightTileCache, PrefetchReadsTheLatestCallsTilesFirstInItsOrder) {
   reads.tiles->prefetch(latest);
   const std::vector<std::pair<int, int>> expected = {{3, 3}, {1, 0}, {0, 0}, {2, 0}};
   EXPECT_EQ(reads.release(), expected);
+}
+
+TEST(HeightTileCache, ARequestAfterTheThreadParkedWakesItAndTheLatestRequestWins) {
+  // Requests only store themselves; the background thread takes them. One made after the thread
+  // went idle long enough to park must still be read (the wake-up), and of two requests made while
+  // the thread is busy only the later is queued (it replaces the earlier, not taken yet).
+  RecordedReads reads;
+  reads.block();
+  reads.tiles->request({.tx0 = 0, .ty0 = 0, .tx1 = 1, .ty1 = 0, .fromCol = 10.0, .fromRow = 10.0, .toCol = 10.0, .toRow = 10.0});
+  reads.tiles->request({.tx0 = 4, .ty0 = 5, .tx1 = 4, .ty1 = 6, .fromCol = 4 * terrain::kHeightTileCells + 9.0,
+                        .fromRow = 6 * terrain::kHeightTileCells + 9.0, .toCol = 4 * terrain::kHeightTileCells + 9.0,
+                        .toRow = 6 * terrain::kHeightTileCells + 9.0});
+  const std::vector<std::pair<int, int>> latest = {{4, 6}, {4, 5}};  // the feet's tile first
+  EXPECT_EQ(reads.release(), latest);
+  EXPECT_FALSE(reads.tiles->holds(0, 0));
+
+  std::this_thread::sleep_for(std::chrono::milliseconds(terrain::kTileRequestActiveMs + 300));  // parked now
+  reads.tiles->request({.tx0 = 2, .ty0 = 2, .tx1 = 2, .ty1 = 2, .fromCol = 600.0, .fromRow = 600.0, .toCol = 600.0, .toRow = 600.0});
+  bool held = false;
+  for (int k = 0; k < 500 && !held; ++k) {  // up to 5 s: a lost wake-up fails here, not in a hang
+    held = reads.tiles->holds(2, 2);
+    if (!held) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(held);
+  EXPECT_EQ(reads.tiles->stats().waits, 0u);
 }
 
 TEST(PagedHeightfield, PrefetchAsksForTheTilesTheWalkReachesFirstFirst) {
