@@ -395,7 +395,8 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
   // chunk nor out of view.
   for (std::size_t q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = e.quadrants[q];
-    if (fate[q] != Fate::Drawn || !quad.midlineSkirts || (fate[q ^ 1] != Fate::Other && fate[q ^ 2] != Fate::Other))
+    auto across = [q](int k) { return std::size_t(terrain::quadrantAcrossMidline(int(q), k)); };
+    if (fate[q] != Fate::Drawn || !quad.midlineSkirts || (fate[across(0)] != Fate::Other && fate[across(1)] != Fate::Other))
       continue;
     drawList_[partOf[q]].midlineSkirts = quad.midlineSkirts.get();
     stats_.trianglesDrawn += quad.midlineSkirtTriangles;

@@ -185,7 +185,7 @@ osg::ref_ptr<osg::Group> buildTerrainCut(const terrain::Heightfield& hf, const T
       // Its skirts on the chunk's midlines beside a quadrant the cut does not take from this chunk
       // (refined, or without triangles; terrain_chunk.h, "Cracks").
       for (std::size_t k = 0; k < 2; ++k) {
-        const int across = q ^ (k == 0 ? 1 : 2);
+        const int across = terrain::quadrantAcrossMidline(q, int(k));
         const terrain::ChunkSkirt& skirt = quad.midlineSkirts[k];
         if (skirt.indexCount == 0 || std::find(quadrants.begin(), quadrants.end(), across) != quadrants.end()) continue;
         ranges.push_back({skirt.firstIndex, skirt.indexCount});

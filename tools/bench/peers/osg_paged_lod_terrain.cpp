@@ -262,7 +262,7 @@ osg::ref_ptr<osg::Node> PagedLodTerrain::Source::makeChunk(const ChunkKey& key, 
       const terrain::ChunkQuadrant& q = m.quadrants[i];
       if (q.empty()) continue;
       for (std::size_t k = 0; k < 2; ++k)
-        if (m.quadrants[i ^ (k == 0 ? 1 : 2)].empty() && q.midlineSkirts[k].indexCount > 0) {
+        if (m.quadrants[std::size_t(terrain::quadrantAcrossMidline(int(i), int(k)))].empty() && q.midlineSkirts[k].indexCount > 0) {
           midlineSkirts.push_back({q.midlineSkirts[k].firstIndex, q.midlineSkirts[k].indexCount});
           midlineSkirtTriangles += q.midlineSkirts[k].indexCount / 3;
         }
