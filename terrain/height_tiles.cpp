@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -267,10 +266,7 @@ void HeightTileCache::queueFirst(std::span<const std::pair<int, int>> tiles) con
 void HeightTileCache::startThread() const {
   // Started on the first prefetch, not with the cache: a scene loader forks to read models
   // (core/guarded_process.h) while no other thread runs.
-  if (!prefetcher_.joinable()) {
-    prefetcher_ = std::thread([this] { prefetchLoop(); });
-    started_.store(true, std::memory_order_release);
-  }
+  if (!prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
 }
 
 void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
@@ -284,29 +280,24 @@ void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const
   if (queued) changed_.notify_all();
 }
 
-void HeightTileCache::request(const TileRequest& request, bool wake) const {
+void HeightTileCache::request(const TileRequest& request) const {
   if (request.tx0 > request.tx1 || request.ty0 > request.ty1) return;
   {
     const std::lock_guard lock(requestMutex_);
     request_ = request;
   }
   pending_.store(true);
-  // The thread parks only after it looked at pending_ (see parked_): if it is parked now, it missed
-  // this request and must be woken; the lock makes sure it is waiting before the notification.
-  if (wake || !started_.load(std::memory_order_acquire) || parked_.load()) {
-    {
-      const std::lock_guard lock(mutex_);
-      startThread();
-    }
-    changed_.notify_all();
+  {
+    const std::lock_guard lock(mutex_);  // the thread is waiting or will see pending_
+    startThread();
   }
+  changed_.notify_all();
 }
 
 void HeightTileCache::prefetchLoop() const {
-  using Clock = std::chrono::steady_clock;
-  auto lastWork = Clock::now();
   std::unique_lock lock(mutex_);
   for (;;) {
+    changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
     if (stopping_) return;
     if (pending_.exchange(false)) {
       TileRequest r;
@@ -320,18 +311,7 @@ void HeightTileCache::prefetchLoop() const {
       lock.lock();
       ordering_ = false;
       queueFirst(ordered);
-      lastWork = Clock::now();
       changed_.notify_all();  // waitForPrefetch() looks at pending_ too
-      continue;
-    }
-    if (queue_.empty()) {
-      if (Clock::now() - lastWork < std::chrono::milliseconds(kTileRequestActiveMs)) {
-        changed_.wait_for(lock, std::chrono::milliseconds(kTileRequestPollMs));
-      } else {
-        parked_.store(true);
-        if (!pending_.load()) changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
-        parked_.store(false);
-      }
       continue;
     }
     const std::uint64_t k = queue_.front();
@@ -354,7 +334,6 @@ void HeightTileCache::prefetchLoop() const {
       insert(k, std::move(tile));
       ++stats_.prefetched;
     }
-    lastWork = Clock::now();
     changed_.notify_all();
   }
 }

@@ -29,9 +29,13 @@
 // request() names a walk's rectangle of tiles and its path instead, and leaves the rest to that
 // thread: it orders the tiles (tilesByReach), counts the held ones as used and queues the others
 // as prefetch() does. The caller only stores the request (a lock of its own, no look-up, no sort)
-// and wakes the thread only when it is parked: after work the thread looks for requests every
-// kTileRequestPollMs for kTileRequestActiveMs before it parks (a wake-up is a system call, often
-// the thread's preemption of the caller on 2 cores: tens of microseconds of a walker's step).
+// and wakes the thread (on a 3.2 cm DEM the look-ups and the ordering on a walker's own thread were
+// most of its step's p99). A request not taken yet is replaced by the next.
+//
+// Polling instead of the wake-up (the thread looking for requests every 1 or 4 ms while active)
+// was tried on bench render's 1 G walk at 10x pace: a step p99 of 13-21 us in the machine's quiet
+// runs (20 with the wake-up; both 40-100 in its slow spells), but a tile waited for in 3 of 18
+// runs (0 of 9 with a wake-up per request): the wake-up stays.
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
 // the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
@@ -71,13 +75,6 @@ inline constexpr std::size_t kThreadTileSlots = 4;
 /// render's 1 G-sample run peaked at 1,452-1,575 MiB with 256 MiB of tiles, 1,334-1,359 MiB with
 /// 128 MiB, the walker waiting for no read and the views as fast.
 inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(128) << 20;
-/// request(): how often the background thread looks for a request while active (a walker's box
-/// ahead is 2 s of motion (walker.h): a few milliseconds of delay cost nothing), and how
-/// long it stays active after its last work before it parks (a walk at 8 m/s over 3.2 cm cells
-/// changes its box of tiles several times a second; over 1 m cells every few seconds, and a
-/// wake-up that rare does not show in a step's p99).
-inline constexpr int kTileRequestPollMs = 1;
-inline constexpr int kTileRequestActiveMs = 2000;
 /// tilesByReach(): tiles off the walk's path are ordered by the path's points taken this many cells
 /// apart (an eighth of a tile), at most kTileReachPathPoints of them (a walker's path is at most a
 /// few tiles; a far `to` from another caller costs no more).
@@ -164,10 +161,9 @@ class HeightTileCache {
   /// call names where a walk goes now).
   void prefetch(std::span<const std::pair<int, int>> tiles) const;
   /// Replaces the pending request (if the thread has not taken it yet) with this one: the thread
-  /// queues its tiles in tilesByReach order as prefetch() would (see above). Costs the caller a
-  /// lock of its own and, when the thread is parked or `wake` is set, a wake-up (`wake`: the
-  /// tiles are wanted within a poll period, as a walker's are just after it is placed somewhere new).
-  void request(const TileRequest& request, bool wake = false) const;
+  /// queues its tiles in tilesByReach order as prefetch() would (see above). Costs the caller two
+  /// locks and a wake-up.
+  void request(const TileRequest& request) const;
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;
   HeightTileStats stats() const;
@@ -210,15 +206,12 @@ class HeightTileCache {
   mutable std::mutex readMutex_;  // the loader, one call at a time
   bool stopping_ = false;
   mutable std::thread prefetcher_;  // started by the first prefetch() or request()
-  mutable std::atomic<bool> started_{false};
 
-  // request()'s mailbox: the latest request, taken by the thread. pending_ and parked_ are read and
-  // written in this order on both sides (sequentially consistent), so either the thread sees the
-  // request before it parks or the caller sees it parked and wakes it.
+  // request()'s mailbox: the latest request, taken by the thread (pending_ is set before the
+  // caller takes mutex_ to wake the thread, which reads it under mutex_: no wake-up is lost).
   mutable std::mutex requestMutex_;
   mutable TileRequest request_;
   mutable std::atomic<bool> pending_{false};
-  mutable std::atomic<bool> parked_{false};
   mutable bool ordering_ = false;  // mutex_: the thread is ordering a request it took
 };
 

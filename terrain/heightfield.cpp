@@ -290,7 +290,7 @@ void Heightfield::holdTiles(double x0, double y0, double x1, double y1) const {
 }
 
 void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from,
-                           const Eigen::Vector2d& to, bool now) const {
+                           const Eigen::Vector2d& to) const {
   const auto r = tilesUnder(x0, y0, x1, y1);
   if (!r) return;
   // The ordering and the look-ups are the background thread's (height_tiles.h: request()).
@@ -301,8 +301,7 @@ void Heightfield::prefetch(double x0, double y0, double x1, double y1, const Eig
                    .fromCol = (from.x() - originX_) * invDx_,
                    .fromRow = (originY_ - from.y()) * invDy_,
                    .toCol = (to.x() - originX_) * invDx_,
-                   .toRow = (originY_ - to.y()) * invDy_},
-                  now);
+                   .toRow = (originY_ - to.y()) * invDy_});
 }
 
 bool Heightfield::valid(int col, int row) const {

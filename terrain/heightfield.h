@@ -95,10 +95,8 @@ class Heightfield {
   /// motion takes it): the tiles the segment crosses in the order it enters them, the others by
   /// the shortest walk along it and then off it (HeightTileCache::request: the caller stores the
   /// request, the background thread orders and queues it; a later call replaces one not taken yet).
-  /// `now`: wake the background thread at once (HeightTileCache::request's `wake`). Resident: nothing
-  /// to do.
-  void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from, const Eigen::Vector2d& to,
-                bool now = false) const;
+  /// Resident: nothing to do.
+  void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   /// Paged: reads every tile under the rectangle that is not held yet, waiting for each (a walker
   /// placed somewhere new reads the ground around it before its first step). Resident: nothing.
   void holdTiles(double x0, double y0, double x1, double y1) const;

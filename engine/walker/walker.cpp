@@ -219,7 +219,6 @@ std::string Walker::place(const Eigen::Vector3d& position, bool hasZ, double hea
     terrain_.holdTiles(x0, y0, x1, y1);
   }
   state_ = s;
-  justPlaced_ = true;
   prefetchGround(Eigen::Vector3d::Zero(), true);
   return {};
 }
@@ -375,7 +374,7 @@ void Walker::prefetchGround(const Eigen::Vector3d& velocity, bool force) {
   const auto tiles = terrain_.tilesUnder(x0, y0, x1, y1);
   if (!tiles || (*tiles == prefetchedTiles_ && !force)) return;
   prefetchedTiles_ = *tiles;
-  terrain_.prefetch(x0, y0, x1, y1, state_.feet.head<2>(), state_.feet.head<2>() + aheadOf(velocity), justPlaced_);
+  terrain_.prefetch(x0, y0, x1, y1, state_.feet.head<2>(), state_.feet.head<2>() + aheadOf(velocity));
 }
 
 StepReport Walker::step(const StepInput& in) {
@@ -385,7 +384,6 @@ StepReport Walker::step(const StepInput& in) {
   Clock::time_point t0;
   if (options_.timeParts) t0 = Clock::now();
   prefetchGround(in.move / options_.dt, state_.frame % kPrefetchRefreshSteps == 0);
-  justPlaced_ = false;
   if (options_.timeParts) report.micros[StepPart::Ground] += microsBetween(t0, Clock::now());
 
   // 1. View and body yaw.

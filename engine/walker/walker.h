@@ -213,9 +213,6 @@ class Walker {
   /// Where kPrefetchSeconds of `velocity` take the feet, from them (at most kPrefetchMaxAheadTiles).
   Eigen::Vector2d aheadOf(const Eigen::Vector3d& velocity) const;
   std::array<int, 4> prefetchedTiles_{-1, -1, -1, -1};
-  /// Placed somewhere new, no step since: the requests wake the terrain's reader at once (its poll
-  /// period would let the first steps reach tiles not read yet: terrain/height_tiles.h, request()).
-  bool justPlaced_ = false;
 };
 
 }  // namespace nestwalk
