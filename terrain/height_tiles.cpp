@@ -284,7 +284,7 @@ void HeightTileCache::request(const TileRequest& request) const {
   if (request.tx0 > request.tx1 || request.ty0 > request.ty1) return;
   {
     const std::lock_guard lock(requestMutex_);
-    request_ = request;
+    requests_.push_back(request);
   }
   pending_.store(true);
   {
@@ -300,17 +300,18 @@ void HeightTileCache::prefetchLoop() const {
     changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
     if (stopping_) return;
     if (pending_.exchange(false)) {
-      TileRequest r;
+      std::vector<TileRequest> taken;
       {
         const std::lock_guard requestLock(requestMutex_);
-        r = request_;
+        taken.swap(requests_);
       }
       ordering_ = true;
       lock.unlock();
-      const std::vector<std::pair<int, int>> ordered = tilesByReach(r);  // no lock held: the sort is ours
+      std::vector<std::vector<std::pair<int, int>>> ordered;  // no lock held: the sorts are ours
+      for (const TileRequest& r : taken) ordered.push_back(tilesByReach(r));
       lock.lock();
       ordering_ = false;
-      queueFirst(ordered);
+      for (const auto& tiles : ordered) queueFirst(tiles);  // in the order made: the latest ends first
       changed_.notify_all();  // waitForPrefetch() looks at pending_ too
       continue;
     }
