@@ -36,8 +36,9 @@
 //
 // Polling instead of the wake-up (the thread looking for requests every 1 or 4 ms while active)
 // was tried on bench render's 1 G walk at 10x pace: a step p99 of 13-21 us in the machine's quiet
-// runs (20 with the wake-up; both 40-100 in its slow spells), but a tile waited for in 3 of 18
-// runs (0 of 9 with a wake-up per request): the wake-up stays.
+// runs (20 with the wake-up; both 40-100 in its slow spells) and a tile waited for in 3 of 18
+// runs. With a wake-up per request: 2 of 10 runs; with every request queued on the walker's own
+// thread as before: 0 of 7. The cause is not found yet; the wake-up stays, as the simpler.
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
 // the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
