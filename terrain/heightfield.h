@@ -94,7 +94,7 @@ class Heightfield {
   /// reached first by a walk along the map segment `from` -> `to` (a walker's feet and where its
   /// motion takes it): the tiles the segment crosses in the order it enters them, the others by
   /// the shortest walk along it and then off it (HeightTileCache::request: the caller stores the
-  /// request, the background thread orders and queues it; a later call replaces one not taken yet).
+  /// request, the background thread orders and queues each one in the order made).
   /// Resident: nothing to do.
   void prefetch(double x0, double y0, double x1, double y1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   /// Paged: reads every tile under the rectangle that is not held yet, waiting for each (a walker
