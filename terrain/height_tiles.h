@@ -36,9 +36,12 @@
 //
 // Polling instead of the wake-up (the thread looking for requests every 1 or 4 ms while active)
 // was tried on bench render's 1 G walk at 10x pace: a step p99 of 13-21 us in the machine's quiet
-// runs (20 with the wake-up; both 40-100 in its slow spells) and a tile waited for in 3 of 18
-// runs. With a wake-up per request: 2 of 10 runs; with every request queued on the walker's own
-// thread as before: 0 of 7. The cause is not found yet; the wake-up stays, as the simpler.
+// runs (20 with the wake-up; both 40-100 in its slow spells). The wake-up stays, as the simpler.
+// Both let that walk wait for a tile now and then (5 of 28 runs; the old code, ordering on the
+// walker's thread, 0 of 7): not the request's path but the bench's pacing, which put a flight behind its pace by the placement's
+// reads, so that it ran its first steps back to back over the ground held around the start before
+// a tile ahead could be read (a fresh tile takes 5-10 ms here; render_terrain_sweep.cpp). Paced
+// from the first step: no wait in 18 runs.
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
 // the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
