@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -266,7 +267,10 @@ void HeightTileCache::queueFirst(std::span<const std::pair<int, int>> tiles) con
 void HeightTileCache::startThread() const {
   // Started on the first prefetch, not with the cache: a scene loader forks to read models
   // (core/guarded_process.h) while no other thread runs.
-  if (!prefetcher_.joinable()) prefetcher_ = std::thread([this] { prefetchLoop(); });
+  if (!prefetcher_.joinable()) {
+    prefetcher_ = std::thread([this] { prefetchLoop(); });
+    started_.store(true);
+  }
 }
 
 void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
@@ -287,17 +291,23 @@ void HeightTileCache::request(const TileRequest& request) const {
     requests_.push_back(request);
   }
   pending_.store(true);
-  {
-    const std::lock_guard lock(mutex_);  // the thread is waiting or will see pending_
-    startThread();
+  // The thread sets parked_ before it last looks at pending_ and waits (under mutex_): parked, it
+  // may have missed this request and is woken (the lock makes sure it waits before the
+  // notification); active, it finds the request within a poll period (see height_tiles.h).
+  if (!started_.load() || parked_.load()) {
+    {
+      const std::lock_guard lock(mutex_);
+      startThread();
+    }
+    changed_.notify_all();
   }
-  changed_.notify_all();
 }
 
 void HeightTileCache::prefetchLoop() const {
+  using Clock = std::chrono::steady_clock;
+  auto lastWork = Clock::now();
   std::unique_lock lock(mutex_);
   for (;;) {
-    changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
     if (stopping_) return;
     if (pending_.exchange(false)) {
       std::vector<TileRequest> taken;
@@ -312,7 +322,19 @@ void HeightTileCache::prefetchLoop() const {
       lock.lock();
       ordering_ = false;
       for (const auto& tiles : ordered) queueFirst(tiles);  // in the order made: the latest ends first
+      lastWork = Clock::now();
       changed_.notify_all();  // waitForPrefetch() looks at pending_ too
+      continue;
+    }
+    if (queue_.empty()) {
+      if (Clock::now() - lastWork < std::chrono::milliseconds(kTileRequestActiveMs)) {
+        changed_.wait_for(lock, std::chrono::milliseconds(kTileRequestPollMs));
+      } else {
+        parked_.store(true);
+        changed_.wait(lock, [&] { return stopping_ || !queue_.empty() || pending_.load(); });
+        parked_.store(false);
+        lastWork = Clock::now();
+      }
       continue;
     }
     const std::uint64_t k = queue_.front();
@@ -335,6 +357,7 @@ void HeightTileCache::prefetchLoop() const {
       insert(k, std::move(tile));
       ++stats_.prefetched;
     }
+    lastWork = Clock::now();
     changed_.notify_all();
   }
 }

@@ -28,20 +28,18 @@
 // yet is a wait (stats().waits), whether read there or in flight on the background thread.
 // request() names a walk's rectangle of tiles and its path instead, and leaves the rest to that
 // thread: it orders the tiles (tilesByReach), counts the held ones as used and queues the others
-// as prefetch() does. The caller only stores the request (a lock of its own, no look-up, no sort)
-// and wakes the thread (on a 3.2 cm DEM the look-ups and the ordering on a walker's own thread were
-// most of its step's p99). The thread takes every request in the order made, so the queue is what
-// prefetch() calls would have made it (keeping only the latest request, the 1 G walk waited for a
-// tile in 1 of 5 runs).
-//
-// Polling instead of the wake-up (the thread looking for requests every 1 or 4 ms while active)
-// was tried on bench render's 1 G walk at 10x pace: a step p99 of 13-21 us in the machine's quiet
-// runs (20 with the wake-up; both 40-100 in its slow spells). The wake-up stays, as the simpler.
-// Both let that walk wait for a tile now and then (5 of 28 runs; the old code, ordering on the
-// walker's thread, 0 of 7): not the request's path but the bench's pacing, which put a flight behind its pace by the placement's
-// reads, so that it ran its first steps back to back over the ground held around the start before
-// a tile ahead could be read (a fresh tile takes 5-10 ms here; render_terrain_sweep.cpp). Paced
-// from the first step: no wait in 18 runs.
+// as prefetch() does. The caller only stores the request (a lock of its own, no look-up, no sort):
+// on a 3.2 cm DEM the look-ups and the ordering on a walker's own thread were most of its step's
+// p99. The thread takes every request in the order made, so the queue is what prefetch() calls
+// would have made it. While it has had work within kTileRequestActiveMs it looks for requests
+// every kTileRequestPollMs; then it parks, and the next request wakes it. A wake-up per request
+// cost the walker's step up to 4.5 ms now and then: the woken reader often took the walker's core
+// (notify_all returned after it), so that bench render's 1 G walk at 10x pace had a step p99 of
+// 23-93 us, against 14-18 us polling (alternated runs, 2026-11-30; 6.1-7.2 at 1 M, resident).
+// Neither waited for a tile (5 runs each). The waits once seen there (5 of 28 runs) were the bench's
+// pacing, not the requests' path: its clock started before the placement's reads, and the flight
+// ran its first steps back to back to catch up, over the ground held around the start, before a
+// tile ahead could be read (a fresh tile takes 5-10 ms here; render_terrain_sweep.cpp).
 //
 // Errors: what the loader throws (an InputError naming the file) reaches the query that asked for
 // the tile; a prefetch that fails is dropped (the query that needs the tile reads it again and gets
@@ -86,6 +84,11 @@ inline constexpr std::size_t kDefaultHeightTileBudgetBytes = std::size_t(128) <<
 /// few tiles; a far `to` from another caller costs no more).
 inline constexpr double kTileReachPathStepCells = kHeightTileCells / 8.0;
 inline constexpr int kTileReachPathPoints = 64;
+/// The background thread, while active (it had work within kTileRequestActiveMs), looks for
+/// request()s every kTileRequestPollMs; then it parks until one wakes it (see above). A walker at
+/// 400 m/s covers 0.4 m in a poll period, within the 4 m held around it (walker.h).
+inline constexpr int kTileRequestPollMs = 1;
+inline constexpr int kTileRequestActiveMs = 2000;
 
 /// Where a walk goes, in the grid's cell units (column, row: fractional, row down): the tiles
 /// [tx0, tx1] x [ty0, ty1] it wants (inclusive; clipped to the grid) and its path from `from` to
@@ -167,8 +170,8 @@ class HeightTileCache {
   /// call names where a walk goes now).
   void prefetch(std::span<const std::pair<int, int>> tiles) const;
   /// Adds the request to those the thread has not taken yet: it queues each one's tiles in
-  /// tilesByReach order as prefetch() would (see above), in the order made. Costs the caller two
-  /// locks and a wake-up.
+  /// tilesByReach order as prefetch() would (see above), in the order made. Costs the caller a lock
+  /// of its own and two atomic operations (and a wake-up when the thread is parked).
   void request(const TileRequest& request) const;
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;
@@ -218,7 +221,9 @@ class HeightTileCache {
   mutable std::mutex requestMutex_;
   mutable std::vector<TileRequest> requests_;
   mutable std::atomic<bool> pending_{false};
-  mutable bool ordering_ = false;  // mutex_: the thread is ordering a request it took
+  mutable bool ordering_ = false;                 // mutex_: the thread is ordering a request it took
+  mutable std::atomic<bool> started_{false};      // the thread runs (prefetcher_ is not atomic)
+  mutable std::atomic<bool> parked_{false};       // the thread waits for a wake-up, not polling
 };
 
 }  // namespace nestwalk::terrain

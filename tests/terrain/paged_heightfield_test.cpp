@@ -330,10 +330,11 @@ TEST(HeightTileCache, PrefetchReadsTheLatestCallsTilesFirstInItsOrder) {
   EXPECT_EQ(reads.release(), expected);
 }
 
-TEST(HeightTileCache, ARequestWakesTheIdleThreadAndTheLatestRequestIsReadFirst) {
+TEST(HeightTileCache, ARequestReachesThePollingOrParkedThreadAndTheLatestIsReadFirst) {
   // Requests only store themselves; the background thread takes them. Two requests made while the
   // thread is busy are queued as two prefetch() calls would be: the later's tiles first, each in
-  // its reach order; one made while the thread is idle wakes it.
+  // its reach order. One made while the thread polls (it had work just now) is found; one made
+  // after it parked (no work for kTileRequestActiveMs) wakes it.
   RecordedReads reads;
   reads.block();
   reads.tiles->request({.tx0 = 0, .ty0 = 0, .tx1 = 1, .ty1 = 0, .fromCol = 10.0, .fromRow = 10.0, .toCol = 10.0, .toRow = 10.0});
@@ -343,15 +344,20 @@ TEST(HeightTileCache, ARequestWakesTheIdleThreadAndTheLatestRequestIsReadFirst) 
   const std::vector<std::pair<int, int>> order = {{4, 6}, {4, 5}, {0, 0}, {1, 0}};  // the feet's tile first
   EXPECT_EQ(reads.release(), order);
 
+  auto readSoon = [&](int tx, int ty) {
+    for (int k = 0; k < 500; ++k) {  // up to 5 s: a request never taken fails here, not in a hang
+      if (reads.tiles->holds(tx, ty)) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  };
   reads.tiles->tile(2, 2);
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // idle: waiting for work
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // idle, polling
   reads.tiles->request({.tx0 = 2, .ty0 = 2, .tx1 = 3, .ty1 = 2, .fromCol = 600.0, .fromRow = 600.0, .toCol = 900.0, .toRow = 600.0});
-  bool held = false;
-  for (int k = 0; k < 500 && !held; ++k) {  // up to 5 s: a lost wake-up fails here, not in a hang
-    held = reads.tiles->holds(3, 2);
-    if (!held) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  EXPECT_TRUE(held);
+  EXPECT_TRUE(readSoon(3, 2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(terrain::kTileRequestActiveMs + 500));  // parked
+  reads.tiles->request({.tx0 = 5, .ty0 = 5, .tx1 = 5, .ty1 = 5, .fromCol = 1300.0, .fromRow = 1300.0, .toCol = 1300.0, .toRow = 1300.0});
+  EXPECT_TRUE(readSoon(5, 5));
   EXPECT_EQ(reads.tiles->stats().waits, 1u) << "tile (2, 2) only, read by this thread";
 }
 
