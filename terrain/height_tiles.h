@@ -216,8 +216,9 @@ class HeightTileCache {
   bool stopping_ = false;
   mutable std::thread prefetcher_;  // started by the first prefetch() or request()
 
-  // request()'s mailbox: the requests not taken yet, in the order made (pending_ is set before the
-  // caller takes mutex_ to wake the thread, which reads it under mutex_: no wake-up is lost).
+  // request()'s mailbox: the requests not taken yet, in the order made. The caller sets pending_,
+  // then reads parked_; the thread sets parked_, then reads pending_ under mutex_ before it waits:
+  // one of them sees the other's store, so a request is never left to a parked thread.
   mutable std::mutex requestMutex_;
   mutable std::vector<TileRequest> requests_;
   mutable std::atomic<bool> pending_{false};
