@@ -306,11 +306,14 @@ void HeightTileCache::request(const TileRequest& request) const {
 void HeightTileCache::prefetchLoop() const {
   using Clock = std::chrono::steady_clock;
   auto lastWork = Clock::now();
+  std::vector<TileRequest> taken;  // swapped with the mailbox: each keeps its capacity
   std::unique_lock lock(mutex_);
   for (;;) {
     if (stopping_) return;
-    if (pending_.exchange(false)) {
-      std::vector<TileRequest> taken;
+    // Read before it is written: a poll that finds nothing leaves the flag's cache line to the
+    // walker's core.
+    if (pending_.load(std::memory_order_relaxed) && pending_.exchange(false)) {
+      taken.clear();
       {
         const std::lock_guard requestLock(requestMutex_);
         taken.swap(requests_);

@@ -171,7 +171,9 @@ class HeightTileCache {
   void prefetch(std::span<const std::pair<int, int>> tiles) const;
   /// Adds the request to those the thread has not taken yet: it queues each one's tiles in
   /// tilesByReach order as prefetch() would (see above), in the order made. Costs the caller a lock
-  /// of its own and two atomic operations (and a wake-up when the thread is parked).
+  /// of its own and two atomic operations (and a wake-up when the thread is parked): a median of
+  /// 1.2 us, p99 2.3-2.9, on bench render's 1 G walk, mostly the cache lines the thread wrote when
+  /// it took the last request (3.3-3.9 us, p99 23-83, while its polls wrote pending_ each time).
   void request(const TileRequest& request) const;
   /// Whether the tile is held now (no read).
   bool holds(int tx, int ty) const;
