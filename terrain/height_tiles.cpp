@@ -265,23 +265,12 @@ void HeightTileCache::queueFirst(std::span<const std::pair<int, int>> tiles) con
 }
 
 void HeightTileCache::startThread() const {
-  // Started on the first prefetch, not with the cache: a scene loader forks to read models
+  // Started on the first request, not with the cache: a scene loader forks to read models
   // (core/guarded_process.h) while no other thread runs.
   if (!prefetcher_.joinable()) {
     prefetcher_ = std::thread([this] { prefetchLoop(); });
     started_.store(true);
   }
-}
-
-void HeightTileCache::prefetch(std::span<const std::pair<int, int>> tiles) const {
-  bool queued = false;
-  {
-    const std::lock_guard lock(mutex_);
-    queueFirst(tiles);
-    queued = !queue_.empty();
-    if (queued) startThread();
-  }
-  if (queued) changed_.notify_all();
 }
 
 void HeightTileCache::request(const TileRequest& request) const {

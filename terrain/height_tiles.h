@@ -20,18 +20,18 @@
 // tile, would otherwise take the lock at every switch), so the bytes alive can exceed the budget
 // by a few tiles per thread. A tile counts as used (it moves to the front of the cache's use
 // order, in constant time under its lock) when a thread takes it into its slots, when tile() asks
-// for it while it is not the thread's most recent, and when prefetch() names it (a walker names
+// for it while it is not the thread's most recent, and when a request() names it (a walker names
 // its own tiles as they change), not on every hit; eviction takes the back, also in constant time.
 //
-// Background reads: prefetch() queues tiles for a background thread (started by the first call),
-// so that a walker's next tiles are read before it needs them; a tile asked for that is not held
-// yet is a wait (stats().waits), whether read there or in flight on the background thread.
-// request() names a walk's rectangle of tiles and its path instead, and leaves the rest to that
-// thread: it orders the tiles (tilesByReach), counts the held ones as used and queues the others
-// as prefetch() does. The caller only stores the request (a lock of its own, no look-up, no sort):
-// on a 3.2 cm DEM the look-ups and the ordering on a walker's own thread were most of its step's
-// p99. The thread takes every request in the order made, so the queue is what prefetch() calls
-// would have made it. While it has had work within kTileRequestActiveMs it looks for requests
+// Background reads: request() names a walk's rectangle of tiles and its path for a background
+// thread (started by the first call), so that a walker's next tiles are read before it needs them;
+// a tile asked for that is not held yet is a wait (stats().waits), whether read there or in flight
+// on the background thread. The thread orders the tiles (tilesByReach), counts the held ones as
+// used and queues the others ahead of those queued before (the latest request names where the walk
+// goes now). The caller only stores the request (a lock of its own, no look-up, no sort): on a
+// 3.2 cm DEM the look-ups and the ordering on a walker's own thread were most of its step's p99.
+// The thread takes every request in the order made, so the latest's tiles end first, each
+// request's in its order. While it has had work within kTileRequestActiveMs it looks for requests
 // every kTileRequestPollMs; then it parks, and the next request wakes it. A wake-up per request
 // cost the walker's step up to 4.5 ms now and then: the woken reader often took the walker's core
 // (notify_all returned after it), so that bench render's 1 G walk at 10x pace had a step p99 of
@@ -165,12 +165,9 @@ class HeightTileCache {
   /// calling thread's slots) at least until this thread next asks any cache for a tile. For the
   /// hot single-sample queries (a ground height), which read it at once.
   const HeightTile& threadTile(int tx, int ty) const;
-  /// Queues the tiles (tx, ty pairs; out of range ones ignored) not held yet for the background
-  /// thread, read in the order given and before the tiles that earlier calls queued (the latest
-  /// call names where a walk goes now).
-  void prefetch(std::span<const std::pair<int, int>> tiles) const;
-  /// Adds the request to those the thread has not taken yet: it queues each one's tiles in
-  /// tilesByReach order as prefetch() would (see above), in the order made. Costs the caller a lock
+  /// Adds the request to those the thread has not taken yet: it queues each one's tiles not held
+  /// yet in tilesByReach order, ahead of the tiles queued before (a tile queued already moves up),
+  /// in the order made (see above). Costs the caller a lock
   /// of its own and two atomic operations (and a wake-up when the thread is parked): a median of
   /// 1.2 us, p99 2.3-2.9, on bench render's 1 G walk, mostly the cache lines the thread wrote when
   /// it took the last request (3.3-3.9 us, p99 23-83, while its polls wrote pending_ each time).
@@ -197,7 +194,7 @@ class HeightTileCache {
   void touch(Held& held) const;                                                   // mutex_ held: used now
   void prefetchLoop() const;
   void startThread() const;                                        // mutex_ held
-  void queueFirst(std::span<const std::pair<int, int>> tiles) const;  // mutex_ held: prefetch()'s queueing
+  void queueFirst(std::span<const std::pair<int, int>> tiles) const;  // mutex_ held: a request's queueing
   std::uint64_t key(int tx, int ty) const { return std::uint64_t(ty) * std::uint64_t(tilesX_) + std::uint64_t(tx); }
 
   int cols_, rows_, tilesX_, tilesY_;
@@ -216,7 +213,7 @@ class HeightTileCache {
   mutable HeightTileStats stats_;
   mutable std::mutex readMutex_;  // the loader, one call at a time
   bool stopping_ = false;
-  mutable std::thread prefetcher_;  // started by the first prefetch() or request()
+  mutable std::thread prefetcher_;  // started by the first request()
 
   // request()'s mailbox: the requests not taken yet, in the order made. The caller sets pending_,
   // then reads parked_; the thread sets parked_, then reads pending_ under mutex_ before it waits:

@@ -274,7 +274,7 @@ TEST(HeightTileCache, EachThreadKeepsItsLastFourTilesAliveAndReadsThemNoMore) {
 }
 
 /// A tile cache of 8 x 8 tiles of flat ground whose loader records the order of its reads and holds
-/// the first until released, so that prefetched tiles queue up behind it: the order they are then
+/// the first until released, so that requested tiles queue up behind it: the order they are then
 /// read in is the queue's.
 struct RecordedReads {
   static constexpr int kTiles = 8;
@@ -300,10 +300,11 @@ struct RecordedReads {
     }
     cv.notify_all();
   }
-  /// Prefetches tile (7, 7) and waits until its read holds the background thread.
+  /// Requests tile (7, 7) and waits until its read holds the background thread.
   void block() {
-    const std::pair<int, int> blocker[1] = {{kTiles - 1, kTiles - 1}};
-    tiles->prefetch(blocker);
+    const double at = (kTiles - 1) * terrain::kHeightTileCells + 9.0;
+    tiles->request({.tx0 = kTiles - 1, .ty0 = kTiles - 1, .tx1 = kTiles - 1, .ty1 = kTiles - 1,
+                    .fromCol = at, .fromRow = at, .toCol = at, .toRow = at});
     std::unique_lock lock(m);
     cv.wait(lock, [this] { return !order.empty(); });
   }
@@ -319,22 +320,25 @@ struct RecordedReads {
   }
 };
 
-TEST(HeightTileCache, PrefetchReadsTheLatestCallsTilesFirstInItsOrder) {
+TEST(HeightTileCache, ALaterRequestsTilesAreReadFirstAndATileQueuedTwiceOnce) {
+  // Standing in tile (0, 0), then in tile (3, 0): reach order (0, 0), (1, 0), (2, 0), then
+  // (3, 0), (2, 0), (1, 0). The later request's tiles come first, (1, 0) and (2, 0) moved up from
+  // the earlier one's, each read once.
   RecordedReads reads;
   reads.block();
-  const std::pair<int, int> earlier[3] = {{0, 0}, {1, 0}, {2, 0}};
-  reads.tiles->prefetch(earlier);
-  const std::pair<int, int> latest[3] = {{3, 3}, {1, 0}, {3, 3}};  // (1, 0) again, (3, 3) twice
-  reads.tiles->prefetch(latest);
-  const std::vector<std::pair<int, int>> expected = {{3, 3}, {1, 0}, {0, 0}, {2, 0}};
+  const int T = terrain::kHeightTileCells;
+  reads.tiles->request({.tx0 = 0, .ty0 = 0, .tx1 = 2, .ty1 = 0, .fromCol = 10.0, .fromRow = 10.0, .toCol = 10.0, .toRow = 10.0});
+  reads.tiles->request({.tx0 = 1, .ty0 = 0, .tx1 = 3, .ty1 = 0, .fromCol = 3 * T + 10.0, .fromRow = 10.0,
+                        .toCol = 3 * T + 10.0, .toRow = 10.0});
+  const std::vector<std::pair<int, int>> expected = {{3, 0}, {2, 0}, {1, 0}, {0, 0}};
   EXPECT_EQ(reads.release(), expected);
 }
 
 TEST(HeightTileCache, ARequestReachesThePollingOrParkedThreadAndTheLatestIsReadFirst) {
   // Requests only store themselves; the background thread takes them. Two requests made while the
-  // thread is busy are queued as two prefetch() calls would be: the later's tiles first, each in
-  // its reach order. One made while the thread polls (it had work just now) is found; one made
-  // after it parked (no work for kTileRequestActiveMs) wakes it.
+  // thread is busy are queued in the order made: the later's tiles first, each in its reach order.
+  // One made while the thread polls (it had work just now) is found; one made after it parked (no
+  // work for kTileRequestActiveMs) wakes it.
   RecordedReads reads;
   reads.block();
   reads.tiles->request({.tx0 = 0, .ty0 = 0, .tx1 = 1, .ty1 = 0, .fromCol = 10.0, .fromRow = 10.0, .toCol = 10.0, .toRow = 10.0});
