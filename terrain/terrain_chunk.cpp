@@ -250,6 +250,9 @@ struct SimplifiedSurface {
   std::vector<std::uint32_t> indices;
   std::vector<ChunkBlock> blocks;
   double maxError = 0;
+  /// meshoptimizer's own measure of the error it reached (metres, its quadric estimate, not exact):
+  /// a target above it gives the same surface again.
+  double reachedM = 0;
 };
 
 /// A surface triangle of a simplified quadrant, by fine sample (column, row) of each vertex.
@@ -690,6 +693,7 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
                                             globalOf.size(), 3 * sizeof(float), 0, float(targetM / scale),
                                             meshopt_SimplifyLockBorder, &resultError));
         if (out.indices.size() >= gridCount) return std::nullopt;
+        out.reachedM = double(resultError) * scale;
         for (std::uint32_t& v : out.indices) v = globalOf[v];
         for (std::size_t t = 0; t < out.indices.size(); t += 3) {
           const auto& p = fineOf[out.indices[t]];
@@ -732,10 +736,16 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
           exactSurfaces[std::size_t(q)].assign(m.indices.begin() + std::ptrdiff_t(quad.firstIndex), m.indices.end());
           double coarserError = primary->maxError;
           std::size_t coarserTriangles = primary->indices.size();
+          // Targets kRefinementTargetDivisor apart, skipping those at or above what the last
+          // simplification reached: meshoptimizer (0.18) makes the same collapses in the same
+          // passes for them, none of which went above that error, so the same surface again.
+          double reached = primary->reachedM;
           for (double t = target / kRefinementTargetDivisor;
                refinedSurfaces[std::size_t(q)].size() < std::size_t(kMaxRefinements) && t >= kMinRefinementTargetM;
                t /= kRefinementTargetDivisor) {
+            if (t >= reached) continue;
             std::optional<SimplifiedSurface> finer = simplify(t);
+            if (finer) reached = finer->reachedM;
             if (!finer || double(finer->indices.size()) > kRefinementMaxGridShare * double(gridCount)) break;
             if (finer->maxError >= coarserError || finer->indices.size() <= coarserTriangles) continue;
             coarserError = finer->maxError;

@@ -65,10 +65,12 @@
 // Refinements: near the eye a level-0 quadrant's simplified surface can show more than the allowed
 // error while the exact grid would draw far more triangles than needed. Level 0 therefore also keeps
 // up to kMaxRefinements simplifications at smaller targets (each kRefinementTargetDivisor below the
-// last, while it saves enough triangles), every one with its own exact error and blocks; the renderer
-// draws the coarsest of the quadrant's surfaces whose projected error is within the rule. They share
-// the chunk's vertices (an index range each) and keep every border vertex, so they meet their
-// neighbours as the quadrant's own surface does.
+// last, while it saves enough triangles; a target at or above the error meshoptimizer says the last
+// simplification reached is skipped, as it would give that surface again: 191 of 960 refinements'
+// simplifications on bench render's 1 G-sample survey), every one with its own exact error and
+// blocks; the renderer draws the coarsest of the quadrant's surfaces whose projected error is within
+// the rule. They share the chunk's vertices (an index range each) and keep every border vertex, so
+// they meet their neighbours as the quadrant's own surface does.
 //
 // Cracks: a chunk's edge and a neighbour's edge of another level meet on the same grid line but not
 // at the same vertices. Every quadrant edge inside the grid (the chunk's own, and the midlines
