@@ -14,6 +14,11 @@
 // skipped when it comes up again. A build that throws (out of memory) leaves nothing; the first such
 // error is kept (error(), prefixed with the key's name) and the caller draws what stands in for it.
 //
+// Follow-ups (optional): after a build, the worker calls follow(result, shared) under the lock, before
+// the result joins `done`; it may queue what the result shows will be wanted next (the paged
+// terrain's children the last view needs, paged_terrain.h "Loading"), so that the workers go on
+// without waiting for the drawing side to take the result and ask. It must be short: it holds the lock.
+//
 // Result must have a `key` member comparable with Key. The build function is called from every worker
 // at once and must be safe so. Ownership: the builder owns its threads, which it starts on
 // construction and stops and joins on destruction (after the builds in progress); whatever the build
@@ -60,9 +65,13 @@ class BuildQueue {
     }
   };
 
-  /// `workers` threads (at least 1), the first at the process's priority, the rest as helpers.
-  BuildQueue(std::function<Result(const Key&)> build, std::function<std::string(const Key&)> name, int workers = 1)
-      : build_(std::move(build)), name_(std::move(name)) {
+  using Follow = std::function<void(const Result&, Shared&)>;
+
+  /// `workers` threads (at least 1), the first at the process's priority, the rest as helpers;
+  /// `follow` (may be empty) as above.
+  BuildQueue(std::function<Result(const Key&)> build, std::function<std::string(const Key&)> name, int workers = 1,
+             Follow follow = {})
+      : build_(std::move(build)), name_(std::move(name)), follow_(std::move(follow)) {
     try {
       for (int w = 0; w < std::max(1, workers); ++w) threads_.emplace_back([this, w] { loop(w > 0); });
     } catch (...) {
@@ -130,6 +139,11 @@ class BuildQueue {
         }
         lock.lock();
         shared_.inFlight.erase(std::find(shared_.inFlight.begin(), shared_.inFlight.end(), key));
+        if (result && follow_) {
+          const std::size_t queued = shared_.queue.size();
+          follow_(*result, shared_);
+          if (shared_.queue.size() > queued) wake_.notify_all();
+        }
         if (result) shared_.done.push_back(std::move(*result));
         else if (error_.empty()) error_ = name_(key) + ": " + failure;
       }
@@ -139,6 +153,7 @@ class BuildQueue {
 
   std::function<Result(const Key&)> build_;
   std::function<std::string(const Key&)> name_;
+  Follow follow_;
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   Shared shared_;

@@ -184,7 +184,10 @@ PagedTerrain::PagedTerrain(std::shared_ptr<const terrain::Heightfield> heightfie
                                                                      std::to_string(key.x) + "/" + std::to_string(key.y);
                                                             },
                                                             options_.loaderThreads > 0 ? options_.loaderThreads
-                                                                                       : builderWorkers(kMaxChunkLoaders));
+                                                                                       : builderWorkers(kMaxChunkLoaders),
+                                                            [this](const Built& built, BuildQueue<ChunkKey, Built>::Shared& shared) {
+                                                              followUp(built, shared);
+                                                            });
 }
 
 PagedTerrain::~PagedTerrain() { loader_.reset(); }  // before the members its builds read
@@ -289,8 +292,11 @@ void PagedTerrain::mergeLoaded() {
     std::size_t taken = 0, bytes = 0;
     for (; taken < done.size(); ++taken) {
       Built& b = done[taken];
-      // A chunk whose parent went while it was loading cannot be reached: dropped (so is a copy).
-      const bool orphan = b.key.level + 1 < layout_.levels() && !cache_.count(terrain::parentOf(b.key));
+      // A chunk whose parent went while it was loading cannot be reached: dropped (so is a copy). Its
+      // parent may be merging with it (the loader's follow-ups).
+      const ChunkKey parent = terrain::parentOf(b.key);
+      const bool orphan = b.key.level + 1 < layout_.levels() && !cache_.count(parent) &&
+                          std::none_of(merging.begin(), merging.end(), [&](const Built& m) { return m.key == parent; });
       if (orphan || cache_.count(b.key)) continue;
       if (bytes > 0 && bytes + b.entry.bytes > options_.mergeBytesPerFrame) break;
       bytes += b.entry.bytes;
@@ -318,6 +324,39 @@ void PagedTerrain::sortByPriority(std::vector<Want>& wants) {
   });
 }
 
+double PagedTerrain::projectedPixels(const Entry& entry, std::size_t quadrant, std::size_t surface, const osg::Vec3d& eye,
+                                     double pixelsPerRadian) {
+  // The largest of its blocks' (terrain_chunk.h).
+  double pixels = 0;
+  for (const auto& [error, box] : entry.quadrants[quadrant].surfaces[surface].blocks)
+    pixels = std::max(pixels, error * pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
+  return pixels;
+}
+
+template <class Shared>
+void PagedTerrain::followUp(const Built& built, Shared& shared) {
+  LoaderView& view = loaderView_;
+  if (!view.valid || built.key.level == 0 || built.entry.empty) return;
+  for (std::size_t q = 0; q < 4; ++q) {
+    const Entry::Quadrant& quad = built.entry.quadrants[q];
+    if (quad.surfaces.empty()) continue;
+    osg::Polytope frustum = view.frustum;
+    frustum.setupMask();
+    // As select() would decide once the chunk is drawable: in view and over the rule (the imagery's
+    // texel choice aside: the cull asks for what that adds).
+    if (!frustum.contains(quad.box) || projectedPixels(built.entry, q, 0, view.eye, view.pixelsPerRadian) <= view.maxPixels)
+      continue;
+    const ChunkKey child{built.key.level - 1, 2 * built.key.x + int(q & 1), 2 * built.key.y + int(q >> 1)};
+    if (shared.known(child) || std::find(shared.queue.begin(), shared.queue.end(), child) != shared.queue.end()) continue;
+    if (built.entry.bytes > view.bytesLeft) return;  // a child costs about its parent (estimatedBytes)
+    view.bytesLeft -= built.entry.bytes;
+    // After every queued key of its level or coarser: coarser levels first, as the cull asks.
+    const auto at = std::find_if(shared.queue.begin(), shared.queue.end(),
+                                 [&](const ChunkKey& k) { return k.level < child.level; });
+    shared.queue.insert(at, child);
+  }
+}
+
 void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants) {
   auto it = cache_.find(key);
   if (it == cache_.end()) return;
@@ -340,15 +379,11 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
       fate[std::size_t(q)] = Fate::OutOfView;
       continue;
     }
-    // The projected error of a surface: the largest of its blocks' (terrain_chunk.h).
-    auto projected = [&](const Entry::Surface& s) {
-      double pixels = 0;
-      for (const auto& [error, box] : s.blocks)
-        pixels = std::max(pixels, error * options_.pixelsPerRadian / std::max(distanceToBox(eye, box), kMinEyeDistanceM));
-      return pixels;
+    auto projected = [&](std::size_t surface) {
+      return projectedPixels(e, std::size_t(q), surface, eye, options_.pixelsPerRadian);
     };
     std::size_t drawn = 0;
-    double pixels = projected(quad.surfaces[0]);
+    double pixels = projected(0);
     // Imagery tiles: the texel level the view asks for here; finer than the quadrant's own area's
     // tile holds, the child's geometry is drawn (a level-0 quadrant holds finer tiles itself).
     const int texelLevel =
@@ -367,7 +402,7 @@ void PagedTerrain::select(const ChunkKey& key, osgUtil::CullVisitor& cv, std::ve
       ++stats_.standIns;
     }
     // Level 0 near the eye: the coarsest of its finer surfaces within the rule (the exact grid last).
-    while (pixels > options_.maxPixels && drawn + 1 < quad.surfaces.size()) pixels = projected(quad.surfaces[++drawn]);
+    while (pixels > options_.maxPixels && drawn + 1 < quad.surfaces.size()) pixels = projected(++drawn);
     const Entry::Surface& surface = quad.surfaces[drawn];
     DrawnPart part;
     part.key = key;
@@ -427,13 +462,24 @@ void PagedTerrain::evictUnused(std::size_t target) {
   }
 }
 
-void PagedTerrain::publish(std::vector<Want> wants) {
+void PagedTerrain::publish(std::vector<Want> wants, const osg::Vec3d& eye, const osg::Polytope& frustum) {
   sortByPriority(wants);
   loader_->locked([&](BuildQueue<ChunkKey, Built>::Shared& shared) {
     // Only what fits, built chunks waiting to be merged included (they and the chunks being built
     // are not asked for again).
     std::size_t planned = residentBytes_ + (tiles_ ? tiles_->residentBytes() : 0);
     for (const Built& b : shared.done) planned += b.entry.bytes;
+    // The follow-ups of chunks not merged yet: this cull could not ask for them, the loader's
+    // follow-up did (for about the same view).
+    std::vector<ChunkKey> followUps;
+    for (const ChunkKey& k : shared.queue) {
+      const ChunkKey parent = terrain::parentOf(k);
+      const auto built = std::find_if(shared.done.begin(), shared.done.end(), [&](const Built& b) { return b.key == parent; });
+      if (built != shared.done.end() && !cache_.count(parent)) {
+        followUps.push_back(k);
+        planned += built->entry.bytes;
+      }
+    }
     shared.queue.clear();
     for (const Want& w : wants) {
       if (shared.known(w.key)) continue;
@@ -442,6 +488,10 @@ void PagedTerrain::publish(std::vector<Want> wants) {
       planned += estimate;
       shared.queue.push_back(w.key);
     }
+    shared.queue.insert(shared.queue.end(), followUps.begin(), followUps.end());
+    std::stable_sort(shared.queue.begin(), shared.queue.end(),
+                     [](const ChunkKey& a, const ChunkKey& b) { return a.level > b.level; });
+    loaderView_ = {true, eye, frustum, options_.pixelsPerRadian, options_.maxPixels, budget_ > planned ? budget_ - planned : 0};
   });
 }
 
@@ -512,7 +562,12 @@ void PagedTerrain::traverse(osg::NodeVisitor& nv) {
     if (imagery) cv->popStateSet();
   }
   stats_.chunksWanted = wants.size();
-  if (options_.loading == TerrainLoading::Background) publish(wants);
+  if (options_.loading == TerrainLoading::Background) {
+    // The frustum as the cull tests it (none: it does not cull by it).
+    const osg::CullingSet& culling = cv->getCurrentCullingSet();
+    publish(wants, cv->getEyePoint(),
+            (culling.getCullingMask() & osg::CullingSet::VIEW_FRUSTUM_CULLING) ? culling.getFrustum() : osg::Polytope());
+  }
   if (tiles_) {
     tiles_->endFrame(tileBudget);
     stats_.imageryTilesResident = tiles_->stats().tilesResident;

@@ -17,8 +17,14 @@
 // per core, up to kMaxChunkLoaders, all but the first at a lower priority so that they use the
 // cores a frame leaves idle) build the chunks the last cull asked for, coarser levels first (then
 // most visible error first), so the whole view refines a level at a time; a cull never waits for
-// them, it draws what is resident (the root is built
-// by the constructor, so there is always something). A cull makes at most mergeBytesPerFrame of
+// them, it draws what is resident (the root is built by the constructor, so there is always
+// something). Follow-ups: a chunk just built is judged at once against the last cull's view (its
+// eye and frustum, the same rule as the selection's, the imagery's texel choice aside), and the
+// children it would be refined into are queued behind the coarser levels, while they fit the budget
+// the cull's wants left. The loaders so go down the whole cut without waiting a frame a level:
+// bench render's 1 G-sample survey settled its first view after 13 culls before, 3 now (the merge
+// bound below). A cull keeps the follow-ups of chunks not yet drawable (it cannot judge them) and
+// replaces the rest of the queue. A cull makes at most mergeBytesPerFrame of
 // built chunks drawable (coarser first; always at least one), the rest waiting for the next frames:
 // the GL objects a frame creates and uploads stay bounded however many chunks the loader finished
 // (after a jump of the eye, or a stall). Complete (tests, exact renders): a cull builds what it asks
@@ -52,6 +58,7 @@
 #include <osg/BoundingBox>
 #include <osg/MatrixTransform>
 #include <osg/Node>
+#include <osg/Polytope>
 #include <osg/ref_ptr>
 
 #include <atomic>
@@ -105,11 +112,12 @@ std::optional<terrain::ChunkPyramidData> chunkPyramidDataFor(const terrain::Terr
                                                              const terrain::ChunkKey& key, int fromLevel,
                                                              double heightShift);
 
-/// The chunk bytes a cull makes drawable at most (paged_terrain.h's "Loading"): 16 MiB, about
-/// 70 chunks of 64 cells over the 3.2 cm survey of bench render's sweep (level 0 with its
-/// refinements), copied into GL buffers in a few milliseconds at memory speed (a fifth of
-/// a 60 Hz frame), where a frame of llvmpipe at 1280 x 720 takes 15-60 ms.
-inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(16) << 20;
+/// The chunk bytes a cull makes drawable at most (paged_terrain.h's "Loading"): 64 MiB, about
+/// 280 chunks of 64 cells over the 3.2 cm survey of bench render's sweep (level 0 with its
+/// refinements), which the loaders' follow-ups finish at once. bench render, its first view: a
+/// frame making 50 MiB drawable took 177 ms where the settled frame takes 130 (llvmpipe, 1280 x
+/// 720), and the view settled in 3.2-3.6 s, against 5.2 s at 16 MiB (9 frames of merging).
+inline constexpr std::size_t kChunkMergeBytesPerFrame = std::size_t(64) << 20;
 
 /// Chunk loader threads at most (PagedTerrainOptions::loaderThreads): a chunk of levels 0-3 costs
 /// 3-10 ms of CPU over the 1 G-sample survey, so a few threads settle a view in a fraction of the
@@ -216,13 +224,20 @@ class PagedTerrain : public osg::Node {
   void insert(Built&& built);
   void mergeLoaded();
   void select(const terrain::ChunkKey& key, osgUtil::CullVisitor& cv, std::vector<Want>& wants);
+  /// A surface's projected error seen from `eye` (mesh frame): the largest of its blocks', pixels.
+  static double projectedPixels(const Entry& entry, std::size_t quadrant, std::size_t surface, const osg::Vec3d& eye,
+                                double pixelsPerRadian);
+  /// The loader's follow-up (build_queue.h): queues the children of a chunk just built that the last
+  /// cull's view would ask for (see "Loading").
+  template <class Shared>
+  void followUp(const Built& built, Shared& shared);
   std::size_t estimatedBytes(const terrain::ChunkKey& key) const;
   /// Coarser levels first, then the larger projected error.
   static void sortByPriority(std::vector<Want>& wants);
   void evictUnused(std::size_t target);
   /// The budget left to chunks: what the imagery tiles do not hold.
   std::size_t chunkBudget() const;
-  void publish(std::vector<Want> wants);
+  void publish(std::vector<Want> wants, const osg::Vec3d& eye, const osg::Polytope& frustum);
 
   std::shared_ptr<const terrain::Heightfield> hf_;
   PagedTerrainOptions options_;
@@ -237,6 +252,16 @@ class PagedTerrain : public osg::Node {
   osg::BoundingSphere bound_;
   std::unique_ptr<ImageryTiles> tiles_;
 
+  /// The last cull's view, for the loader's follow-ups: its eye and frustum (mesh frame; no plane:
+  /// the cull did not test it), its rule, and the budget's bytes its wants left. Read and written
+  /// under the loader's lock.
+  struct LoaderView {
+    bool valid = false;
+    osg::Vec3d eye;
+    osg::Polytope frustum;
+    double pixelsPerRadian = 0, maxPixels = 0;
+    std::size_t bytesLeft = 0;
+  } loaderView_;
   mutable std::atomic<bool> pyramidFailed_{false};  // a pyramid read failed: errors computed from then on
   std::unique_ptr<BuildQueue<terrain::ChunkKey, Built>> loader_;  // Background: the loader (build_queue.h)
 };

@@ -84,6 +84,35 @@ TEST(BuildQueue, SeveralWorkersBuildEachKeyOnceAndTheHelpersRunAtALowerPriority)
   }
 }
 
+TEST(BuildQueue, AFollowUpQueuesWhatAResultShowsIsNextAndIdleWaitsForIt) {
+  // Key k's follow-up queues k + 1 up to 20: one key asked for, the chain built without the caller.
+  constexpr int kLast = 20;
+  std::mutex calls;
+  std::map<int, int> builtTimes;
+  BuildQueue<int, Built> queue(
+      [&](const int& key) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        const std::lock_guard lock(calls);
+        ++builtTimes[key];
+        return Built{key, 0, 0};
+      },
+      [](const int& key) { return "key " + std::to_string(key); }, 2,
+      [](const Built& built, BuildQueue<int, Built>::Shared& shared) {
+        // Under the lock: the built key is neither queued nor in flight any more, and not done yet.
+        EXPECT_FALSE(shared.known(built.key));
+        if (built.key < kLast) shared.queue.push_back(built.key + 1);
+      });
+  queue.locked([](auto& shared) { shared.queue.push_back(0); });
+  queue.waitUntilIdle();  // returns only once the last follow-up is built
+  std::vector<Built> done;
+  queue.locked([&](auto& shared) { done = std::move(shared.done); });
+  ASSERT_EQ(done.size(), std::size_t(kLast + 1));
+  for (int k = 0; k <= kLast; ++k) {
+    EXPECT_EQ(done[std::size_t(k)].key, k);  // each queued by the one before, after it was built
+    EXPECT_EQ(builtTimes[k], 1) << "key " << k;
+  }
+}
+
 TEST(BuildQueue, BuilderWorkersFollowTheMachineWithinTheirBounds) {
   const int cores = std::max(1, int(std::thread::hardware_concurrency()));
   EXPECT_EQ(builderWorkers(64), std::min(cores, 64));

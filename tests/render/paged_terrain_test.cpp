@@ -22,6 +22,7 @@
 #include <limits>
 #include <optional>
 #include <random>
+#include <set>
 #include <vector>
 
 namespace nestwalk {
@@ -222,6 +223,30 @@ TEST(PagedTerrain, BackgroundLoadingSettlesToTheCompleteFrame) {
   EXPECT_LE(frames, background->layout().levels() + 1);  // one level a frame at most
   EXPECT_EQ(sorted(background->drawnParts()), sorted(complete->drawnParts()));
   EXPECT_EQ(background->lastStats().standIns, 0u);
+}
+
+TEST(PagedTerrain, TheLoadersFollowUpsBuildTheWholeCutForOneCull) {
+  // The loader queues the children a chunk it built needs for the last cull's view (paged_terrain.h,
+  // "Loading"), so one cull and one wait build the whole cut, and the next cull draws it.
+  const auto hf = hills();
+  osg::ref_ptr<PagedTerrain> complete = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  cullOnce(complete.get(), kLowView);
+  PagedTerrainOptions o = options(TerrainLoading::Background);
+  o.mergeBytesPerFrame = std::size_t(1) << 40;  // every built chunk drawable at the next cull
+  osg::ref_ptr<PagedTerrain> background = new PagedTerrain(hf, o);
+  cullOnce(background.get(), kLowView);
+  ASSERT_GT(background->lastStats().chunksWanted, 0u);
+  background->waitUntilIdle();
+  cullOnce(background.get(), kLowView);
+  const PagedTerrainStats& s = background->lastStats();
+  EXPECT_EQ(s.chunksWanted, 0u);
+  EXPECT_EQ(s.standIns, 0u);
+  EXPECT_EQ(sorted(background->drawnParts()), sorted(complete->drawnParts()));
+  // The cut is several levels deep: without follow-ups a cull asks for one level.
+  std::set<int> levels;
+  for (const DrawnPart& p : complete->drawnParts()) levels.insert(p.key.level);
+  EXPECT_LE(*levels.begin() + 2, background->layout().levels() - 1);
+  EXPECT_EQ(s.chunksResident, complete->lastStats().chunksResident);
 }
 
 TEST(PagedTerrain, ACullMakesAtMostItsMergeBoundDrawableAndStillSettlesToTheCompleteFrame) {
