@@ -17,9 +17,10 @@
 #   tsan       ThreadSanitizer over the threaded parts (the frame writer thread and the ffmpeg pipe
 #              of `run --render`, engine/render/frame_writers.h; the guarded model reader's child
 #              process and the model cache, engine/core/guarded_process.h, engine/scene/; the paged
-#              terrain's loader thread, engine/render/paged_terrain.h; the tile cache's reader
-#              thread and its requests, terrain/height_tiles.h), in build-tsan/: core, scene,
-#              terrain (the tile cache's) and render tests, with tools/sanitizers/tsan.supp.
+#              terrain's loader threads and their follow-ups, engine/render/paged_terrain.h and
+#              build_queue.h; the tile cache's reader thread and its requests,
+#              terrain/height_tiles.h), in build-tsan/: core, scene, terrain (the tile cache's)
+#              and render tests, with tools/sanitizers/tsan.supp.
 #   ci         asan, then tsan (what .ci/run runs).
 # Usage: tools/sanitize.sh [asan|asan-full|tsan|ci] (default ci). Extra ctest arguments in
 # NESTWALK_SANITIZE_CTEST_ARGS. Exit status: non-zero on the first failure.
@@ -94,7 +95,7 @@ run_tsan() {
   cmake --build build-tsan -j "$jobs" --target core_tests scene_tests terrain_tests render_tests bundled_scene
   echo "nestwalk: sanitize: tsan build in $(( $(date +%s) - start )) s"
   (cd build-tsan && ctest --output-on-failure -j "$jobs" -L '^(core_tests|scene_tests|terrain_tests|render_tests)$' \
-     -R 'FrameWriter|PngSequence|Video|GuardedProcess|ModelFile|ModelCache|Render|PagedTerrain|HeightTileCache|PagedHeightfield\.Prefetch' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
+     -R 'FrameWriter|PngSequence|Video|GuardedProcess|ModelFile|ModelCache|Render|PagedTerrain|BuildQueue|HeightTileCache|PagedHeightfield\.Prefetch' ${NESTWALK_SANITIZE_CTEST_ARGS:-})
   echo "nestwalk: sanitize: tsan passed in $(( $(date +%s) - start )) s"
 }
 
