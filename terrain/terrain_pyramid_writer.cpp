@@ -114,8 +114,10 @@ void assemble(const std::string& path, const std::vector<StagedPage*>& pages, co
     const StagedPage& page = *pages[k];
     const int pageNumber = int(k) + 1;
     CPLStringList options;
-    for (const char* o : {"TILED=YES", "BLOCKXSIZE=256", "BLOCKYSIZE=256", "COMPRESS=DEFLATE", "PREDICTOR=3",
-                          "BIGTIFF=IF_SAFER", "INTERLEAVE=BAND", "NUM_THREADS=ALL_CPUS"})
+    // ZLEVEL=1 (GDAL's default is 6): the pages of the 100 M-sample survey of bench render's sweep
+    // 0.6 % larger, its import about a second faster.
+    for (const char* o : {"TILED=YES", "BLOCKXSIZE=256", "BLOCKYSIZE=256", "COMPRESS=DEFLATE", "ZLEVEL=1",
+                          "PREDICTOR=3", "BIGTIFF=IF_SAFER", "INTERLEAVE=BAND", "NUM_THREADS=ALL_CPUS"})
       options.AddString(o);
     if (k > 0) options.AddString("APPEND_SUBDATASET=YES");
     GdalDataset out(GDALCreate(gtiff, path.c_str(), page.width(), page.height(), page.bands(), GDT_Float32,
