@@ -191,6 +191,10 @@ class FineSamples {
     if (const float* p = find(c, r)) return *p;
     return hf_.sample(c, r);
   }
+  float sampleOrNaN(int c, int r) const {
+    if (const float* p = find(c, r)) return *p;
+    return hf_.valid(c, r) ? hf_.sample(c, r) : std::numeric_limits<float>::quiet_NaN();
+  }
 
  private:
   const float* find(int c, int r) const {
@@ -211,6 +215,11 @@ struct ChunkGrid {
   const FineSamples* fine = nullptr;         // the fine reads (null: the heightfield's)
   bool fineValid(int c, int r) const { return fine ? fine->valid(c, r) : hf.valid(c, r); }
   double fineHeight(int c, int r) const { return fine ? fine->height(c, r) : hf.sample(c, r); }
+  /// Fine sample (c, r), NaN for a hole: one look-up where fineValid and fineHeight take two.
+  float fineSampleOrNaN(int c, int r) const {
+    if (fine) return fine->sampleOrNaN(c, r);
+    return hf.valid(c, r) ? hf.sample(c, r) : std::numeric_limits<float>::quiet_NaN();
+  }
   int step = 1, levelCol0 = 0, levelRow0 = 0;  // the level's column and row of kept sample (0, 0)
   std::size_t nc() const { return cols.size(); }
   std::size_t nr() const { return rows.size(); }
@@ -292,17 +301,27 @@ double triangleError(const ChunkGrid& g, const FineTriangle& t) {
   // Fine samples inside (closed): the three edge functions share the sign of the orientation.
   const std::int64_t orient =
       std::int64_t(b[0] - a[0]) * (c[1] - a[1]) - std::int64_t(c[0] - a[0]) * (b[1] - a[1]) > 0 ? 1 : -1;
-  auto edge = [](const std::array<int, 2>& p, const std::array<int, 2>& q, int col, int row) {
-    return std::int64_t(q[0] - p[0]) * (row - p[1]) - std::int64_t(q[1] - p[1]) * (col - p[0]);
-  };
   const int cMin = std::min({a[0], b[0], c[0]}), cMax = std::max({a[0], b[0], c[0]});
   const int rMin = std::min({a[1], b[1], c[1]}), rMax = std::max({a[1], b[1], c[1]});
-  for (int row = rMin; row <= rMax; ++row)
-    for (int col = cMin; col <= cMax; ++col) {
-      if (orient * edge(a, b, col, row) < 0 || orient * edge(b, c, col, row) < 0 || orient * edge(c, a, col, row) < 0)
-        continue;
-      if (g.fineValid(col, row)) err = std::max(err, std::abs(g.fineHeight(col, row) - plane(col, row)));
+  // Row by row, the columns where orient * edge >= 0 for all three edges, edge(from, to) being
+  // (to - from) x (sample - from): on a row that is coef * col + rest, so its columns are a
+  // half-line bounded exactly by an integer division (the samples a test of each would keep).
+  auto floorDiv = [](std::int64_t n, std::int64_t d) { return n / d - (n % d != 0 && n < 0 ? 1 : 0); };  // d > 0
+  for (int row = rMin; row <= rMax; ++row) {
+    std::int64_t lo = cMin, hi = cMax;
+    for (const auto& [from, to] : {std::pair(&a, &b), std::pair(&b, &c), std::pair(&c, &a)}) {
+      const std::int64_t dc = (*to)[0] - (*from)[0], dr = (*to)[1] - (*from)[1];
+      const std::int64_t coef = -orient * dr, rest = orient * (dc * (row - (*from)[1]) + dr * (*from)[0]);
+      if (coef > 0) lo = std::max(lo, -floorDiv(rest, coef));  // col >= ceil(-rest / coef)
+      else if (coef < 0) hi = std::min(hi, floorDiv(rest, -coef));
+      else if (rest < 0) hi = lo - 1;
     }
+    for (std::int64_t k = lo; k <= hi; ++k) {
+      const int col = int(k);
+      const float h = g.fineSampleOrNaN(col, row);
+      if (!std::isnan(h)) err = std::max(err, std::abs(double(h) - plane(col, row)));
+    }
+  }
   // Edge crossings with fine columns (col = k), rows (row = k) and diagonals (col - row = k). Along
   // each of those lines the fine surface is linear between the line's two samples around the
   // crossing, read from the fine samples (no map position, no tile lookup); a point of a line has
