@@ -336,7 +336,7 @@ double PagedTerrain::projectedPixels(const Entry& entry, std::size_t quadrant, s
 template <class Shared>
 void PagedTerrain::followUp(const Built& built, Shared& shared) {
   LoaderView& view = loaderView_;
-  if (!view.valid || built.key.level == 0 || built.entry.empty) return;
+  if (!view.valid || !view.followUps || built.key.level == 0 || built.entry.empty) return;
   for (std::size_t q = 0; q < 4; ++q) {
     const Entry::Quadrant& quad = built.entry.quadrants[q];
     if (quad.surfaces.empty()) continue;
@@ -491,7 +491,16 @@ void PagedTerrain::publish(std::vector<Want> wants, const osg::Vec3d& eye, const
     shared.queue.insert(shared.queue.end(), followUps.begin(), followUps.end());
     std::stable_sort(shared.queue.begin(), shared.queue.end(),
                      [](const ChunkKey& a, const ChunkKey& b) { return a.level > b.level; });
-    loaderView_ = {true, eye, frustum, options_.pixelsPerRadian, options_.maxPixels, budget_ > planned ? budget_ - planned : 0};
+    // Follow-ups only for a view standing still (or the first): a moving one's next cull asks anew,
+    // and chunks for views already left would only crowd the cache.
+    bool still = !loaderView_.valid || (eye - loaderView_.eye).length() <= kFollowUpStillEyeM;
+    const osg::Polytope::PlaneList& planes = frustum.getPlaneList();
+    const osg::Polytope::PlaneList& before = loaderView_.frustum.getPlaneList();
+    if (loaderView_.valid) still = still && planes.size() == before.size();
+    for (std::size_t k = 0; still && k < planes.size() && k < before.size(); ++k)
+      still = (planes[k].getNormal() - before[k].getNormal()).length() <= kFollowUpStillTurnRad;
+    loaderView_ = {true, still, eye, frustum, options_.pixelsPerRadian, options_.maxPixels,
+                   budget_ > planned ? budget_ - planned : 0};
   });
 }
 
