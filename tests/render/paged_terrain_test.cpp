@@ -249,6 +249,32 @@ TEST(PagedTerrain, TheLoadersFollowUpsBuildTheWholeCutForOneCull) {
   EXPECT_EQ(s.chunksResident, complete->lastStats().chunksResident);
 }
 
+TEST(PagedTerrain, AMovingViewIsNotFollowedUpAndAStillOneIs) {
+  // After a cull from a view other than the cull before's, the loaders build what that cull asked
+  // for and nothing more (paged_terrain.h, kFollowUpStillEyeM); once the view stands still, they
+  // go down its whole cut again.
+  const auto hf = hills();
+  PagedTerrainOptions o = options(TerrainLoading::Background);
+  o.mergeBytesPerFrame = std::size_t(1) << 40;
+  osg::ref_ptr<PagedTerrain> background = new PagedTerrain(hf, o);
+  const View there = viewFrom({40, -250, 330}, {40, -60, 310});
+  cullOnce(background.get(), kLowView);
+  background->waitUntilIdle();
+  cullOnce(background.get(), there);  // moved: its wants only
+  const std::size_t asked = background->lastStats().chunksWanted;
+  ASSERT_GT(asked, 0u);
+  background->waitUntilIdle();
+  cullOnce(background.get(), there);  // still
+  EXPECT_EQ(background->lastStats().chunksMerged, asked);
+  ASSERT_GT(background->lastStats().chunksWanted, 0u);  // the cut goes deeper than one level more
+  background->waitUntilIdle();
+  cullOnce(background.get(), there);
+  osg::ref_ptr<PagedTerrain> complete = new PagedTerrain(hf, options(TerrainLoading::Complete));
+  cullOnce(complete.get(), there);
+  EXPECT_EQ(background->lastStats().chunksWanted, 0u);
+  EXPECT_EQ(sorted(background->drawnParts()), sorted(complete->drawnParts()));
+}
+
 TEST(PagedTerrain, ACullMakesAtMostItsMergeBoundDrawableAndStillSettlesToTheCompleteFrame) {
   // A bound of one byte: one built chunk a cull, however many the loader finished meanwhile.
   const auto hf = hills();
