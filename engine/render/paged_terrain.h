@@ -18,11 +18,11 @@
 // cores a frame leaves idle) build the chunks the last cull asked for, coarser levels first (then
 // most visible error first), so the whole view refines a level at a time; a cull never waits for
 // them, it draws what is resident (the root is built by the constructor, so there is always
-// something). Follow-ups: a chunk just built is judged at once against the last cull's view (its
-// eye and frustum, the same rule as the selection's, the imagery's texel choice aside), and the
-// children it would be refined into are queued behind the coarser levels, while they fit the budget
-// the cull's wants left, while the view stands still (kFollowUpStillEyeM; a moving view's next cull
-// asks anew). The loaders so go down the whole cut without waiting a frame a level:
+// something). Follow-ups: while the view stands still (kFollowUpStillEyeM; a moving view's next
+// cull asks anew), a chunk just built is judged at once against the last cull's view (its eye and
+// frustum, the same rule as the selection's, the imagery's texel choice aside), and the children it
+// would be refined into are queued behind the coarser levels, as far as the budget the cull's wants
+// left holds them. The loaders so go down the whole cut without waiting a frame a level:
 // bench render's 1 G-sample survey settled its first view after 13 culls before, 3 now (the merge
 // bound below). A cull keeps the follow-ups of chunks not yet drawable (it cannot judge them) and
 // replaces the rest of the queue. A cull makes at most mergeBytesPerFrame of
