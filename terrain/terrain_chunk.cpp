@@ -361,6 +361,11 @@ double triangleError(const ChunkGrid& g, const FineTriangle& t) {
 /// that thin lies within 1e-6 cells of its neighbours, whose corners bound it to the nanometre.
 constexpr double kNoAreaCells2 = 1e-6;
 
+/// A level triangle's corner bound of its share of triangleErrorBound is compared with this margin,
+/// metres: a clipped corner's |level - plane| exceeds the corners' largest by roundings alone (about
+/// 1e-13 m at heights of 1e3 m), so a share this far below the bound so far cannot raise it.
+constexpr double kBoundRoundingM = 1e-9;
+
 /// A bound of max |fine - plane| over a simplified triangle of a coarse chunk that reads no fine
 /// sample (terrain_chunk.h, "Errors from the pyramid"): over each piece of the triangle cut by the
 /// level grid's triangles, |fine - plane| <= |fine - level| + |level - plane|; the first is at most
@@ -386,49 +391,88 @@ double triangleErrorBound(const ChunkGrid& g, const FineTriangle& t, const GridE
   };
   const auto [ia, ib] = range(g.cols, std::min({tv[0].x(), tv[1].x(), tv[2].x()}), std::max({tv[0].x(), tv[1].x(), tv[2].x()}));
   const auto [ja, jb] = range(g.rows, std::min({tv[0].y(), tv[1].y(), tv[2].y()}), std::max({tv[0].y(), tv[1].y(), tv[2].y()}));
+  // A level triangle's share is its corners' largest |level - plane| plus its cell's error when it
+  // lies inside the simplified triangle (the clipping would keep it whole), nothing when its corners
+  // all lie outside one edge (it would keep nothing: the corners' sides are exact integers), and at
+  // most that when it straddles an edge (the difference is linear on it, and a clipped piece lies
+  // inside it). The straddling ones are clipped from the largest such share down, and once a share
+  // cannot exceed the bound so far by more than kBoundRoundingM the rest cannot raise it: the
+  // bound is the one every level triangle clipped would give, bit for bit.
+  struct LevelTriangle {
+    double share;
+    std::size_t i, j;
+    int half;
+  };
+  // Scratch kept by the thread: a chunk calls this for each of its thousands of triangles.
+  thread_local std::vector<LevelTriangle> straddling;
+  thread_local std::vector<P2> poly, next;
+  straddling.clear();
+  auto corners = [&](std::size_t i, std::size_t j, int half, std::array<P2, 3>& lv, std::array<double, 3>& lh) {
+    const std::array<std::size_t, 3> ci = half == 0 ? std::array<std::size_t, 3>{i, i + 1, i + 1}
+                                                     : std::array<std::size_t, 3>{i, i + 1, i};
+    const std::array<std::size_t, 3> cj = half == 0 ? std::array<std::size_t, 3>{j, j, j + 1}
+                                                     : std::array<std::size_t, 3>{j, j + 1, j + 1};
+    for (std::size_t k = 0; k < 3; ++k) {
+      lv[k] = P2(g.cols[ci[k]], g.rows[cj[k]]);
+      lh[k] = g.height(ci[k], cj[k]);
+    }
+  };
   double bound = 0;
-  std::vector<P2> poly, next;
   for (std::size_t j = ja; j < jb; ++j)
     for (std::size_t i = ia; i < ib; ++i)
       for (int half = 0; half < 2; ++half) {
         if (half == 0 ? !g.upper(i, j) : !g.lower(i, j)) continue;
-        const std::array<std::size_t, 3> ci = half == 0 ? std::array<std::size_t, 3>{i, i + 1, i + 1}
-                                                         : std::array<std::size_t, 3>{i, i + 1, i};
-        const std::array<std::size_t, 3> cj = half == 0 ? std::array<std::size_t, 3>{j, j, j + 1}
-                                                         : std::array<std::size_t, 3>{j, j + 1, j + 1};
         std::array<P2, 3> lv;
         std::array<double, 3> lh;
-        for (int k = 0; k < 3; ++k) {
-          lv[std::size_t(k)] = P2(g.cols[ci[std::size_t(k)]], g.rows[cj[std::size_t(k)]]);
-          lh[std::size_t(k)] = g.height(ci[std::size_t(k)], cj[std::size_t(k)]);
+        corners(i, j, half, lv, lh);
+        bool inside = true, outside = false;
+        for (std::size_t e = 0; e < 3; ++e) {
+          int in = 0;
+          for (const P2& p : lv) in += side(tv[e], tv[(e + 1) % 3], p) >= 0 ? 1 : 0;
+          inside = inside && in == 3;
+          outside = outside || in == 0;
         }
-        // Sutherland-Hodgman: the level triangle clipped by the simplified one's three edges.
-        poly.assign(lv.begin(), lv.end());
-        for (int e = 0; e < 3 && !poly.empty(); ++e) {
-          const P2& a = tv[std::size_t(e)];
-          const P2& b = tv[std::size_t((e + 1) % 3)];
-          next.clear();
-          for (std::size_t k = 0; k < poly.size(); ++k) {
-            const P2& p = poly[k];
-            const P2& q = poly[(k + 1) % poly.size()];
-            const double sp = side(a, b, p), sq = side(a, b, q);
-            if (sp >= 0) next.push_back(p);
-            if ((sp > 0 && sq < 0) || (sp < 0 && sq > 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
-          }
-          poly.swap(next);
-        }
-        // A piece of no area (the triangles only touch) holds no point its neighbours do not.
-        double twiceArea = 0;
-        for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
-          const P2 p = poly[k] - poly[0], q = poly[k + 1] - poly[0];
-          twiceArea += p.x() * q.y() - q.x() * p.y();
-        }
-        if (poly.size() < 3 || std::abs(twiceArea) <= 2 * kNoAreaCells2) continue;
+        if (outside) continue;
         const GridPlane level = *planeThrough(lv, lh);  // a level cell's triangle is never flat
         double worst = 0;
-        for (const P2& p : poly) worst = std::max(worst, std::abs(level.at(p.x(), p.y()) - plane.at(p.x(), p.y())));
-        bound = std::max(bound, worst + gridErrorOf(i, j));
+        for (const P2& p : lv) worst = std::max(worst, std::abs(level.at(p.x(), p.y()) - plane.at(p.x(), p.y())));
+        if (inside) bound = std::max(bound, worst + gridErrorOf(i, j));
+        else straddling.push_back({worst + gridErrorOf(i, j), i, j, half});
       }
+  std::sort(straddling.begin(), straddling.end(),
+            [](const LevelTriangle& x, const LevelTriangle& y) { return x.share > y.share; });
+  for (const LevelTriangle& c : straddling) {
+    if (c.share + kBoundRoundingM <= bound) break;
+    std::array<P2, 3> lv;
+    std::array<double, 3> lh;
+    corners(c.i, c.j, c.half, lv, lh);
+    // Sutherland-Hodgman: the level triangle clipped by the simplified one's three edges.
+    poly.assign(lv.begin(), lv.end());
+    for (int e = 0; e < 3 && !poly.empty(); ++e) {
+      const P2& a = tv[std::size_t(e)];
+      const P2& b = tv[std::size_t((e + 1) % 3)];
+      next.clear();
+      for (std::size_t k = 0; k < poly.size(); ++k) {
+        const P2& p = poly[k];
+        const P2& q = poly[(k + 1) % poly.size()];
+        const double sp = side(a, b, p), sq = side(a, b, q);
+        if (sp >= 0) next.push_back(p);
+        if ((sp > 0 && sq < 0) || (sp < 0 && sq > 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
+      }
+      poly.swap(next);
+    }
+    // A piece of no area (the triangles only touch) holds no point its neighbours do not.
+    double twiceArea = 0;
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+      const P2 p = poly[k] - poly[0], q = poly[k + 1] - poly[0];
+      twiceArea += p.x() * q.y() - q.x() * p.y();
+    }
+    if (poly.size() < 3 || std::abs(twiceArea) <= 2 * kNoAreaCells2) continue;
+    const GridPlane level = *planeThrough(lv, lh);
+    double worst = 0;
+    for (const P2& p : poly) worst = std::max(worst, std::abs(level.at(p.x(), p.y()) - plane.at(p.x(), p.y())));
+    bound = std::max(bound, worst + gridErrorOf(c.i, c.j));
+  }
   return bound;
 }
 
