@@ -593,17 +593,23 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   fillHoleTexels(m.texture, nc, nr, index);
   auto vertex = [&](std::size_t i, std::size_t j) { return std::uint32_t(index[j * nc + i]); };
 
-  // Skirt bottoms, shared by the skirts that hang from one vertex on one grid line: the lowest
-  // fine sample of that line within reach of the vertex's two segments (terrain_chunk.h).
+  // Skirts (terrain_chunk.h, "Cracks") hang from a kept grid line in spans of at most
+  // kSkirtSpanSegments segments, aligned on the line's kept samples. Each vertex has a lowest point:
+  // the lowest fine sample of its line within reach of its two segments. A span's two bottoms lie
+  // under its ends, each at the least lowest point of the vertices of the aligned spans around it
+  // (less kSkirtMarginM), so the bottom line between them lies below every lowest point of the span
+  // and the skirt reaches at least as deep as one bottom per vertex would. Bottoms are shared by the
+  // skirts that hang from one line (a quadrant's edge and its neighbour's midline).
   const int reach = kSkirtReachSteps * step;
   std::map<std::tuple<bool, std::size_t, std::size_t>, std::uint32_t> bottoms;
   // Kept sample k of the kept row (alongRow) or column `line`.
   auto keptAt = [&](bool alongRow, std::size_t line, std::size_t k) {
     return alongRow ? std::pair(k, line) : std::pair(line, k);
   };
-  auto bottomOf = [&](bool alongRow, std::size_t line, std::size_t k) -> std::uint32_t {
+  std::map<std::tuple<bool, std::size_t, std::size_t>, double> lowests;
+  auto lowestOf = [&](bool alongRow, std::size_t line, std::size_t k) -> double {
     const auto key = std::tuple(alongRow, line, k);
-    if (const auto it = bottoms.find(key); it != bottoms.end()) return it->second;
+    if (const auto it = lowests.find(key); it != lowests.end()) return it->second;
     const std::vector<int>& along = alongRow ? g.cols : g.rows;
     const int fineLine = alongRow ? g.rows[line] : g.cols[line];
     const int lineEnd = (alongRow ? hf.cols() : hf.rows()) - 1;
@@ -634,6 +640,21 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
         if (g.fineValid(c, r)) lowest = std::min(lowest, g.fineHeight(c, r));
       }
     }
+    lowests.emplace(key, lowest);
+    return lowest;
+  };
+  auto bottomOf = [&](bool alongRow, std::size_t line, std::size_t k) -> std::uint32_t {
+    const auto key = std::tuple(alongRow, line, k);
+    if (const auto it = bottoms.find(key); it != bottoms.end()) return it->second;
+    const std::size_t span = kSkirtSpanSegments, last = (alongRow ? nc : nr) - 1;
+    const std::size_t from = k % span == 0 ? (k >= span ? k - span : 0) : k - k % span;
+    const std::size_t to = std::min(last, k % span == 0 ? k + span : from + span);
+    double lowest = kInf;
+    for (std::size_t v = from; v <= to; ++v) {
+      const auto [vi, vj] = keptAt(alongRow, line, v);
+      if (g.valid(vi, vj)) lowest = std::min(lowest, lowestOf(alongRow, line, v));
+    }
+    const auto [ki, kj] = keptAt(alongRow, line, k);
     const std::uint32_t top = vertex(ki, kj);
     const Eigen::Vector3d q(m.positions[3 * top] + m.offset.x(), m.positions[3 * top + 1] + m.offset.y(),
                             lowest - kSkirtMarginM);
@@ -649,21 +670,53 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
     return Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
   };
   // A skirt along kept line `line` over kept samples [k0, k1], facing `out`, on the segments whose
-  // inner triangle exists.
+  // inner triangle exists: each run of such segments in spans, each span one polygon (its top
+  // vertices, then its two bottoms) of as many triangles as it has segments plus one.
   auto skirt = [&](bool alongRow, std::size_t line, std::size_t k0, std::size_t k1, const Eigen::Vector2d& out,
                    const std::function<bool(std::size_t)>& segmentHasTriangle) {
-    for (std::size_t k = k0; k < k1; ++k) {
-      if (!segmentHasTriangle(k)) continue;
-      const auto [ai, aj] = keptAt(alongRow, line, k);
-      const auto [bi, bj] = keptAt(alongRow, line, k + 1);
-      const std::uint32_t p1 = vertex(ai, aj), p2 = vertex(bi, bj);
-      const std::uint32_t q1 = bottomOf(alongRow, line, k), q2 = bottomOf(alongRow, line, k + 1);
-      // Outward-facing: the triangle (p1, q1, p2)'s normal has a positive outward part, else swap.
-      const Eigen::Vector3d n = (pos(q1) - pos(p1)).cross(pos(p2) - pos(p1));
-      if (n.x() * out.x() + n.y() * out.y() >= 0)
-        m.indices.insert(m.indices.end(), {p1, q1, p2, p2, q1, q2});
-      else
-        m.indices.insert(m.indices.end(), {p1, p2, q1, p2, q2, q1});
+    std::vector<std::uint32_t> top;
+    auto emit = [&](std::uint32_t p, std::uint32_t q, std::uint32_t r) {
+      // Outward-facing: the triangle's normal has a positive outward part, else its order turns.
+      const Eigen::Vector3d n = (pos(q) - pos(p)).cross(pos(r) - pos(p));
+      if (n.x() * out.x() + n.y() * out.y() >= 0) m.indices.insert(m.indices.end(), {p, q, r});
+      else m.indices.insert(m.indices.end(), {p, r, q});
+    };
+    // The polygon left, top[lo..hi], right (left is top[lo] or a bottom under it, right likewise),
+    // whose ends lie no higher than any top vertex between them: the lowest of those makes a
+    // triangle with the ends, the sides from the ends to it lie below the top vertices on their side,
+    // and both halves are such polygons again. The triangles follow the top vertices' heights alone,
+    // not the bottoms' (a chunk from the pyramid has deeper bottoms and the same triangles).
+    auto fill = [&](auto& self, std::uint32_t left, std::size_t lo, std::size_t hi, std::uint32_t right) -> void {
+      std::size_t lowest = hi;
+      for (std::size_t j = lo + 1; j < hi; ++j)
+        if (lowest == hi || pos(top[j]).z() < pos(top[lowest]).z()) lowest = j;
+      if (lowest == hi) {  // one segment
+        if (left != top[lo]) emit(left, top[lo], top[hi]);
+        if (right != top[hi]) emit(left, top[hi], right);
+        return;
+      }
+      emit(left, top[lowest], right);
+      self(self, left, lo, lowest, top[lowest]);
+      self(self, top[lowest], lowest, hi, right);
+    };
+    for (std::size_t k = k0; k < k1;) {
+      if (!segmentHasTriangle(k)) {
+        ++k;
+        continue;
+      }
+      std::size_t end = k + 1;
+      while (end < k1 && segmentHasTriangle(end)) ++end;
+      for (std::size_t a = k; a < end;) {
+        const std::size_t b = std::min(end, (a / kSkirtSpanSegments + 1) * kSkirtSpanSegments);
+        top.clear();
+        for (std::size_t j = a; j <= b; ++j) {
+          const auto [ti, tj] = keptAt(alongRow, line, j);
+          top.push_back(vertex(ti, tj));
+        }
+        fill(fill, bottomOf(alongRow, line, a), 0, b - a, bottomOf(alongRow, line, b));
+        a = b;
+      }
+      k = end;
     }
   };
 

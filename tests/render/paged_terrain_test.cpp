@@ -170,9 +170,10 @@ TEST(PagedTerrain, AMidlineSkirtIsDrawnOnlyBesideAQuadrantNotDrawnFromTheSameChu
 
 TEST(PagedTerrain, QuadrantsOutOfViewAreNeitherDrawnNorRefined) {
   // Every drawn part's box, taken here from the heightfield over its samples (down to the lowest
-  // sample within the skirts' reach), has a corner on the inner side of each frustum plane in clip
-  // space: no part lies wholly outside one plane. Looking along a chunk's edge makes some
-  // quadrants of chunks in view lie outside it.
+  // sample within the skirts' reach: a span's bottom takes the lowest of the vertices of the spans
+  // around it, each within its segments and kSkirtReachSteps beyond), has a corner on the inner side
+  // of each frustum plane in clip space: no part lies wholly outside one plane. Looking along a
+  // chunk's edge makes some quadrants of chunks in view lie outside it.
   const auto hf = hills();
   osg::ref_ptr<PagedTerrain> node = new PagedTerrain(hf, options(TerrainLoading::Complete));
   const View v = viewFrom({40, -250, 330}, {40, -60, 310});
@@ -182,7 +183,7 @@ TEST(PagedTerrain, QuadrantsOutOfViewAreNeitherDrawnNorRefined) {
   ASSERT_GT(node->drawnParts().size(), 4u);
   for (const DrawnPart& p : node->drawnParts()) {
     const PartRange r = partRange(l, p.key, p.quadrant);
-    const int reach = terrain::kSkirtReachSteps << p.key.level;
+    const int reach = int(terrain::kSkirtSpanSegments + 1 + terrain::kSkirtReachSteps) << p.key.level;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int row = std::max(0, r.r0 - reach); row <= std::min(hf->rows() - 1, r.r1 + reach); ++row)
       for (int col = std::max(0, r.c0 - reach); col <= std::min(hf->cols() - 1, r.c1 + reach); ++col) {
