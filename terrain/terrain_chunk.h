@@ -144,8 +144,9 @@ inline constexpr int kSkirtReachSteps = 8;
 inline constexpr double kSkirtMarginM = 0.01;
 /// A skirt hangs in spans of at most this many segments of its line, each one polygon whose bottom
 /// is a straight line under the span (see "Cracks" above): a span of n segments is n + 1 triangles
-/// where a bottom under every vertex made 2n. As many as a skirt's reach in steps, so that a span's
-/// bottoms look no further than the aligned spans around it.
+/// where a bottom under every vertex made 2n. A quadrant's edge of 32 segments is then 36 triangles
+/// (spans of 32 would make it 33), while a bottom looks only 16 of the level's steps along its line
+/// (the two spans around it), so the walls stay near the edge's own lows.
 inline constexpr std::size_t kSkirtSpanSegments = 8;
 /// The sun's light on the terrain: ambient and direct parts, the lit scene's own (view_graph.cpp:
 /// ambient 0.30, diffuse 0.85), so a shaded chunk looks as the lit tiles did.
