@@ -599,7 +599,8 @@ ChunkMesh buildChunk(const Heightfield& hf, const ChunkLayout& layout, const Chu
   // under its ends, each at the least lowest point of the vertices of the aligned spans around it
   // (less kSkirtMarginM), so the bottom line between them lies below every lowest point of the span
   // and the skirt reaches at least as deep as one bottom per vertex would. Bottoms are shared by the
-  // skirts that hang from one line (a quadrant's edge and its neighbour's midline).
+  // skirts that hang from one line (the two quadrants' midline skirts on either side of a midline,
+  // and neighbouring quadrants' edges at the kept sample between them).
   const int reach = kSkirtReachSteps * step;
   std::map<std::tuple<bool, std::size_t, std::size_t>, std::uint32_t> bottoms;
   // Kept sample k of the kept row (alongRow) or column `line`.

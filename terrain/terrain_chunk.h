@@ -47,7 +47,7 @@
 // Errors from the pyramid (when buildChunk is given what the terrain pyramid knows of the chunk,
 // ChunkPyramidData, terrain_pyramid.h): a coarse chunk is then built from its level's samples alone
 // (the pyramid's level page: heights, and the hillshade's neighbours; no fine sample is read),
-// its skirts reach down to the lowest sample of the pyramid's blocks they lie in. Its
+// its skirts reach at least down to the lowest sample of the pyramid's blocks they lie in. Its
 // grid's block errors are the given ones (the pyramid's exact errors, rounded up to float), and a
 // simplified triangle's error is bounded instead of evaluated at fine samples: over each piece of
 // the triangle cut by the level grid's triangles, |fine - simplified| <= |fine - level grid| +
@@ -84,14 +84,16 @@
 // bottoms, one under each end, at the least of those lowest samples over the aligned spans around
 // that end: the straight bottom between them lies below each of the span's. Split at its lowest
 // edge vertex again and again, a span of n segments is n + 1 triangles, none reaching above the
-// edge (a bottom under every vertex made 2n: bench render's settled 1 G first view drew 144,612 skirt
-// triangles instead of 257,088).
+// edge (a bottom under every vertex made 2n: a 32-segment edge is 36 triangles instead of 64, and
+// bench render's settled 1 G finer views drew 71,169 skirt triangles instead of 126,514; its first
+// view, 144,612 instead of 257,088).
 // Two quadrants of one chunk drawn side by side need no skirt between them: every surface keeps its
 // quadrant's border vertices, so both draw the midline as the same segments between the same
 // vertices (one vertex array, one transform: no rounding apart). Their midline skirts are therefore
 // ranges of their own (ChunkQuadrant::midlineSkirts), drawn only beside a quadrant that is not drawn
 // from the chunk (replaced by its child, or without triangles): at 3.2 cm cells they were half of
-// a settled view's skirts (bench render: 207,922 skirt triangles of 524,860, now 126,514 of 443,452).
+// a settled view's skirts (bench render: 207,922 skirt triangles of 524,860, then 126,514 of 443,452,
+// and 71,169 of 388,107 in spans).
 // Skirts face outward (front faces away from the chunk), so the terrain's back-face culling drops
 // the half that could never be seen.
 //
@@ -145,8 +147,9 @@ inline constexpr double kSkirtMarginM = 0.01;
 /// A skirt hangs in spans of at most this many segments of its line, each one polygon whose bottom
 /// is a straight line under the span (see "Cracks" above): a span of n segments is n + 1 triangles
 /// where a bottom under every vertex made 2n. A quadrant's edge of 32 segments is then 36 triangles
-/// (spans of 32 would make it 33), while a bottom looks only 16 of the level's steps along its line
-/// (the two spans around it), so the walls stay near the edge's own lows.
+/// (spans of 32 would make it 33), while a bottom's lows come from the two spans around it (their
+/// vertices span 16 of the level's steps, their reach 17 on either side of the bottom), so the walls
+/// stay near the edge's own lows.
 inline constexpr std::size_t kSkirtSpanSegments = 8;
 /// The sun's light on the terrain: ambient and direct parts, the lit scene's own (view_graph.cpp:
 /// ambient 0.30, diffuse 0.85), so a shaded chunk looks as the lit tiles did.
@@ -227,8 +230,8 @@ inline int chunkBlockCells(const ChunkLayout& layout) { return std::max(1, layou
 ///   one step out (the hillshade's); empty: the samples are read from the heightfield;
 /// - the lowest valid fine sample of each of the level's blocks (kPyramidBlockCells = 8 cells of the
 ///   level a side) in the window [blockX0, blockX0 + blockWidth) x [blockY0, ...) (NaN for none):
-///   the skirts reach down to the lowest of the blocks a skirt's reach lies in, at or below the
-///   lowest fine sample of its grid line there; empty: the fine samples of the line are read.
+///   the skirts reach at least down to the lowest of the blocks a skirt's reach lies in, at or below
+///   the lowest fine sample of its grid line there; empty: the fine samples of the line are read.
 struct ChunkPyramidData {
   int blocksX = 0, blocksY = 0;
   std::vector<float> error;
