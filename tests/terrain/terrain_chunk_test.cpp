@@ -486,6 +486,66 @@ TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {
     }
 }
 
+TEST(TerrainChunk, SkirtSpansAreTheirSegmentsPlusOneTrianglesAndNeverRiseAboveTheEdge) {
+  // Skirts hang in spans of kSkirtSpanSegments segments (terrain_chunk.h, "Cracks"). Without holes,
+  // every quadrant edge inside the grid of 64-cell chunks has 32 segments: 4 spans of 9 triangles.
+  // With holes or without, a skirt triangle at any point along its line lies at or below the
+  // chunk's surface there (chunkHeightAt, the edge's polyline), within the positions' float rounding.
+  constexpr double kFloatSlackM = 1e-4;  // positions are floats relative to the chunk's first sample
+  for (const double holes : {0.0, 0.01}) {
+    const Heightfield hf = roughField(257, 257, 37, holes);
+    const ChunkLayout l(hf.cols(), hf.rows(), 64);
+    ASSERT_EQ(l.levels(), 3);
+    std::size_t checked = 0;
+    for (int level = 0; level < l.levels(); ++level)
+      for (const ChunkKey& k : chunksOf(l, level)) {
+        const ChunkMesh m = buildChunk(hf, l, k);
+        for (int quadrant = 0; quadrant < 4; ++quadrant) {
+          const PartRange part = partRange(l, k, quadrant);
+          const ChunkQuadrant& quad = m.quadrants[std::size_t(quadrant)];
+          if (holes == 0.0) {
+            const int inside = int(part.c0 > 0) + int(part.c1 < hf.cols() - 1) + int(part.r0 > 0) + int(part.r1 < hf.rows() - 1);
+            const std::size_t perEdge = 32 + 32 / kSkirtSpanSegments;
+            std::size_t midline = 0;
+            for (const ChunkSkirt& skirt : quad.midlineSkirts) midline += skirt.indexCount / 3;
+            // The chunk's own edges inside the grid, then its two midlines (always inside).
+            const int midlines = 2;
+            EXPECT_EQ(quad.skirtTriangles + midline, std::size_t(inside) * perEdge)
+                << k.level << "/" << k.x << "/" << k.y << " quadrant " << quadrant;
+            EXPECT_EQ(midline, midlines * perEdge) << k.level << "/" << k.x << "/" << k.y << " quadrant " << quadrant;
+          }
+          for (std::size_t f : skirtFaces(m, quadrant)) {
+            Eigen::Vector3d p[3];
+            for (int i = 0; i < 3; ++i) {
+              const std::uint32_t v = m.indices[3 * f + std::size_t(i)];
+              p[i] = Eigen::Vector3d(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]) + m.offset;
+            }
+            const bool alongRow = p[0].y() == p[1].y() && p[1].y() == p[2].y();  // else along a column
+            const int axis = alongRow ? 0 : 1;
+            const double s0 = std::min({p[0][axis], p[1][axis], p[2][axis]}), s1 = std::max({p[0][axis], p[1][axis], p[2][axis]});
+            for (int step = 0; step <= 16; ++step) {
+              const double t = s0 + (s1 - s0) * step / 16.0;
+              double top = -std::numeric_limits<double>::infinity();
+              for (int a = 0; a < 3; ++a) {  // the triangle's highest point at t: on one of its edges
+                const Eigen::Vector3d& u = p[a];
+                const Eigen::Vector3d& w = p[(a + 1) % 3];
+                const double lo = std::min(u[axis], w[axis]), hi = std::max(u[axis], w[axis]);
+                if (t < lo - 1e-9 || t > hi + 1e-9) continue;
+                top = std::max(top, hi - lo < 1e-12 ? std::max(u.z(), w.z()) : u.z() + (w.z() - u.z()) * (t - u[axis]) / (w[axis] - u[axis]));
+              }
+              const double x = alongRow ? t : p[0].x(), y = alongRow ? p[0].y() : t;
+              const std::optional<double> edge = chunkHeightAt(hf, l, k, x, y);
+              ASSERT_TRUE(edge.has_value()) << "a skirt hangs where the chunk has no surface: " << x << " " << y;
+              EXPECT_LE(top, *edge + kFloatSlackM) << k.level << "/" << k.x << "/" << k.y << " at " << x << " " << y;
+              ++checked;
+            }
+          }
+        }
+      }
+    EXPECT_GT(checked, 20000u);
+  }
+}
+
 TEST(TerrainChunk, APlaneIsShadedWithItsLambertShadeAtEveryLevel) {
   const int cols = 65, rows = 49;
   const double a = 0.31, b = -0.47;  // dz/dx, dz/dy (y north)
