@@ -489,8 +489,9 @@ TEST(TerrainChunk, SkirtsFaceOutwardAndOnlyInsideTheGrid) {
 TEST(TerrainChunk, SkirtSpansAreTheirSegmentsPlusOneTrianglesAndNeverRiseAboveTheEdge) {
   // Skirts hang in spans of kSkirtSpanSegments segments (terrain_chunk.h, "Cracks"). Without holes,
   // every quadrant edge inside the grid of 64-cell chunks has 32 segments: 4 spans of 9 triangles.
-  // With holes or without, a skirt triangle at any point along its line lies at or below the
-  // chunk's surface there (chunkHeightAt, the edge's polyline), within the positions' float rounding.
+  // With holes or without, a skirt triangle lies at or below the chunk's surface along its line
+  // (chunkHeightAt, the edge's polyline), within the positions' float rounding, at 17 points across
+  // it (every vertex of the edge under it where it spans 1, 2, 4 or 8 segments).
   constexpr double kFloatSlackM = 1e-4;  // positions are floats relative to the chunk's first sample
   for (const double holes : {0.0, 0.01}) {
     const Heightfield hf = roughField(257, 257, 37, holes);
